@@ -1,0 +1,41 @@
+// The contract of a node type: typed input/output ports and parameters. The graph validator
+// checks YAML against these; the runtime registry pairs each with the function that runs it.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "graph/param.hpp"
+
+namespace gslift {
+
+struct PortSpec {
+  std::string name;
+  // The port's value type by name ("Capture", "BoxSet", "GaussianModel", ...). Two ports connect
+  // only when their type names are equal; the runtime maps names to C++ types (runtime/value.hpp).
+  std::string type;
+  std::string doc;
+  bool optional = false;  // inputs only: the node runs without it
+};
+
+struct NodeSpec {
+  std::string type;  // registry key, lowercase dotted: "boxes.cluster"
+  std::string doc;   // one line
+  std::vector<PortSpec> inputs;
+  std::vector<PortSpec> outputs;
+  std::vector<ParamSpec> params;
+
+  const PortSpec* find_input(const std::string& name) const;
+  const PortSpec* find_output(const std::string& name) const;
+  const ParamSpec* find_param(const std::string& name) const;
+};
+
+// What the graph layer needs to know about node types: looked up by name, listed for suggestions.
+class NodeCatalog {
+ public:
+  virtual ~NodeCatalog() = default;
+  virtual const NodeSpec* find(const std::string& type) const = 0;
+  virtual std::vector<std::string> types() const = 0;
+};
+
+}  // namespace gslift

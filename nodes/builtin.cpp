@@ -1,0 +1,19 @@
+#include "nodes/builtin.hpp"
+
+#include "nodes/boxes/register.hpp"
+#include "nodes/ingest/register.hpp"
+#include "nodes/lifting/register.hpp"
+#include "nodes/splat/register.hpp"
+#include "nodes/synth/register.hpp"
+
+namespace gslift {
+
+void register_builtin_nodes(Registry& registry) {
+  register_ingest_nodes(registry);
+  register_synth_nodes(registry);
+  register_splat_nodes(registry);
+  register_boxes_nodes(registry);
+  register_lifting_nodes(registry);
+}
+
+}  // namespace gslift

@@ -1,0 +1,36 @@
+// Pinhole cameras and poses. Conventions (the same as COLMAP and OpenCV): camera axes x right,
+// y down, z forward; poses are world-to-camera (x_cam = R x_world + t); pixel (0,0) is the corner
+// of the top-left pixel, so the centre of pixel (u,v) is (u+0.5, v+0.5).
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <string>
+#include <vector>
+
+namespace gslift {
+
+struct Camera {
+  int width = 0;
+  int height = 0;
+  double fx = 0, fy = 0, cx = 0, cy = 0;
+  // OpenCV distortion (k1, k2, p1, p2[, k3]); empty for an ideal pinhole. Stages that need
+  // undistorted pixels undistort images at ingest, so the rest of the pipeline sees a pinhole.
+  std::vector<double> distortion;
+
+  Eigen::Matrix3d K() const;
+  // Scaled copy for a resized image (intrinsics scale with the pixel grid).
+  Camera scaled(double s) const;
+};
+
+struct Pose {
+  Eigen::Matrix3d R = Eigen::Matrix3d::Identity();  // world -> camera rotation
+  Eigen::Vector3d t = Eigen::Vector3d::Zero();      // world -> camera translation
+
+  static Pose from_camera_to_world(const Eigen::Matrix4d& c2w);
+  Eigen::Matrix4d world_to_camera() const;
+  Eigen::Vector3d centre() const { return -R.transpose() * t; }
+  Eigen::Vector3d to_camera(const Eigen::Vector3d& x) const { return R * x + t; }
+};
+
+}  // namespace gslift

@@ -1,0 +1,32 @@
+// Instance masks per view: SAM box-prompted masks, SAM automatic masks, or predictions.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "runtime/value.hpp"
+
+namespace gslift {
+
+struct Mask {
+  cv::Mat1b pixels;  // full image size, 255 inside, 0 outside
+  std::string label;
+  float score = 1.f;
+  int box_index = -1;   // the box of the view's BoxSet that prompted it, -1 when none
+  int granularity = 0;  // SAM automatic masks: 0 whole, 1 part, 2 subpart (SAGA); 0 otherwise
+};
+
+struct ViewMasks {
+  std::string view;  // view name in the capture
+  std::vector<Mask> masks;
+};
+
+struct MaskSet {
+  std::vector<ViewMasks> views;  // in capture view order
+};
+
+GSLIFT_PORT_TYPE(MaskSet, "MaskSet");
+
+}  // namespace gslift
