@@ -1,0 +1,76 @@
+#include "graph/set_override.hpp"
+
+#include "graph/suggest.hpp"
+
+namespace gslift {
+
+namespace {
+
+std::string trim(const std::string& s) {
+  const size_t b = s.find_first_not_of(" \t");
+  const size_t e = s.find_last_not_of(" \t");
+  return b == std::string::npos ? std::string() : s.substr(b, e - b + 1);
+}
+
+void apply_set(GraphDocument& doc, const std::string& set, Diagnostics& diagnostics) {
+  const SourceLoc at{"--set " + set, 0, 0};
+  const size_t eq = set.find('=');
+  const std::string key = trim(set.substr(0, eq));
+  const size_t dot = key.find('.');
+  if (eq == std::string::npos || dot == std::string::npos || dot == 0 || dot + 1 == key.size() ||
+      key.find('.', dot + 1) != std::string::npos) {
+    diagnostics.error(at, "bad-set",
+                      "expected node.param=value, node.type=type or params.name=value");
+    return;
+  }
+  const std::string target = key.substr(0, dot);
+  const std::string name = key.substr(dot + 1);
+  YAML::Node value;
+  try {
+    value = YAML::Load(set.substr(eq + 1));
+  } catch (const YAML::ParserException& e) {
+    diagnostics.error(at, "bad-set", "the value is not a YAML scalar or flow list: " + e.msg);
+    return;
+  }
+  if (target == "params") {
+    auto p = doc.params.find(name);
+    if (p == doc.params.end()) {
+      std::vector<std::string> known;
+      for (const auto& [k, v] : doc.params) known.push_back(k);
+      diagnostics.error(at, "bad-set", "the graph has no param '" + name + "'",
+                        suggest(name, known));
+      return;
+    }
+    p->second = DocValue(value, at, at);
+    return;
+  }
+  DocNode* node = doc.find(target);
+  if (!node) {
+    diagnostics.error(at, "bad-set", "the graph has no node '" + target + "'",
+                      suggest(target, doc.node_ids()));
+    return;
+  }
+  if (name == "type") {
+    if (!value.IsScalar() || value.Scalar().empty()) {
+      diagnostics.error(at, "bad-set", "a node type must be a single name, e.g. lifting.cvp");
+      return;
+    }
+    DocNode over;
+    over.id = node->id;
+    over.loc = node->loc;
+    over.type = value.Scalar();
+    over.type_loc = at;
+    merge_node(*node, over, diagnostics);
+    return;
+  }
+  node->params[name] = DocValue(value, at, at);
+}
+
+}  // namespace
+
+void apply_sets(GraphDocument& doc, const std::vector<std::string>& sets,
+                Diagnostics& diagnostics) {
+  for (const auto& set : sets) apply_set(doc, set, diagnostics);
+}
+
+}  // namespace gslift

@@ -1,0 +1,111 @@
+#include "graph/substitute.hpp"
+
+#include <optional>
+#include <regex>
+
+#include "graph/suggest.hpp"
+
+namespace gslift {
+
+namespace {
+
+const std::regex& var_name_re() {
+  static const std::regex re("[A-Za-z_][A-Za-z0-9_]*");
+  return re;
+}
+
+class Substitution {
+ public:
+  Substitution(const GraphDocument& doc, const std::map<std::string, std::string>& vars,
+               Diagnostics& diagnostics)
+      : doc_(doc), vars_(vars), diagnostics_(diagnostics) {}
+
+  // The value with its ${} expanded; the value itself when there is nothing to expand or on error.
+  YAML::Node apply(const YAML::Node& value, const SourceLoc& at) {
+    if (value.IsSequence()) {
+      YAML::Node out(YAML::NodeType::Sequence);
+      for (const auto& e : value) out.push_back(apply(e, at));
+      return out;
+    }
+    if (!value.IsScalar() || value.Scalar().find("${") == std::string::npos) return value;
+    const std::string& text = value.Scalar();
+    if (text.size() > 3 && text.compare(0, 2, "${") == 0 && text.back() == '}') {
+      const std::string name = text.substr(2, text.size() - 3);
+      if (std::regex_match(name, var_name_re())) {
+        if (auto source = lookup(name, at)) return *source;
+        return value;
+      }
+    }
+    if (auto expanded = expand(text, at)) {
+      YAML::Node out(*expanded);
+      out.SetTag("!");  // text with something inserted is a string, like a quoted scalar
+      return out;
+    }
+    return value;
+  }
+
+ private:
+  // The source of ${name}: a var (plain text, typed later like an unquoted YAML scalar) or a
+  // graph param's YAML value. Reports `unknown-var` when there is none.
+  std::optional<YAML::Node> lookup(const std::string& name, const SourceLoc& at) {
+    if (auto v = vars_.find(name); v != vars_.end()) return YAML::Node(v->second);
+    if (auto p = doc_.params.find(name); p != doc_.params.end()) return p->second.value;
+    std::vector<std::string> known;
+    for (const auto& [k, v] : vars_) known.push_back(k);
+    for (const auto& [k, v] : doc_.params) known.push_back(k);
+    diagnostics_.error(at, "unknown-var", "undefined variable '${" + name + "}'",
+                       suggest(name, known));
+    return std::nullopt;
+  }
+
+  std::optional<std::string> expand(const std::string& text, const SourceLoc& at) {
+    std::string out;
+    size_t i = 0;
+    while (i < text.size()) {
+      if (text.compare(i, 3, "$${") == 0) {
+        out += "${";
+        i += 3;
+        continue;
+      }
+      if (text.compare(i, 2, "${") != 0) {
+        out += text[i++];
+        continue;
+      }
+      const size_t close = text.find('}', i + 2);
+      const std::string name =
+          close == std::string::npos ? std::string() : text.substr(i + 2, close - i - 2);
+      if (!std::regex_match(name, var_name_re())) {
+        diagnostics_.error(at, "bad-substitution", "malformed '${' in \"" + text + "\"",
+                           "write ${name}, or $${ for a literal ${");
+        return std::nullopt;
+      }
+      const auto source = lookup(name, at);
+      if (!source) return std::nullopt;
+      if (!source->IsScalar()) {
+        diagnostics_.error(
+            at, "bad-substitution",
+            "'${" + name + "}' is not a scalar and cannot be inserted into \"" + text + "\"");
+        return std::nullopt;
+      }
+      out += source->Scalar();
+      i = close + 1;
+    }
+    return out;
+  }
+
+  const GraphDocument& doc_;
+  const std::map<std::string, std::string>& vars_;
+  Diagnostics& diagnostics_;
+};
+
+}  // namespace
+
+void substitute_vars(GraphDocument& doc, const std::map<std::string, std::string>& vars,
+                     Diagnostics& diagnostics) {
+  Substitution substitution(doc, vars, diagnostics);
+  for (auto& node : doc.nodes)
+    for (auto& [name, param] : node.params)
+      param.value.reset(substitution.apply(param.value, param.value_loc));
+}
+
+}  // namespace gslift

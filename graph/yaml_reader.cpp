@@ -1,0 +1,218 @@
+#include "graph/yaml_reader.hpp"
+
+#include <algorithm>
+#include <fstream>
+#include <map>
+#include <regex>
+#include <set>
+#include <sstream>
+
+#include "graph/suggest.hpp"
+
+namespace gslift {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+using Entries = std::vector<std::pair<YAML::Node, YAML::Node>>;
+
+// A map's entries in file order, each key once (the first wins; check_duplicate_keys reports
+// the others).
+Entries unique_entries(const YAML::Node& map) {
+  Entries out;
+  std::set<std::string> seen;
+  for (auto it = map.begin(); it != map.end(); ++it)
+    if (seen.insert(it->first.Scalar()).second) out.emplace_back(it->first, it->second);
+  return out;
+}
+
+// yaml-cpp 0.7 keeps every entry of a map, duplicates included, and node["key"] returns the
+// first: walk every map and report each repeated key where it repeats. `is_root` names the
+// entries of the top-level `nodes:` map as node ids.
+void check_duplicate_keys(const YAML::Node& node, const std::string& file, bool is_root,
+                          const std::string& what, Diagnostics& diagnostics) {
+  if (node.IsSequence())
+    for (const auto& e : node) check_duplicate_keys(e, file, false, "key", diagnostics);
+  if (!node.IsMap()) return;
+  std::map<std::string, SourceLoc> seen;
+  for (auto it = node.begin(); it != node.end(); ++it) {
+    const std::string key = it->first.Scalar();
+    const SourceLoc at = loc_of(it->first, file);
+    if (auto [first, inserted] = seen.emplace(key, at); !inserted)
+      diagnostics.error(at, "duplicate-key", "duplicate " + what + " '" + key + "'",
+                        "first defined at line " + std::to_string(first->second.line));
+    const bool node_ids = is_root && key == "nodes";
+    check_duplicate_keys(it->second, file, false, node_ids ? "node id" : "key", diagnostics);
+  }
+}
+
+bool is_node_id(const std::string& s) {
+  static const std::regex re("[a-z][a-z0-9_]*");
+  return std::regex_match(s, re);
+}
+
+bool is_param_name(const std::string& s) {
+  static const std::regex re("[A-Za-z_][A-Za-z0-9_]*");
+  return std::regex_match(s, re);
+}
+
+// Reads a map of the document, reporting a `schema` error when the value is not one.
+bool expect_map(const YAML::Node& value, const std::string& what, const std::string& file,
+                Diagnostics& diagnostics) {
+  if (value.IsMap()) return true;
+  diagnostics.error(loc_of(value, file), "schema", what + " must be a map");
+  return false;
+}
+
+std::optional<std::string> scalar_text(const YAML::Node& value, const std::string& what,
+                                       const std::string& file, Diagnostics& diagnostics) {
+  if (value.IsScalar()) return value.Scalar();
+  diagnostics.error(loc_of(value, file), "schema", what + " must be a single name");
+  return std::nullopt;
+}
+
+void report_unknown_key(const YAML::Node& key, const std::vector<std::string>& known,
+                        const std::string& where, const std::string& file,
+                        Diagnostics& diagnostics) {
+  diagnostics.error(loc_of(key, file), "unknown-key",
+                    "unknown key '" + key.Scalar() + "' in " + where,
+                    suggest(key.Scalar(), known, true));
+}
+
+DocNode read_node(const YAML::Node& key, const YAML::Node& value, const std::string& file,
+                  Diagnostics& diagnostics) {
+  DocNode node;
+  node.id = key.Scalar();
+  node.loc = loc_of(key, file);
+  if (!is_node_id(node.id))
+    diagnostics.error(node.loc, "bad-id",
+                      "node id '" + node.id + "' is not of the form [a-z][a-z0-9_]*");
+  else if (node.id == "params")
+    diagnostics.error(node.loc, "bad-id",
+                      "node id 'params' is reserved: --set params.NAME=VALUE sets graph params");
+  if (!expect_map(value, "node '" + node.id + "'", file, diagnostics)) return node;
+  const std::string where = "node '" + node.id + "'";
+  for (const auto& [k, v] : unique_entries(value)) {
+    const std::string name = k.Scalar();
+    if (name == "type") {
+      if (auto t = scalar_text(v, "the type of " + where, file, diagnostics)) {
+        node.type = *t;
+        node.type_loc = loc_of(v, file);
+      }
+    } else if (name == "in") {
+      if (!expect_map(v, "'in' of " + where, file, diagnostics)) continue;
+      for (const auto& [port, ref] : unique_entries(v))
+        node.inputs[port.Scalar()] = DocValue(ref, loc_of(port, file), loc_of(ref, file));
+    } else if (name == "params") {
+      if (!expect_map(v, "'params' of " + where, file, diagnostics)) continue;
+      for (const auto& [param, pv] : unique_entries(v))
+        node.params[param.Scalar()] = DocValue(pv, loc_of(param, file), loc_of(pv, file));
+    } else {
+      report_unknown_key(k, {"type", "in", "params"}, where, file, diagnostics);
+    }
+  }
+  return node;
+}
+
+std::optional<std::string> read_text(const fs::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) return std::nullopt;
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+std::optional<GraphDocument> read(const std::string& text, const std::string& name,
+                                  const fs::path& base_dir, std::vector<fs::path>& chain,
+                                  Diagnostics& diagnostics) {
+  YAML::Node root;
+  try {
+    root = YAML::Load(text);
+  } catch (const YAML::ParserException& e) {
+    diagnostics.error(SourceLoc{name, e.mark.line + 1, e.mark.column + 1}, "yaml-syntax", e.msg);
+    return std::nullopt;
+  }
+  if (!root.IsMap()) {
+    diagnostics.error(loc_of(root, name), "schema",
+                      "a graph file must be a map with keys graph, params, nodes, extends");
+    return std::nullopt;
+  }
+  check_duplicate_keys(root, name, true, "key", diagnostics);
+
+  GraphDocument doc;
+  GraphDocument own;
+  own.files.push_back(name);
+  bool has_base = false;
+  for (const auto& [k, v] : unique_entries(root)) {
+    const std::string key = k.Scalar();
+    if (key == "graph") {
+      if (auto s = scalar_text(v, "'graph' (the graph name)", name, diagnostics)) own.name = *s;
+    } else if (key == "params") {
+      if (!expect_map(v, "'params'", name, diagnostics)) continue;
+      for (const auto& [pk, pv] : unique_entries(v)) {
+        if (!is_param_name(pk.Scalar()))
+          diagnostics.error(
+              loc_of(pk, name), "bad-id",
+              "graph param '" + pk.Scalar() + "' is not of the form [A-Za-z_][A-Za-z0-9_]*");
+        own.params[pk.Scalar()] = DocValue(pv, loc_of(pk, name), loc_of(pv, name));
+      }
+    } else if (key == "nodes") {
+      if (!expect_map(v, "'nodes'", name, diagnostics)) continue;
+      for (const auto& [nk, nv] : unique_entries(v))
+        own.nodes.push_back(read_node(nk, nv, name, diagnostics));
+    } else if (key == "extends") {
+      auto rel = scalar_text(v, "'extends' (the base file)", name, diagnostics);
+      if (!rel) continue;
+      const fs::path base_file = (base_dir / *rel).lexically_normal();
+      const fs::path canonical = fs::weakly_canonical(base_file);
+      if (std::find(chain.begin(), chain.end(), canonical) != chain.end()) {
+        std::string cycle;
+        for (const auto& f : chain) cycle += f.string() + " -> ";
+        diagnostics.error(loc_of(v, name), "extends-cycle",
+                          "extends cycle: " + cycle + canonical.string());
+        continue;
+      }
+      const auto base_text = read_text(base_file);
+      if (!base_text) {
+        diagnostics.error(loc_of(v, name), "unreadable-file",
+                          "cannot read base graph " + base_file.string());
+        continue;
+      }
+      chain.push_back(canonical);
+      auto base = read(*base_text, base_file.string(), base_file.parent_path(), chain, diagnostics);
+      chain.pop_back();
+      if (!base) continue;
+      doc = std::move(*base);
+      has_base = true;
+    } else {
+      report_unknown_key(k, {"graph", "params", "nodes", "extends"}, "the graph file", name,
+                         diagnostics);
+    }
+  }
+  if (!has_base) return own;
+  merge_document(doc, own, diagnostics);
+  return doc;
+}
+
+}  // namespace
+
+std::optional<GraphDocument> read_graph_yaml(const std::string& text, const std::string& name,
+                                             const std::filesystem::path& base_dir,
+                                             Diagnostics& diagnostics) {
+  std::vector<fs::path> chain;
+  return read(text, name, base_dir, chain, diagnostics);
+}
+
+std::optional<GraphDocument> read_graph_file(const std::filesystem::path& file,
+                                             Diagnostics& diagnostics) {
+  const auto text = read_text(file);
+  if (!text) {
+    diagnostics.error(SourceLoc{file.string(), 0, 0}, "unreadable-file", "cannot read graph file");
+    return std::nullopt;
+  }
+  std::vector<fs::path> chain{fs::weakly_canonical(file)};
+  return read(*text, file.string(), file.parent_path(), chain, diagnostics);
+}
+
+}  // namespace gslift
