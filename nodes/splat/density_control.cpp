@@ -1,0 +1,128 @@
+#include "nodes/splat/density_control.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <random>
+
+#include <Eigen/Geometry>
+
+namespace gslift {
+namespace {
+
+// Copies row `from` of every per-Gaussian array of `src` to row `to` of `dst`.
+void copy_row(const GaussianModel& src, size_t from, GaussianModel& dst, size_t to) {
+  auto copy = [&](const std::vector<float>& s, std::vector<float>& d, size_t width) {
+    std::copy_n(s.begin() + from * width, width, d.begin() + to * width);
+  };
+  copy(src.means, dst.means, 3);
+  copy(src.log_scales, dst.log_scales, 3);
+  copy(src.quats, dst.quats, 4);
+  copy(src.opacity_logits, dst.opacity_logits, 1);
+  copy(src.sh, dst.sh, GaussianModel::sh_coeffs(src.sh_degree) * 3);
+  copy(src.features, dst.features, src.feature_dim);
+  if (!src.instance_ids.empty()) dst.instance_ids[to] = src.instance_ids[from];
+  if (!src.class_ids.empty()) dst.class_ids[to] = src.class_ids[from];
+}
+
+float max_scale(const GaussianModel& m, size_t i) {
+  const float* s = &m.log_scales[i * 3];
+  return std::exp(std::max({s[0], s[1], s[2]}));
+}
+
+}  // namespace
+
+void DensityStats::add(const std::vector<float>& mean2d_abs, const std::vector<int32_t>& seen) {
+  if (grad_sum.size() < mean2d_abs.size()) {
+    grad_sum.resize(mean2d_abs.size(), 0.0);
+    visible.resize(mean2d_abs.size(), 0);
+  }
+  for (size_t i = 0; i < mean2d_abs.size(); ++i) grad_sum[i] += mean2d_abs[i];
+  for (size_t i = 0; i < seen.size(); ++i) visible[i] += seen[i];
+}
+
+bool is_density_step(const DensityControlOptions& o, int step, int iterations) {
+  const int stop = static_cast<int>(o.stop * iterations);
+  return o.interval > 0 && step >= o.start && step <= stop && (step - o.start) % o.interval == 0;
+}
+
+DensityChange densify_and_prune(GaussianModel& model, const DensityStats& stats,
+                                const DensityControlOptions& o, double extent, uint64_t seed) {
+  const size_t n = model.size();
+  DensityChange change;
+  std::vector<char> prune(n, 0);
+  for (size_t i = 0; i < n; ++i) {
+    const double opacity = 1 / (1 + std::exp(-static_cast<double>(model.opacity_logits[i])));
+    prune[i] = opacity < o.prune_opacity || max_scale(model, i) > o.prune_max_scale * extent;
+  }
+  // Growth candidates by mean gradient, largest first (index breaks ties: deterministic).
+  std::vector<std::pair<double, size_t>> grow;
+  for (size_t i = 0; i < n && i < stats.grad_sum.size(); ++i) {
+    if (prune[i] || stats.visible[i] == 0) continue;
+    const double mean = stats.grad_sum[i] / stats.visible[i];
+    if (mean > o.grad_threshold) grow.emplace_back(-mean, i);
+  }
+  std::sort(grow.begin(), grow.end());
+  const size_t kept_before = n - std::count(prune.begin(), prune.end(), 1);
+  // Each clone adds one Gaussian, each split adds split_children - 1.
+  size_t budget_left = o.max_gaussians > kept_before ? o.max_gaussians - kept_before : 0;
+  std::vector<char> clone(n, 0), split(n, 0);
+  for (const auto& [neg, i] : grow) {
+    const bool small = max_scale(model, i) <= o.clone_max_scale * extent;
+    const size_t cost = small ? 1 : static_cast<size_t>(std::max(o.split_children - 1, 0));
+    if (cost > budget_left) break;
+    budget_left -= cost;
+    (small ? clone : split)[i] = 1;
+  }
+
+  for (size_t i = 0; i < n; ++i)
+    if (!prune[i] && !split[i]) change.source.push_back(static_cast<int>(i));
+  change.pruned = std::count(prune.begin(), prune.end(), 1);
+  std::vector<size_t> clones, splits;
+  for (size_t i = 0; i < n; ++i) {
+    if (clone[i]) clones.push_back(i);
+    if (split[i]) splits.push_back(i);
+  }
+  change.cloned = clones.size();
+  change.split = splits.size();
+  const size_t total =
+      change.source.size() + clones.size() + splits.size() * std::max(o.split_children, 0);
+
+  GaussianModel out;
+  out.sh_degree = model.sh_degree;
+  out.feature_dim = model.feature_dim;
+  if (!model.instance_ids.empty()) out.instance_ids.assign(total, -1);
+  if (!model.class_ids.empty()) out.class_ids.assign(total, -1);
+  out.resize(total);
+  size_t row = 0;
+  for (int i : change.source) copy_row(model, i, out, row++);
+  for (size_t i : clones) {
+    copy_row(model, i, out, row++);
+    change.source.push_back(-1);
+  }
+  const float shrink = std::log(static_cast<float>(o.split_scale_divisor));
+  for (size_t i : splits) {
+    // Children sampled from N(mu, Sigma) of the parent (3DGS densify_and_split).
+    std::mt19937_64 rng(seed * 0x9E3779B97F4A7C15ull + i);
+    std::normal_distribution<double> normal;
+    const float* q = &model.quats[i * 4];
+    const Eigen::Matrix3d R =
+        Eigen::Quaterniond(q[0], q[1], q[2], q[3]).normalized().toRotationMatrix();
+    for (int c = 0; c < o.split_children; ++c) {
+      Eigen::Vector3d z;
+      for (int k = 0; k < 3; ++k) z[k] = normal(rng) * std::exp(model.log_scales[i * 3 + k]);
+      const Eigen::Vector3d offset = R * z;
+      copy_row(model, i, out, row);
+      for (int k = 0; k < 3; ++k) {
+        out.means[row * 3 + k] += static_cast<float>(offset[k]);
+        out.log_scales[row * 3 + k] -= shrink;
+      }
+      ++row;
+      change.source.push_back(-1);
+    }
+  }
+  model = std::move(out);
+  return change;
+}
+
+}  // namespace gslift

@@ -1,0 +1,130 @@
+#include "nodes/splat/initialise.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include <open3d/geometry/KDTreeFlann.h>
+#include <open3d/geometry/PointCloud.h>
+
+#include "runtime/node.hpp"
+
+namespace gslift {
+namespace {
+
+constexpr double kSH0 = 0.28209479177387814;  // C0, the degree-0 SH basis constant
+
+bool has_depth(const Capture& capture, const std::vector<int>& views) {
+  for (int v : views)
+    if (!capture.views[v].depth.present()) return false;
+  return !views.empty();
+}
+
+}  // namespace
+
+ColouredPoints backproject_depth(const Capture& capture, const std::vector<int>& views,
+                                 int pixel_stride) {
+  ColouredPoints out;
+  std::vector<double> footprints;
+  const int stride = std::max(1, pixel_stride);
+  for (int index : views) {
+    const View& view = capture.views[index];
+    const cv::Mat depth = view.depth.load();
+    const cv::Mat rgb = view.rgb.load();
+    if (depth.empty()) continue;
+    if (depth.type() != CV_32FC1 || depth.size() != rgb.size() || rgb.type() != CV_8UC3)
+      throw InputError("view '" + view.name + "': depth prior must be CV_32F and the size of its " +
+                       "RGB image (" + std::to_string(rgb.cols) + "x" + std::to_string(rgb.rows) +
+                       "), got " + std::to_string(depth.cols) + "x" + std::to_string(depth.rows));
+    const Camera& cam = view.camera;
+    const Eigen::Matrix3d R_t = view.pose.R.transpose();
+    const Eigen::Vector3d centre = view.pose.centre();
+    const double focal = 0.5 * (cam.fx + cam.fy);
+    for (int v = 0; v < depth.rows; v += stride) {
+      for (int u = 0; u < depth.cols; u += stride) {
+        const float d = depth.at<float>(v, u);
+        if (!(d > 0.f) || !std::isfinite(d)) continue;
+        const Eigen::Vector3d cam_point(d * (u + 0.5 - cam.cx) / cam.fx,
+                                        d * (v + 0.5 - cam.cy) / cam.fy, d);
+        out.xyz.push_back(R_t * cam_point + centre);  // x_world = R^T (x_cam - t)
+        const cv::Vec3b c = rgb.at<cv::Vec3b>(v, u);
+        out.rgb.emplace_back(c[0] / 255.0, c[1] / 255.0, c[2] / 255.0);
+        footprints.push_back(d / focal);
+      }
+    }
+  }
+  if (!footprints.empty()) {
+    auto mid = footprints.begin() + footprints.size() / 2;
+    std::nth_element(footprints.begin(), mid, footprints.end());
+    out.median_footprint = *mid;
+  }
+  return out;
+}
+
+ColouredPoints sparse_points(const Capture& capture) {
+  ColouredPoints out;
+  for (size_t i = 0; i < capture.points.size(); ++i) {
+    out.xyz.push_back(capture.points.xyz[i].cast<double>());
+    const auto& c = capture.points.rgb.size() > i ? capture.points.rgb[i]
+                                                  : Eigen::Matrix<uint8_t, 3, 1>(128, 128, 128);
+    out.rgb.emplace_back(c[0] / 255.0, c[1] / 255.0, c[2] / 255.0);
+  }
+  return out;
+}
+
+GaussianModel gaussians_from_points(const ColouredPoints& points, double voxel,
+                                    const InitialiseOptions& options) {
+  open3d::geometry::PointCloud cloud;
+  cloud.points_ = points.xyz;
+  cloud.colors_ = points.rgb;
+  std::shared_ptr<open3d::geometry::PointCloud> down =
+      voxel > 0 ? cloud.VoxelDownSample(voxel)
+                : std::make_shared<open3d::geometry::PointCloud>(cloud);
+  const size_t n = down->points_.size();
+
+  GaussianModel model;
+  model.sh_degree = options.sh_degree;
+  model.feature_dim = options.feature_dim;
+  model.resize(n);
+  const int K = GaussianModel::sh_coeffs(options.sh_degree);
+  const float logit = std::log(options.opacity / (1 - options.opacity));
+  open3d::geometry::KDTreeFlann tree(*down);
+  std::vector<int> neighbours;
+  std::vector<double> dist2;
+  for (size_t i = 0; i < n; ++i) {
+    const Eigen::Vector3d& p = down->points_[i];
+    // 3 nearest neighbours other than the point itself (the query returns it first).
+    const int found = tree.SearchKNN(p, 4, neighbours, dist2);
+    double mean_d2 = 0;
+    for (int k = 1; k < found; ++k) mean_d2 += dist2[k];
+    mean_d2 = found > 1 ? mean_d2 / (found - 1) : 0;
+    const float log_scale = static_cast<float>(0.5 * std::log(std::max(mean_d2, 1e-7)));
+    for (int k = 0; k < 3; ++k) {
+      model.means[i * 3 + k] = static_cast<float>(p[k]);
+      model.log_scales[i * 3 + k] = log_scale;
+      model.sh[i * K * 3 + k] = static_cast<float>((down->colors_[i][k] - 0.5) / kSH0);
+    }
+    model.opacity_logits[i] = logit;
+  }
+  return model;
+}
+
+GaussianModel initialise_gaussians(const Capture& capture, const InitialiseOptions& options) {
+  const std::vector<int> train = capture.train_views();
+  bool use_depth = options.source == "depth";
+  if (options.source == "auto") use_depth = has_depth(capture, train);
+  const std::string where = "capture '" + capture.name + "': ";
+  if (use_depth) {
+    const ColouredPoints points = backproject_depth(capture, train, options.pixel_stride);
+    if (points.xyz.empty())
+      throw InputError(where +
+                       "no valid depth prior pixel in the training views to initialise from");
+    return gaussians_from_points(points, options.footprint_factor * points.median_footprint,
+                                 options);
+  }
+  const ColouredPoints points = sparse_points(capture);
+  if (points.xyz.empty())
+    throw InputError(where + "has neither sparse points nor a depth prior to initialise from");
+  return gaussians_from_points(points, options.points_voxel, options);
+}
+
+}  // namespace gslift

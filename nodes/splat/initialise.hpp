@@ -1,0 +1,62 @@
+// Initial Gaussians for reconstruction (METHODS.md §0 "Initialisation"): one isotropic Gaussian per
+// voxel of a point cloud taken from the capture's sparse points or from its depth prior
+// back-projected, voxel-downsampled (Open3D) at the pixel footprint so the model starts with no
+// more Gaussians than the images can resolve.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "nodes/scene/capture.hpp"
+#include "nodes/scene/gaussian_model.hpp"
+
+namespace gslift {
+
+struct ColouredPoints {
+  std::vector<Eigen::Vector3d> xyz;
+  std::vector<Eigen::Vector3d> rgb;  // [0,1]
+  // Median over the points of depth / focal length: the world size of one pixel at each point.
+  // 0 for points without a view (sparse SfM points).
+  double median_footprint = 0;
+};
+
+struct InitialiseOptions {
+  // "depth": back-project the depth prior of the training views; "points": the capture's sparse
+  // points; "auto": depth when every training view has a depth prior, else points.
+  std::string source = "auto";
+  // Keep every stride-th pixel in x and y when back-projecting (1 = all). The voxel filter below
+  // decides the final density; the stride only bounds the work before it.
+  int pixel_stride = 2;
+  // Voxel edge = footprint_factor x median pixel footprint. 1 keeps one Gaussian per pixel of the
+  // nearest view; larger trades detail for speed. [decision] 4 by default: the 500-iteration
+  // budget of LangOR and 5 views at 640x480 give ~20k Gaussians, measured in bench/splat_recon.
+  double footprint_factor = 4.0;
+  // Used for sparse points only (no footprint there): voxel edge in metres, 0 = no downsampling.
+  double points_voxel = 0.0;
+  float opacity = 0.1f;  // initial opacity (3DGS)
+  int sh_degree = 0;
+  int feature_dim = 0;
+};
+
+// Back-projects each training view's depth prior (CV_32F metres, 0 = invalid) to world points
+// with the view's colours. Throws InputError naming the view when a depth map does not match its
+// image size.
+ColouredPoints backproject_depth(const Capture& capture, const std::vector<int>& views,
+                                 int pixel_stride);
+
+// Sparse points with colours as read from the capture (rgb / 255).
+ColouredPoints sparse_points(const Capture& capture);
+
+// Gaussians at the voxel-downsampled points: colour as SH DC ((rgb - 0.5) / C0), identity
+// rotation, isotropic scale = sqrt of the mean squared distance to the 3 nearest neighbours
+// (3DGS's distCUDA2, floored at 1e-7), opacity options.opacity. voxel <= 0 keeps every point.
+GaussianModel gaussians_from_points(const ColouredPoints& points, double voxel,
+                                    const InitialiseOptions& options);
+
+// The whole initialisation: picks the source, computes the voxel size and builds the model.
+// Throws InputError when the chosen source is empty.
+GaussianModel initialise_gaussians(const Capture& capture, const InitialiseOptions& options);
+
+}  // namespace gslift

@@ -1,0 +1,276 @@
+#include "nodes/splat/ply_io.hpp"
+
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "runtime/atomic_file.hpp"
+#include "runtime/node.hpp"
+
+namespace gslift {
+namespace {
+
+std::vector<std::string> float_property_names(const GaussianModel& model) {
+  std::vector<std::string> names = {"x", "y", "z", "nx", "ny", "nz", "f_dc_0", "f_dc_1", "f_dc_2"};
+  const int rest = 3 * (GaussianModel::sh_coeffs(model.sh_degree) - 1);
+  for (int i = 0; i < rest; ++i) names.push_back("f_rest_" + std::to_string(i));
+  names.push_back("opacity");
+  for (int i = 0; i < 3; ++i) names.push_back("scale_" + std::to_string(i));
+  for (int i = 0; i < 4; ++i) names.push_back("rot_" + std::to_string(i));
+  for (int i = 0; i < model.feature_dim; ++i) names.push_back("feat_" + std::to_string(i));
+  return names;
+}
+
+template <class T>
+void append(std::string& out, T value) {
+  char bytes[sizeof(T)];
+  std::memcpy(bytes, &value, sizeof(T));  // the machines we support are little endian
+  out.append(bytes, sizeof(T));
+}
+
+enum class Scalar { I8, U8, I16, U16, I32, U32, F32, F64 };
+
+bool parse_scalar(const std::string& name, Scalar* s) {
+  static const std::map<std::string, Scalar> kTypes = {
+      {"char", Scalar::I8},    {"int8", Scalar::I8},     {"uchar", Scalar::U8},
+      {"uint8", Scalar::U8},   {"short", Scalar::I16},   {"int16", Scalar::I16},
+      {"ushort", Scalar::U16}, {"uint16", Scalar::U16},  {"int", Scalar::I32},
+      {"int32", Scalar::I32},  {"uint", Scalar::U32},    {"uint32", Scalar::U32},
+      {"float", Scalar::F32},  {"float32", Scalar::F32}, {"double", Scalar::F64},
+      {"float64", Scalar::F64}};
+  auto it = kTypes.find(name);
+  if (it == kTypes.end()) return false;
+  *s = it->second;
+  return true;
+}
+
+size_t scalar_size(Scalar s) {
+  switch (s) {
+    case Scalar::I8:
+    case Scalar::U8:
+      return 1;
+    case Scalar::I16:
+    case Scalar::U16:
+      return 2;
+    case Scalar::I32:
+    case Scalar::U32:
+    case Scalar::F32:
+      return 4;
+    case Scalar::F64:
+      return 8;
+  }
+  return 0;
+}
+
+template <class T>
+double load_as(const char* p) {
+  T v;
+  std::memcpy(&v, p, sizeof(T));
+  return static_cast<double>(v);
+}
+
+double decode(Scalar s, const char* p) {
+  switch (s) {
+    case Scalar::I8:
+      return load_as<int8_t>(p);
+    case Scalar::U8:
+      return load_as<uint8_t>(p);
+    case Scalar::I16:
+      return load_as<int16_t>(p);
+    case Scalar::U16:
+      return load_as<uint16_t>(p);
+    case Scalar::I32:
+      return load_as<int32_t>(p);
+    case Scalar::U32:
+      return load_as<uint32_t>(p);
+    case Scalar::F32:
+      return load_as<float>(p);
+    case Scalar::F64:
+      return load_as<double>(p);
+  }
+  return 0;
+}
+
+struct Property {
+  std::string name;
+  Scalar type = Scalar::F32;
+};
+
+struct Element {
+  std::string name;
+  size_t count = 0;
+  std::vector<Property> properties;
+  bool has_list = false;
+};
+
+// Index of the properties named prefix0, prefix1, ... (consecutive from 0), in numeric order.
+std::vector<int> numbered(const std::map<std::string, int>& index, const std::string& prefix) {
+  std::vector<int> out;
+  for (int i = 0;; ++i) {
+    auto it = index.find(prefix + std::to_string(i));
+    if (it == index.end()) return out;
+    out.push_back(it->second);
+  }
+}
+
+}  // namespace
+
+void write_ply(const GaussianModel& model, const std::filesystem::path& path) {
+  const size_t n = model.size();
+  const int K = GaussianModel::sh_coeffs(model.sh_degree);
+  const bool ids = !model.instance_ids.empty(), classes = !model.class_ids.empty();
+  std::ostringstream header;
+  header << "ply\nformat binary_little_endian 1.0\nelement vertex " << n << "\n";
+  for (const auto& name : float_property_names(model)) header << "property float " << name << "\n";
+  if (ids) header << "property int instance_id\n";
+  if (classes) header << "property int class_id\n";
+  header << "end_header\n";
+
+  std::string bytes = header.str();
+  const size_t row_bytes = 4 * (float_property_names(model).size() + ids + classes);
+  bytes.reserve(bytes.size() + n * row_bytes);
+  for (size_t i = 0; i < n; ++i) {
+    for (int k = 0; k < 3; ++k) append(bytes, model.means[i * 3 + k]);
+    for (int k = 0; k < 3; ++k) append(bytes, 0.f);
+    const float* sh = &model.sh[i * K * 3];
+    for (int c = 0; c < 3; ++c) append(bytes, sh[c]);
+    for (int c = 0; c < 3; ++c)  // channel-major rest coefficients
+      for (int k = 1; k < K; ++k) append(bytes, sh[k * 3 + c]);
+    append(bytes, model.opacity_logits[i]);
+    for (int k = 0; k < 3; ++k) append(bytes, model.log_scales[i * 3 + k]);
+    for (int k = 0; k < 4; ++k) append(bytes, model.quats[i * 4 + k]);
+    for (int k = 0; k < model.feature_dim; ++k)
+      append(bytes, model.features[i * model.feature_dim + k]);
+    if (ids) append(bytes, model.instance_ids[i]);
+    if (classes) append(bytes, model.class_ids[i]);
+  }
+  write_file_atomically(path, bytes);
+}
+
+GaussianModel read_ply(const std::filesystem::path& path) {
+  const std::string where = path.string() + ": ";
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(where + "cannot open PLY file");
+  std::string line;
+  if (!std::getline(in, line) || line.substr(0, 3) != "ply")
+    throw InputError(where + "not a PLY file (missing 'ply' magic)");
+
+  bool binary = false;
+  std::vector<Element> elements;
+  for (;;) {
+    if (!std::getline(in, line)) throw InputError(where + "PLY header has no end_header");
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    std::istringstream words(line);
+    std::string key;
+    words >> key;
+    if (key == "end_header") break;
+    if (key == "comment" || key == "obj_info" || key.empty()) continue;
+    if (key == "format") {
+      std::string format;
+      words >> format;
+      if (format == "binary_little_endian")
+        binary = true;
+      else if (format != "ascii")
+        throw InputError(where + "unsupported PLY format '" + format +
+                         "' (need binary_little_endian or ascii)");
+    } else if (key == "element") {
+      Element e;
+      words >> e.name >> e.count;
+      if (!words) throw InputError(where + "malformed PLY line '" + line + "'");
+      elements.push_back(e);
+    } else if (key == "property") {
+      if (elements.empty()) throw InputError(where + "PLY property before any element");
+      std::string type, name;
+      words >> type;
+      if (type == "list") {
+        elements.back().has_list = true;
+        continue;
+      }
+      words >> name;
+      Property p{name};
+      if (!parse_scalar(type, &p.type))
+        throw InputError(where + "unknown PLY property type '" + type + "'");
+      elements.back().properties.push_back(p);
+    } else {
+      throw InputError(where + "unexpected PLY header line '" + line + "'");
+    }
+  }
+  if (elements.empty() || elements.front().name != "vertex")
+    throw InputError(where + "the first PLY element must be 'vertex'");
+  const Element& vertex = elements.front();
+  if (vertex.has_list) throw InputError(where + "list properties in 'vertex' are not supported");
+
+  std::map<std::string, int> index;
+  for (size_t i = 0; i < vertex.properties.size(); ++i) index[vertex.properties[i].name] = i;
+  auto require = [&](const std::string& name) {
+    auto it = index.find(name);
+    if (it == index.end()) throw InputError(where + "PLY vertex lacks property '" + name + "'");
+    return it->second;
+  };
+  int pos[3], dc[3], scale[3], rot[4];
+  for (int k = 0; k < 3; ++k) pos[k] = require(std::string(1, "xyz"[k]));
+  for (int k = 0; k < 3; ++k) dc[k] = require("f_dc_" + std::to_string(k));
+  for (int k = 0; k < 3; ++k) scale[k] = require("scale_" + std::to_string(k));
+  for (int k = 0; k < 4; ++k) rot[k] = require("rot_" + std::to_string(k));
+  const int opacity = require("opacity");
+  const std::vector<int> rest = numbered(index, "f_rest_");
+  const std::vector<int> feat = numbered(index, "feat_");
+  const int K = static_cast<int>(rest.size()) / 3 + 1;
+  const int degree = static_cast<int>(std::lround(std::sqrt(K))) - 1;
+  if (rest.size() % 3 != 0 || degree > 3 || GaussianModel::sh_coeffs(degree) != K)
+    throw InputError(where + std::to_string(rest.size()) +
+                     " f_rest_* properties do not match an SH degree 0..3 (need 0, 9, 24 or 45)");
+  const int instance = index.count("instance_id") ? index["instance_id"] : -1;
+  const int class_id = index.count("class_id") ? index["class_id"] : -1;
+
+  GaussianModel model;
+  model.sh_degree = degree;
+  model.feature_dim = static_cast<int>(feat.size());
+  if (instance >= 0) model.instance_ids.assign(vertex.count, -1);
+  if (class_id >= 0) model.class_ids.assign(vertex.count, -1);
+  model.resize(vertex.count);
+
+  size_t row_bytes = 0;
+  std::vector<size_t> offset;
+  for (const auto& p : vertex.properties) {
+    offset.push_back(row_bytes);
+    row_bytes += scalar_size(p.type);
+  }
+  std::vector<double> values(vertex.properties.size());
+  std::vector<char> row(row_bytes);
+  for (size_t i = 0; i < vertex.count; ++i) {
+    if (binary) {
+      if (!in.read(row.data(), row_bytes))
+        throw InputError(where + "PLY data truncated at vertex " + std::to_string(i) + " of " +
+                         std::to_string(vertex.count));
+      for (size_t p = 0; p < values.size(); ++p)
+        values[p] = decode(vertex.properties[p].type, row.data() + offset[p]);
+    } else {
+      for (auto& v : values)
+        if (!(in >> v))
+          throw InputError(where + "PLY data truncated or not numeric at vertex " +
+                           std::to_string(i));
+    }
+    for (int k = 0; k < 3; ++k) {
+      model.means[i * 3 + k] = static_cast<float>(values[pos[k]]);
+      model.log_scales[i * 3 + k] = static_cast<float>(values[scale[k]]);
+      model.sh[i * K * 3 + k] = static_cast<float>(values[dc[k]]);
+    }
+    for (int c = 0; c < 3; ++c)
+      for (int k = 1; k < K; ++k)
+        model.sh[(i * K + k) * 3 + c] = static_cast<float>(values[rest[c * (K - 1) + k - 1]]);
+    for (int k = 0; k < 4; ++k) model.quats[i * 4 + k] = static_cast<float>(values[rot[k]]);
+    model.opacity_logits[i] = static_cast<float>(values[opacity]);
+    for (size_t k = 0; k < feat.size(); ++k)
+      model.features[i * feat.size() + k] = static_cast<float>(values[feat[k]]);
+    if (instance >= 0) model.instance_ids[i] = static_cast<int32_t>(values[instance]);
+    if (class_id >= 0) model.class_ids[i] = static_cast<int32_t>(values[class_id]);
+  }
+  return model;
+}
+
+}  // namespace gslift

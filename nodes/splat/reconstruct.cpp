@@ -1,0 +1,230 @@
+#include "nodes/splat/reconstruct.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <random>
+
+#include "nodes/splat/depth_normals.hpp"
+#include "nodes/splat/losses.hpp"
+#include "nodes/splat/rasterizer.hpp"
+#include "runtime/node.hpp"
+
+namespace gslift {
+namespace {
+
+// What one training view contributes, decoded once.
+struct TrainTarget {
+  const View* view = nullptr;
+  cv::Mat rgb;      // CV_32FC3 [0,1]
+  cv::Mat depth;    // CV_32FC1 metres, empty without a prior
+  cv::Mat normals;  // CV_32FC3 world-space, empty without a prior
+};
+
+cv::Mat load_rgb(const View& view) {
+  const cv::Mat rgb = view.rgb.load();
+  if (rgb.type() != CV_8UC3 || rgb.cols != view.camera.width || rgb.rows != view.camera.height)
+    throw InputError("view '" + view.name +
+                     "': RGB image must be 8-bit 3-channel of the camera size " +
+                     std::to_string(view.camera.width) + "x" + std::to_string(view.camera.height));
+  return rgb;
+}
+
+TrainTarget make_target(const View& view, bool need_normals) {
+  TrainTarget t;
+  t.view = &view;
+  load_rgb(view).convertTo(t.rgb, CV_32FC3, 1.0 / 255);
+  if (view.depth.present()) {
+    t.depth = view.depth.load();
+    if (t.depth.type() != CV_32FC1 || t.depth.size() != t.rgb.size())
+      throw InputError("view '" + view.name + "': depth prior must be CV_32F of the image size");
+    if (need_normals) t.normals = normals_from_depth(t.depth, view.camera, view.pose);
+  }
+  return t;
+}
+
+// One Adam group per parameter array of the model.
+struct ModelOptimiser {
+  AdamGroup means, log_scales, quats, opacity, sh;
+  ModelOptimiser(int sh_width, const AdamSettings& s)
+      : means(3, s), log_scales(3, s), quats(4, s), opacity(1, s), sh(sh_width, s) {}
+  void remap(const std::vector<int>& source) {
+    for (AdamGroup* g : {&means, &log_scales, &quats, &opacity, &sh}) g->remap(source);
+  }
+};
+
+cv::Mat wrap(std::vector<float>& data, int rows, int cols, int type) {
+  return cv::Mat(rows, cols, type, data.data());
+}
+
+std::vector<float> to_vector(const cv::Mat& m) {
+  const cv::Mat c = m.isContinuous() ? m : m.clone();
+  return std::vector<float>(c.ptr<float>(), c.ptr<float>() + c.total() * c.channels());
+}
+
+}  // namespace
+
+double scene_extent(const Capture& capture) {
+  std::vector<Eigen::Vector3d> centres;
+  for (int v : capture.train_views()) centres.push_back(capture.views[v].pose.centre());
+  if (centres.size() < 2) return 1.0;
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (const auto& c : centres) mean += c;
+  mean /= static_cast<double>(centres.size());
+  double radius = 0;
+  for (const auto& c : centres) radius = std::max(radius, (c - mean).norm());
+  return radius > 0 ? 1.1 * radius : 1.0;
+}
+
+double psnr(const cv::Mat& rendered, const cv::Mat& target_rgb8) {
+  cv::Mat clamped, target;
+  cv::min(cv::max(rendered, 0.0), 1.0, clamped);
+  target_rgb8.convertTo(target, CV_32FC3, 1.0 / 255);
+  const double mse = cv::norm(clamped, target, cv::NORM_L2SQR) / (clamped.total() * 3);
+  return mse > 0 ? 10 * std::log10(1.0 / mse) : std::numeric_limits<double>::infinity();
+}
+
+double mean_psnr(const GaussianModel& model, const Capture& capture,
+                 const std::vector<int>& views) {
+  if (views.empty()) return std::numeric_limits<double>::quiet_NaN();
+  RenderSettings settings;
+  double sum = 0;
+  for (int v : views) {
+    const View& view = capture.views[v];
+    RenderOutput out = render(model, view.camera, view.pose, settings);
+    sum += psnr(wrap(out.rgb, out.height, out.width, CV_32FC3), load_rgb(view));
+  }
+  return sum / static_cast<double>(views.size());
+}
+
+ReconstructResult reconstruct(const Capture& capture, const ReconstructOptions& options,
+                              const ReconstructCallback& callback) {
+  const auto start = std::chrono::steady_clock::now();
+  const std::vector<int> train = capture.train_views();
+  if (train.empty()) throw InputError("capture '" + capture.name + "' has no training view");
+
+  ReconstructResult result;
+  InitialiseOptions init = options.init;
+  init.sh_degree = options.sh_degree;
+  init.feature_dim = options.feature_dim;
+  GaussianModel model = initialise_gaussians(capture, init);
+  result.initial_gaussians = model.size();
+  const double extent = scene_extent(capture);
+  result.scene_extent = extent;
+
+  std::vector<TrainTarget> targets;
+  for (int v : train) targets.push_back(make_target(capture.views[v], options.normal_weight > 0));
+
+  const int K = GaussianModel::sh_coeffs(options.sh_degree);
+  ModelOptimiser adam(K * 3, options.adam);
+  const LearningRates& lr = options.rates;
+  std::vector<float> sh_lr(K * 3, static_cast<float>(lr.sh_rest));
+  std::fill_n(sh_lr.begin(), 3, static_cast<float>(lr.sh_dc));
+
+  DensityStats stats;
+  ModelGrads grads;
+  std::vector<float> flatness_grad;
+  std::vector<int> order;
+  std::mt19937_64 view_rng(options.seed);
+  std::vector<LossSummary> history;
+
+  for (int step = 0; step < options.iterations; ++step) {
+    // A fresh random permutation of the training views every epoch (3DGS's viewpoint stack).
+    if (order.empty()) {
+      order.resize(targets.size());
+      std::iota(order.begin(), order.end(), 0);
+      std::shuffle(order.begin(), order.end(), view_rng);
+    }
+    const TrainTarget& target = targets[order.back()];
+    order.pop_back();
+    const View& view = *target.view;
+
+    RenderSettings settings;
+    settings.sh_degree = std::min(options.sh_degree, step / std::max(options.sh_interval, 1));
+    const bool use_depth = options.depth_weight > 0 && !target.depth.empty();
+    const bool use_normal = options.normal_weight > 0 && !target.normals.empty();
+    settings.depth = use_depth;
+    settings.normal = use_normal;
+    RenderOutput out = render(model, view.camera, view.pose, settings);
+    const int H = out.height, W = out.width;
+
+    LossSummary loss;
+    RenderGrads rgrads;
+    cv::Mat grad;
+    loss.photometric =
+        photometric_loss(wrap(out.rgb, H, W, CV_32FC3), target.rgb, options.ssim_lambda, &grad)
+            .value;
+    rgrads.rgb = to_vector(grad);
+    if (use_depth) {
+      loss.depth = depth_log_l1_loss(wrap(out.depth, H, W, CV_32FC1), target.depth, &grad);
+      rgrads.depth = to_vector(grad * options.depth_weight);
+    }
+    if (use_normal) {
+      loss.normal = normal_cosine_loss(wrap(out.normal, H, W, CV_32FC3), target.normals, &grad);
+      rgrads.normal = to_vector(grad * options.normal_weight);
+    }
+    grads.reset(model);
+    render_backward(model, view.camera, view.pose, settings, out, rgrads, grads);
+    if (options.scale_weight > 0) {
+      loss.flatness = flatness_loss(model.log_scales, &flatness_grad);
+      for (size_t i = 0; i < flatness_grad.size(); ++i)
+        grads.log_scales[i] += static_cast<float>(options.scale_weight * flatness_grad[i]);
+    }
+    loss.total = loss.photometric + options.depth_weight * loss.depth +
+                 options.normal_weight * loss.normal + options.scale_weight * loss.flatness;
+    history.push_back(loss);
+    result.loss_history.push_back(loss.total);
+
+    const size_t n = model.size();
+    const float pos_lr = static_cast<float>(
+        extent * exponential_lr(lr.position_init, lr.position_final, step, options.iterations));
+    adam.means.step(model.means.data(), grads.means.data(), n, pos_lr);
+    adam.log_scales.step(model.log_scales.data(), grads.log_scales.data(), n,
+                         static_cast<float>(lr.scale));
+    adam.quats.step(model.quats.data(), grads.quats.data(), n, static_cast<float>(lr.rotation));
+    adam.opacity.step(model.opacity_logits.data(), grads.opacity_logits.data(), n,
+                      static_cast<float>(lr.opacity));
+    adam.sh.step(model.sh.data(), grads.sh.data(), n, sh_lr.data());
+
+    if (options.densify) {
+      stats.add(grads.mean2d_abs, grads.visible);
+      if (is_density_step(options.density, step, options.iterations)) {
+        const DensityChange change =
+            densify_and_prune(model, stats, options.density, extent, options.seed + step);
+        adam.remap(change.source);
+        stats.clear();
+      }
+    }
+    result.iterations_run = step + 1;
+    if (callback) callback(step, options.iterations, loss.total);
+
+    const int w = options.plateau_window;
+    if (w > 0 && step + 1 >= 2 * w && (step + 1) % w == 0) {
+      const auto& h = result.loss_history;
+      const double recent = std::accumulate(h.end() - w, h.end(), 0.0) / w;
+      const double before = std::accumulate(h.end() - 2 * w, h.end() - w, 0.0) / w;
+      if (before - recent < options.plateau_tolerance * before) {
+        result.stopped_early = true;
+        break;
+      }
+    }
+  }
+
+  const size_t tail = std::max<size_t>(1, history.size() / 10);
+  for (size_t i = history.size() - std::min(tail, history.size()); i < history.size(); ++i) {
+    result.final_loss.total += history[i].total / tail;
+    result.final_loss.photometric += history[i].photometric / tail;
+    result.final_loss.depth += history[i].depth / tail;
+    result.final_loss.normal += history[i].normal / tail;
+    result.final_loss.flatness += history[i].flatness / tail;
+  }
+  result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  result.train_psnr = mean_psnr(model, capture, train);
+  result.test_psnr = mean_psnr(model, capture, capture.test_views());
+  result.model = std::move(model);
+  return result;
+}
+
+}  // namespace gslift

@@ -1,0 +1,93 @@
+// Geometry-constrained 3DGS reconstruction (METHODS.md §0 and LangOR §1.2): initialise from the
+// depth prior or points, then optimise the photometric loss plus depth, normal and flatness terms
+// over the training views with Adam, with density control rescheduled for short runs.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <vector>
+
+#include "nodes/scene/capture.hpp"
+#include "nodes/scene/gaussian_model.hpp"
+#include "nodes/splat/adam.hpp"
+#include "nodes/splat/density_control.hpp"
+#include "nodes/splat/initialise.hpp"
+
+namespace gslift {
+
+// 3DGS learning rates (METHODS.md §0). Position rates are multiplied by the scene extent.
+struct LearningRates {
+  double position_init = 1.6e-4;
+  double position_final = 1.6e-6;  // reached at the last iteration, log-linear decay
+  double sh_dc = 2.5e-3;
+  double sh_rest = 2.5e-3 / 20;  // 1.25e-4
+  double opacity = 0.025;        // newer 3DGS code (0.05 in the paper's release)
+  double scale = 5e-3;
+  double rotation = 1e-3;
+};
+
+struct ReconstructOptions {
+  int iterations = 500;  // LangOR: 500
+  // Highest SH degree; training starts at 0 and adds one degree every sh_interval steps (3DGS
+  // does so every 1000 of 30000 steps; compressed here).
+  int sh_degree = 1;
+  int sh_interval = 100;
+  int feature_dim = 0;       // feature channels allocated (zero) for later stages; not trained here
+  double ssim_lambda = 0.2;  // photometric (1 - lambda) L1 + lambda D-SSIM
+  // Loss weights; 0 switches a term off (ablation). Anchors: DN-Splatter depth 0.2, normal 0.1;
+  // [decision] defaults measured in bench/splat_recon.
+  double depth_weight = 0.2;   // depth log-L1 against the depth prior, valid pixels only
+  double normal_weight = 0.1;  // 1 - cos(rendered normal, normal from the depth prior)
+  double scale_weight = 0.01;  // flatness: mean smallest scale (metres)
+  bool densify = true;
+  DensityControlOptions density;
+  // Early stop when the mean loss of the last `plateau_window` steps improves on the previous
+  // window by less than plateau_tolerance (relative). 0 = off.
+  int plateau_window = 0;
+  double plateau_tolerance = 1e-3;
+  LearningRates rates;
+  AdamSettings adam;
+  InitialiseOptions init;
+  uint64_t seed = 0;  // view order and split sampling
+};
+
+// Mean of each loss term over the last 10% of the steps (at least one step).
+struct LossSummary {
+  double total = 0, photometric = 0, depth = 0, normal = 0, flatness = 0;
+};
+
+struct ReconstructResult {
+  GaussianModel model;
+  size_t initial_gaussians = 0;
+  int iterations_run = 0;
+  bool stopped_early = false;
+  double seconds = 0;       // wall time of initialisation and optimisation
+  double scene_extent = 0;  // the extent position rates and density thresholds were scaled by
+  LossSummary final_loss;
+  std::vector<double> loss_history;  // total loss per step
+  // Mean PSNR (dB) of the final model over the training / held-out views; NaN without such views.
+  double train_psnr = 0, test_psnr = 0;
+};
+
+// Called after every step with (step index, total steps, current total loss). It may throw (e.g.
+// gslift::Cancelled) to abort the reconstruction.
+using ReconstructCallback = std::function<void(int step, int total, double loss)>;
+
+// 3DGS's cameras_extent: 1.1 x the largest distance of a training camera centre from their
+// centroid (1 when there is a single camera).
+double scene_extent(const Capture& capture);
+
+// PSNR (dB) of a rendered RGB image (CV_32FC3, clamped to [0,1] here) against an 8-bit target.
+double psnr(const cv::Mat& rendered, const cv::Mat& target_rgb8);
+
+// Mean PSNR of the model rendered at the given views against their RGB images (NaN when empty).
+double mean_psnr(const GaussianModel& model, const Capture& capture, const std::vector<int>& views);
+
+// Runs the reconstruction on the capture's training views. Deterministic for a fixed seed at any
+// thread count. The targets of the training views (float RGB, depth, normals) are decoded once
+// and kept for the run. Throws InputError when the capture has no training view or an image does
+// not match its camera.
+ReconstructResult reconstruct(const Capture& capture, const ReconstructOptions& options,
+                              const ReconstructCallback& callback = {});
+
+}  // namespace gslift
