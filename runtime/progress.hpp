@@ -1,0 +1,55 @@
+// Where the executor reports what nodes are doing: start, fractional progress of long nodes, end.
+// The CLI shows it as one updating line on a terminal and as throttled log lines otherwise (a
+// batch job's log must not fill with carriage returns); tests can plug in their own sink.
+#pragma once
+
+#include <atomic>
+#include <chrono>
+#include <cstdio>
+#include <mutex>
+#include <string>
+
+namespace gslift {
+
+class ProgressSink {
+ public:
+  virtual ~ProgressSink() = default;
+  // All three may be called concurrently from different nodes' threads.
+  virtual void node_started(const std::string& id, const std::string& type) = 0;
+  // fraction in [0,1]; `what` is a short free-form phase ("iteration 120/500").
+  virtual void node_progress(const std::string& id, double fraction, const std::string& what) = 0;
+  // status is the NodeStatus name ("ok", "failed", "cancelled"); seconds is the node's wall time.
+  virtual void node_finished(const std::string& id, const std::string& status, double seconds) = 0;
+};
+
+// The CLI's sink. On a terminal (`tty`) it redraws a single line on `stream` at most every
+// `tty_interval`; otherwise it logs (spdlog, info) at most once per `log_interval` per run, so a
+// node that reports progress every iteration costs one clock read per call.
+class ConsoleProgress : public ProgressSink {
+ public:
+  ConsoleProgress(bool tty, std::FILE* stream,
+                  std::chrono::milliseconds tty_interval = std::chrono::milliseconds(100),
+                  std::chrono::milliseconds log_interval = std::chrono::seconds(5));
+  ~ConsoleProgress() override;
+
+  void node_started(const std::string& id, const std::string& type) override;
+  void node_progress(const std::string& id, double fraction, const std::string& what) override;
+  void node_finished(const std::string& id, const std::string& status, double seconds) override;
+
+ private:
+  // Erases the progress line so that a log line does not land in the middle of it.
+  void clear_line_locked();
+
+  bool tty_;
+  std::FILE* stream_;
+  std::chrono::steady_clock::duration interval_;
+  std::mutex mutex_;
+  // Nanoseconds (steady clock) of the last line drawn or logged; checked without the lock.
+  std::atomic<int64_t> last_shown_ns_{0};
+  bool line_shown_ = false;
+};
+
+// True when `stream` is an interactive terminal.
+bool is_terminal(std::FILE* stream);
+
+}  // namespace gslift

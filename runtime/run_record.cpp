@@ -1,0 +1,83 @@
+#include "runtime/run_record.hpp"
+
+#include "runtime/atomic_file.hpp"
+#include "runtime/version.hpp"
+
+namespace gslift {
+
+using nlohmann::json;
+
+json param_json(const ParamValue& v) {
+  return std::visit([](const auto& x) { return json(x); }, v);
+}
+
+namespace {
+json loc_json(const SourceLoc& loc) {
+  return loc.file.empty() ? json() : json(loc.str());
+}
+
+json params_json(const std::map<std::string, ParamValue>& params) {
+  json out = json::object();
+  for (const auto& [name, value] : params) out[name] = param_json(value);
+  return out;
+}
+
+json error_json(const RunError& e) {
+  return {{"kind", to_string(e.kind)},
+          {"node", e.node},
+          {"type", e.type},
+          {"loc", loc_json(e.loc)},
+          {"message", e.message}};
+}
+
+json node_json(const NodeRecord& n) {
+  json records = json::object();
+  for (const auto& [key, value] : n.records)
+    records[key] = std::visit([](const auto& x) { return json(x); }, value);
+  json out = {{"id", n.id},           {"type", n.type},   {"status", to_string(n.status)},
+              {"start_s", n.start_s}, {"end_s", n.end_s}, {"wall_s", n.end_s - n.start_s},
+              {"records", records}};
+  if (n.status == NodeStatus::Failed) out["error"] = n.error;
+  return out;
+}
+}  // namespace
+
+json graph_json(const Graph& graph) {
+  json nodes = json::array();
+  for (const auto& n : graph.nodes) {
+    json inputs = json::object();
+    for (const auto& [port, ref] : n.inputs) inputs[port] = ref.str();
+    nodes.push_back({{"id", n.id},
+                     {"type", n.type},
+                     {"loc", loc_json(n.loc)},
+                     {"inputs", inputs},
+                     {"params", params_json(n.params)}});
+  }
+  return {{"name", graph.name},
+          {"files", graph.files},
+          {"params", params_json(graph.params)},
+          {"nodes", nodes}};
+}
+
+json run_record_json(const Graph& graph, const RunResult& result) {
+  json nodes = json::array();
+  for (const auto& n : result.nodes) nodes.push_back(node_json(n));
+  return {{"gslift", {{"version", gslift_version()}, {"git", gslift_git_version()}}},
+          {"graph", graph_json(graph)},
+          {"run",
+           {{"status", to_string(result.status)},
+            {"error", result.error ? error_json(*result.error) : json()},
+            {"seed", result.seed},
+            {"threads", result.threads},
+            {"started_at", result.started_at},
+            {"total_s", result.total_s},
+            {"peak_rss_mb", static_cast<double>(result.peak_rss_kb) / 1024.0}}},
+          {"nodes", nodes}};
+}
+
+void write_run_record(const std::filesystem::path& file, const Graph& graph,
+                      const RunResult& result) {
+  write_file_atomically(file, run_record_json(graph, result).dump(2) + "\n");
+}
+
+}  // namespace gslift

@@ -1,0 +1,93 @@
+#include "tests/runtime/debug_nodes.hpp"
+
+#include <chrono>
+#include <fstream>
+#include <random>
+#include <stdexcept>
+#include <thread>
+
+namespace gslift {
+GSLIFT_PORT_TYPE(std::string, "Text");
+}
+
+namespace gslift::test {
+
+namespace {
+PortSpec number(const std::string& name, bool optional = false) {
+  return PortSpec{name, "Number", "a number", optional};
+}
+double input_or_zero(const NodeContext& ctx, const std::string& port) {
+  return ctx.has_input(port) ? ctx.input<Number>(port)->value : 0.0;
+}
+}  // namespace
+
+Registry debug_registry() {
+  Registry r;
+  r.add(NodeSpec{"debug.constant",
+                 "a constant",
+                 {},
+                 {number("out")},
+                 {float_param("value", 0.0, "the value")}},
+        [](NodeContext& ctx) { ctx.output("out", Number{ctx.param_float("value")}); });
+  r.add(NodeSpec{"debug.sleep",
+                 "sleeps, polling cancellation",
+                 {number("in", true)},
+                 {number("out")},
+                 {int_param("ms", 100, "milliseconds", 0)}},
+        [](NodeContext& ctx) {
+          const auto end =
+              std::chrono::steady_clock::now() + std::chrono::milliseconds(ctx.param_int("ms"));
+          while (std::chrono::steady_clock::now() < end) {
+            ctx.check_cancelled();
+            ctx.progress(0.5, "sleeping");
+            std::this_thread::sleep_for(std::chrono::milliseconds(5));
+          }
+          ctx.output("out", Number{input_or_zero(ctx, "in")});
+        });
+  r.add(NodeSpec{"debug.fail",
+                 "throws",
+                 {number("in", true)},
+                 {number("out")},
+                 {string_param("kind", "other", "exception kind", {"input", "other"}),
+                  string_param("message", "boom", "exception message")}},
+        [](NodeContext& ctx) {
+          if (ctx.param_string("kind") == "input") throw InputError(ctx.param_string("message"));
+          throw std::runtime_error(ctx.param_string("message"));
+        });
+  r.add(NodeSpec{"debug.random", "one seeded draw", {}, {number("out")}, {}}, [](NodeContext& ctx) {
+    std::mt19937_64 rng(ctx.seed());
+    const double draw = std::uniform_real_distribution<double>(0.0, 1.0)(rng);
+    ctx.record("seed", std::to_string(ctx.seed()));
+    ctx.record("draw", draw);
+    ctx.output("out", Number{draw});
+  });
+  r.add(NodeSpec{"debug.add", "a + b", {number("a"), number("b")}, {number("out")}, {}},
+        [](NodeContext& ctx) {
+          ctx.output("out", Number{ctx.input<Number>("a")->value + ctx.input<Number>("b")->value});
+        });
+  r.add(NodeSpec{"debug.lazy", "forgets its output", {}, {number("out")}, {}}, [](NodeContext&) {});
+  r.add(NodeSpec{"debug.wrong", "mistyped output", {}, {number("out")}, {}},
+        [](NodeContext& ctx) { ctx.set_output("out", Value::make<std::string>("text")); });
+  r.add(NodeSpec{"debug.write", "writes its input", {}, {number("out")}, {}}, [](NodeContext& ctx) {
+    if (ctx.run_input().find("bad") != std::string::npos)
+      throw InputError(ctx.run_input() + ": unreadable");
+    std::ofstream(ctx.out_dir() / "input.txt") << ctx.run_input();
+    ctx.output("out", Number{1.0});
+  });
+  return r;
+}
+
+GraphNode debug_node(const Registry& registry, const std::string& id, const std::string& type,
+                     std::map<std::string, PortRef> inputs,
+                     std::map<std::string, ParamValue> params, int line) {
+  GraphNode n;
+  n.id = id;
+  n.type = type;
+  n.inputs = std::move(inputs);
+  for (const auto& p : registry.find(type)->params) n.params[p.name] = *p.default_value;
+  for (auto& [k, v] : params) n.params[k] = std::move(v);
+  n.loc = SourceLoc{"test.yaml", line, 3};
+  return n;
+}
+
+}  // namespace gslift::test
