@@ -1,0 +1,517 @@
+#include "nodes/splat/rasterizer.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include "nodes/splat/raster_state.hpp"
+#include "nodes/splat/sh.hpp"
+#include "runtime/node.hpp"
+
+namespace gslift {
+
+namespace {
+
+void check_size(const char* what, size_t got, size_t expected) {
+  if (got != expected)
+    throw InputError(std::string("GaussianModel: ") + what + " has " + std::to_string(got) +
+                     " values, expected " + std::to_string(expected));
+}
+
+void check_model(const GaussianModel& model) {
+  if (model.sh_degree < 0 || model.sh_degree > 3)
+    throw InputError("GaussianModel: sh_degree " + std::to_string(model.sh_degree) +
+                     " is outside 0..3");
+  if (model.feature_dim < 0) throw InputError("GaussianModel: negative feature_dim");
+  const size_t n = model.size();
+  check_size("means", model.means.size(), 3 * n);
+  check_size("log_scales", model.log_scales.size(), 3 * n);
+  check_size("quats", model.quats.size(), 4 * n);
+  check_size("sh", model.sh.size(), n * GaussianModel::sh_coeffs(model.sh_degree) * 3);
+  check_size("features", model.features.size(), n * model.feature_dim);
+  if (n >= std::numeric_limits<uint32_t>::max())
+    throw InputError("GaussianModel: too many Gaussians");
+}
+
+float sigmoid(float x) {
+  return 1.f / (1.f + std::exp(-x));
+}
+
+// View direction of a Gaussian (camera centre -> mean) and its length.
+Eigen::Vector3f view_direction(const ViewTransform& view, const float* mean, float& length) {
+  const Eigen::Vector3f d = Eigen::Vector3f(mean[0], mean[1], mean[2]) - view.centre;
+  length = std::max(d.norm(), 1e-12f);
+  return d / length;
+}
+
+// SH colour before the clamp at 0: sum_k Y_k(dir) sh_k + 0.5 (3DGS).
+Eigen::Vector3f sh_colour(const float* sh, int degree, const float* basis) {
+  Eigen::Vector3f c = Eigen::Vector3f::Constant(0.5f);
+  for (int k = 0; k < GaussianModel::sh_coeffs(degree); ++k)
+    c += basis[k] * Eigen::Vector3f(sh[3 * k], sh[3 * k + 1], sh[3 * k + 2]);
+  return c;
+}
+
+// Tile range [x0, x1) x [y0, y1) covered by the 3-sigma square around a projected Gaussian.
+struct TileRect {
+  int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+  uint32_t area() const { return x1 > x0 && y1 > y0 ? uint32_t((x1 - x0) * (y1 - y0)) : 0u; }
+};
+
+TileRect tile_rect(const ProjectedGaussian& p, int tiles_x, int tiles_y) {
+  // Clamp in float first: a Gaussian near the image plane can project anywhere.
+  auto tile = [](float coord, int tiles) {
+    return int(std::clamp(std::floor(coord / kTileSize), -1.f, float(tiles)));
+  };
+  const float r = float(p.radius);
+  TileRect rect;
+  rect.x0 = std::max(0, tile(p.mean2d.x() - r, tiles_x));
+  rect.y0 = std::max(0, tile(p.mean2d.y() - r, tiles_y));
+  rect.x1 = std::min(tiles_x, tile(p.mean2d.x() + r, tiles_x) + 1);
+  rect.y1 = std::min(tiles_y, tile(p.mean2d.y() + r, tiles_y) + 1);
+  return rect;
+}
+
+// Projects every Gaussian, computes its blended values and fills the depth-sorted tile lists.
+void bin_gaussians(const GaussianModel& model, const ViewTransform& view,
+                   const RenderSettings& settings, RasterState& s) {
+  const size_t n = model.size();
+  const int K = GaussianModel::sh_coeffs(model.sh_degree);
+  const int D = model.feature_dim;
+  s.projections.resize(n);
+  s.values.assign(n * s.channels, 0.f);
+  std::vector<uint32_t> counts(n, 0);
+  std::vector<TileRect> rects(n);
+  tbb::parallel_for(
+      tbb::blocked_range<size_t>(0, n, 1024), [&](const tbb::blocked_range<size_t>& r) {
+        float basis[kMaxShCoeffs];
+        for (size_t g = r.begin(); g != r.end(); ++g) {
+          ProjectedGaussian& p = s.projections[g];
+          if (!project_gaussian(view, &model.means[3 * g], &model.log_scales[3 * g],
+                                &model.quats[4 * g], settings.near, p))
+            continue;
+          rects[g] = tile_rect(p, s.tiles_x, s.tiles_y);
+          counts[g] = rects[g].area();
+          if (counts[g] == 0) {
+            p.radius = 0;
+            continue;
+          }
+          float* v = &s.values[g * s.channels];
+          if (s.rgb_offset >= 0) {
+            float length;
+            sh_basis(s.sh_degree, view_direction(view, &model.means[3 * g], length), basis);
+            const Eigen::Vector3f c = sh_colour(&model.sh[g * K * 3], s.sh_degree, basis);
+            for (int k = 0; k < 3; ++k) v[s.rgb_offset + k] = std::max(c[k], 0.f);
+          }
+          if (s.depth_offset >= 0) v[s.depth_offset] = p.depth;
+          if (s.normal_offset >= 0)
+            for (int k = 0; k < 3; ++k) v[s.normal_offset + k] = p.normal[k];
+          for (int f = 0; s.feature_offset >= 0 && f < D; ++f)
+            v[s.feature_offset + f] = model.features[g * D + f];
+          if (s.alpha_offset >= 0) v[s.alpha_offset] = 1.f;
+        }
+      });
+
+  s.slot_offsets.assign(n + 1, 0);
+  for (size_t g = 0; g < n; ++g) {
+    if (uint64_t(s.slot_offsets[g]) + counts[g] >= std::numeric_limits<uint32_t>::max())
+      throw InputError("rasterizer: more than 2^32 Gaussian-tile pairs");
+    s.slot_offsets[g + 1] = s.slot_offsets[g] + counts[g];
+  }
+  const uint32_t pairs = s.slot_offsets[n];
+  std::vector<uint32_t> slot_tile(pairs);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 1024),
+                    [&](const tbb::blocked_range<size_t>& r) {
+                      for (size_t g = r.begin(); g != r.end(); ++g) {
+                        uint32_t slot = s.slot_offsets[g];
+                        const TileRect& rect = rects[g];
+                        for (int ty = rect.y0; ty < rect.y1 && counts[g]; ++ty)
+                          for (int tx = rect.x0; tx < rect.x1; ++tx)
+                            slot_tile[slot++] = uint32_t(ty * s.tiles_x + tx);
+                      }
+                    });
+
+  // Counting sort of the pairs by tile (stable, in slot order), then a depth sort per tile.
+  const int tiles = s.tile_count();
+  s.tile_offsets.assign(tiles + 1, 0);
+  for (uint32_t k = 0; k < pairs; ++k) ++s.tile_offsets[slot_tile[k] + 1];
+  for (int t = 0; t < tiles; ++t) s.tile_offsets[t + 1] += s.tile_offsets[t];
+  std::vector<uint32_t> cursor(s.tile_offsets.begin(), s.tile_offsets.end() - 1);
+  std::vector<uint32_t> bucket(pairs);
+  std::vector<uint32_t> slot_gaussian(pairs);
+  for (size_t g = 0; g < n; ++g)
+    for (uint32_t k = s.slot_offsets[g]; k < s.slot_offsets[g + 1]; ++k) {
+      slot_gaussian[k] = uint32_t(g);
+      bucket[cursor[slot_tile[k]]++] = k;
+    }
+  s.tile_gaussians.resize(pairs);
+  tbb::parallel_for(tbb::blocked_range<int>(0, tiles, 4), [&](const tbb::blocked_range<int>& r) {
+    for (int t = r.begin(); t != r.end(); ++t) {
+      uint32_t* begin = bucket.data() + s.tile_offsets[t];
+      uint32_t* end = bucket.data() + s.tile_offsets[t + 1];
+      // Ties in depth broken by Gaussian index: the order never depends on scheduling.
+      std::sort(begin, end, [&](uint32_t a, uint32_t b) {
+        const uint32_t ga = slot_gaussian[a], gb = slot_gaussian[b];
+        const float da = s.projections[ga].depth, db = s.projections[gb].depth;
+        return da < db || (da == db && ga < gb);
+      });
+      for (uint32_t* k = begin; k != end; ++k) {
+        const uint32_t g = slot_gaussian[*k];
+        const ProjectedGaussian& p = s.projections[g];
+        const float o = sigmoid(model.opacity_logits[g]);
+        TileGaussian& e = s.tile_gaussians[k - bucket.data()];
+        e = {p.mean2d.x(),
+             p.mean2d.y(),
+             p.conic[0],
+             p.conic[1],
+             p.conic[2],
+             o,
+             std::log(kMinAlpha / std::max(o, 1e-30f)),
+             g,
+             *k};
+      }
+    }
+  });
+}
+
+// Pixel range of tile t.
+struct TilePixels {
+  int x0, y0, x1, y1;
+};
+TilePixels tile_pixels(const RasterState& s, int t) {
+  const int tx = t % s.tiles_x, ty = t / s.tiles_x;
+  return {tx * kTileSize, ty * kTileSize, std::min(s.width, (tx + 1) * kTileSize),
+          std::min(s.height, (ty + 1) * kTileSize)};
+}
+
+// Copies a tile's per-Gaussian values into a contiguous buffer (cache-friendly blending).
+void gather_values(const RasterState& s, const TileGaussian* list, uint32_t count,
+                   std::vector<float>& out) {
+  out.resize(size_t(count) * s.channels);
+  for (uint32_t j = 0; j < count; ++j)
+    std::copy_n(&s.values[size_t(list[j].id) * s.channels], s.channels,
+                &out[size_t(j) * s.channels]);
+}
+
+constexpr float kMinAlphaForDepth = 1e-6f;  // normalised depth is 0 below this accumulated alpha
+
+}  // namespace
+
+void ModelGrads::reset(const GaussianModel& model) {
+  const size_t n = model.size();
+  means.assign(3 * n, 0.f);
+  log_scales.assign(3 * n, 0.f);
+  quats.assign(4 * n, 0.f);
+  opacity_logits.assign(n, 0.f);
+  sh.assign(n * GaussianModel::sh_coeffs(model.sh_degree) * 3, 0.f);
+  features.assign(n * model.feature_dim, 0.f);
+  mean2d_abs.assign(n, 0.f);
+  visible.assign(n, 0);
+}
+
+RenderOutput render(const GaussianModel& model, const Camera& camera, const Pose& pose,
+                    const RenderSettings& settings) {
+  check_model(model);
+  if (camera.width <= 0 || camera.height <= 0 || !(camera.fx > 0) || !(camera.fy > 0))
+    throw InputError("rasterizer: camera has no pixels or a non-positive focal length (" +
+                     std::to_string(camera.width) + "x" + std::to_string(camera.height) + ")");
+  const ViewTransform view(camera, pose);
+  auto state = std::make_shared<RasterState>();
+  RasterState& s = *state;
+  s.width = camera.width;
+  s.height = camera.height;
+  s.tiles_x = (s.width + kTileSize - 1) / kTileSize;
+  s.tiles_y = (s.height + kTileSize - 1) / kTileSize;
+  s.sh_degree =
+      settings.sh_degree < 0 ? model.sh_degree : std::min(settings.sh_degree, model.sh_degree);
+  const int D = model.feature_dim;
+  auto add_block = [&](bool on, int size, int& offset) {
+    if (on) {
+      offset = s.channels;
+      s.channels += size;
+    }
+  };
+  add_block(settings.rgb, 3, s.rgb_offset);
+  add_block(settings.depth, 1, s.depth_offset);
+  add_block(settings.normal, 3, s.normal_offset);
+  add_block(settings.features && D > 0, D, s.feature_offset);
+  add_block(settings.alpha || (settings.depth && settings.normalize_depth), 1, s.alpha_offset);
+  s.background.assign(s.channels, 0.f);
+  for (int k = 0; s.rgb_offset >= 0 && k < 3; ++k)
+    s.background[s.rgb_offset + k] = settings.background[k];
+
+  bin_gaussians(model, view, settings, s);
+
+  const size_t pixels = size_t(s.width) * s.height;
+  RenderOutput out;
+  out.width = s.width;
+  out.height = s.height;
+  out.feature_dim = settings.features ? D : 0;
+  if (settings.rgb) out.rgb.assign(pixels * 3, 0.f);
+  if (settings.depth) out.depth.assign(pixels, 0.f);
+  if (settings.normal) out.normal.assign(pixels * 3, 0.f);
+  if (settings.alpha) out.alpha.assign(pixels, 0.f);
+  if (settings.features) out.features.assign(pixels * D, 0.f);
+  s.final_transmittance.assign(pixels, 1.f);
+  s.contributors.assign(pixels, 0);
+  if (s.alpha_offset >= 0) s.alpha_sum.assign(pixels, 0.f);
+
+  tbb::parallel_for(
+      tbb::blocked_range<int>(0, s.tile_count()), [&](const tbb::blocked_range<int>& r) {
+        std::vector<float> values, acc(s.channels);
+        for (int t = r.begin(); t != r.end(); ++t) {
+          const TileGaussian* list = s.tile_gaussians.data() + s.tile_offsets[t];
+          const uint32_t count = s.tile_offsets[t + 1] - s.tile_offsets[t];
+          gather_values(s, list, count, values);
+          const TilePixels tp = tile_pixels(s, t);
+          for (int y = tp.y0; y < tp.y1; ++y)
+            for (int x = tp.x0; x < tp.x1; ++x) {
+              const size_t pix = size_t(y) * s.width + x;
+              std::fill(acc.begin(), acc.end(), 0.f);
+              float T;
+              s.contributors[pix] =
+                  blend_pixel(list, count, x + 0.5f, y + 0.5f, T, [&](uint32_t j, float w) {
+                    const float* v = &values[size_t(j) * s.channels];
+                    for (int c = 0; c < s.channels; ++c) acc[c] += w * v[c];
+                  });
+              s.final_transmittance[pix] = T;
+              for (int c = 0; s.rgb_offset >= 0 && c < 3; ++c)
+                out.rgb[pix * 3 + c] = acc[s.rgb_offset + c] + T * settings.background[c];
+              if (s.depth_offset >= 0) {
+                float d = acc[s.depth_offset];
+                if (settings.normalize_depth) {
+                  const float a = acc[s.alpha_offset];
+                  d = a >= kMinAlphaForDepth ? d / a : 0.f;
+                }
+                out.depth[pix] = d;
+              }
+              for (int c = 0; s.normal_offset >= 0 && c < 3; ++c)
+                out.normal[pix * 3 + c] = acc[s.normal_offset + c];
+              for (int f = 0; s.feature_offset >= 0 && f < D; ++f)
+                out.features[pix * D + f] = acc[s.feature_offset + f];
+              if (s.alpha_offset >= 0) s.alpha_sum[pix] = acc[s.alpha_offset];
+              if (settings.alpha) out.alpha[pix] = acc[s.alpha_offset];
+            }
+        }
+      });
+
+  out.radii.resize(model.size());
+  for (size_t g = 0; g < model.size(); ++g) out.radii[g] = s.projections[g].radius;
+  out.state = std::move(state);
+  return out;
+}
+
+namespace {
+
+// dL/d(channel block) per pixel in the state's channel layout; the normalised depth's quotient
+// rule (D = depth_sum / alpha_sum) is folded into the depth and alpha channels.
+class PixelGrads {
+ public:
+  PixelGrads(const RasterState& s, const RenderSettings& settings, const RenderOutput& forward,
+             const RenderGrads& grads)
+      : s_(s), settings_(settings), forward_(forward), grads_(grads) {
+    const size_t pixels = size_t(s.width) * s.height;
+    check("rgb", grads.rgb, s.rgb_offset >= 0, pixels * 3);
+    check("depth", grads.depth, s.depth_offset >= 0, pixels);
+    check("normal", grads.normal, s.normal_offset >= 0, pixels * 3);
+    check("alpha", grads.alpha, settings.alpha, pixels);
+    check("features", grads.features, s.feature_offset >= 0, pixels * forward.feature_dim);
+  }
+
+  // Fills g (channels) for pixel pix; returns false when every entry is zero.
+  bool at(size_t pix, float* g) const {
+    std::fill(g, g + s_.channels, 0.f);
+    bool any = false;
+    auto put = [&](int offset, const std::vector<float>& src, int size) {
+      if (offset < 0 || src.empty()) return;
+      for (int c = 0; c < size; ++c) {
+        g[offset + c] += src[pix * size + c];
+        any |= src[pix * size + c] != 0.f;
+      }
+    };
+    put(s_.rgb_offset, grads_.rgb, 3);
+    put(s_.normal_offset, grads_.normal, 3);
+    put(s_.feature_offset, grads_.features, forward_.feature_dim);
+    if (settings_.alpha) put(s_.alpha_offset, grads_.alpha, 1);
+    if (s_.depth_offset >= 0 && !grads_.depth.empty() && grads_.depth[pix] != 0.f) {
+      any = true;
+      const float gd = grads_.depth[pix];
+      if (!settings_.normalize_depth) {
+        g[s_.depth_offset] += gd;
+      } else {
+        // D = S / A with S = depth sum, A = alpha sum: dD/dS = 1/A, dD/dA = -D/A.
+        const float a = s_.alpha_sum[pix];
+        if (a >= kMinAlphaForDepth) {
+          g[s_.depth_offset] += gd / a;
+          g[s_.alpha_offset] -= gd * forward_.depth[pix] / a;
+        }
+      }
+    }
+    return any;
+  }
+
+ private:
+  static void check(const char* name, const std::vector<float>& g, bool rendered, size_t size) {
+    if (g.empty()) return;
+    if (!rendered)
+      throw InputError(std::string("render_backward: gradient given for ") + name +
+                       ", which the forward pass did not render");
+    if (g.size() != size)
+      throw InputError(std::string("render_backward: ") + name + " gradient has " +
+                       std::to_string(g.size()) + " values, expected " + std::to_string(size));
+  }
+
+  const RasterState& s_;
+  const RenderSettings& settings_;
+  const RenderOutput& forward_;
+  const RenderGrads& grads_;
+};
+
+// Per (Gaussian, tile) slot: dL/d mean2d (2), conic (3), opacity (1), then the channel values.
+constexpr int kSlotGeometry = 6;
+
+}  // namespace
+
+void render_backward(const GaussianModel& model, const Camera& camera, const Pose& pose,
+                     const RenderSettings& settings, const RenderOutput& forward,
+                     const RenderGrads& grads, ModelGrads& accumulate) {
+  check_model(model);
+  if (!forward.state) throw InputError("render_backward: the forward output has no raster state");
+  const RasterState& s = *forward.state;
+  const size_t n = model.size();
+  if (s.projections.size() != n || s.width != camera.width || s.height != camera.height)
+    throw InputError("render_backward: the forward pass was rendered for another model or camera");
+  const int K = GaussianModel::sh_coeffs(model.sh_degree);
+  const int D = model.feature_dim;
+  if (accumulate.means.size() != 3 * n || accumulate.log_scales.size() != 3 * n ||
+      accumulate.quats.size() != 4 * n || accumulate.opacity_logits.size() != n ||
+      accumulate.sh.size() != n * K * 3 || accumulate.features.size() != n * size_t(D) ||
+      accumulate.mean2d_abs.size() != n || accumulate.visible.size() != n)
+    throw InputError("render_backward: ModelGrads sizes do not match the model (call reset())");
+  const PixelGrads pixel_grads(s, settings, forward, grads);
+  const ViewTransform view(camera, pose);
+
+  // Pass 1, per tile, back to front per pixel (3DGS backward): gradients of each list entry,
+  // written to the entry's own slot, so no two tiles write the same memory.
+  const int stride = kSlotGeometry + s.channels;
+  std::vector<float> slot_grads(size_t(s.slot_offsets[n]) * stride, 0.f);
+  tbb::parallel_for(tbb::blocked_range<int>(0, s.tile_count()),
+                    [&](const tbb::blocked_range<int>& r) {
+                      std::vector<float> values, local, g(s.channels), S(s.channels);
+                      for (int t = r.begin(); t != r.end(); ++t) {
+                        const TileGaussian* list = s.tile_gaussians.data() + s.tile_offsets[t];
+                        const uint32_t count = s.tile_offsets[t + 1] - s.tile_offsets[t];
+                        if (count == 0) continue;
+                        gather_values(s, list, count, values);
+                        local.assign(size_t(count) * stride, 0.f);
+                        const TilePixels tp = tile_pixels(s, t);
+                        for (int y = tp.y0; y < tp.y1; ++y)
+                          for (int x = tp.x0; x < tp.x1; ++x) {
+                            const size_t pix = size_t(y) * s.width + x;
+                            const uint32_t last = s.contributors[pix];
+                            if (last == 0 || !pixel_grads.at(pix, g.data())) continue;
+                            const float px = x + 0.5f, py = y + 0.5f;
+                            float T = s.final_transmittance[pix];
+                            // S[c]: what the entries behind the current one (and the background)
+                            // add to channel c.
+                            for (int c = 0; c < s.channels; ++c) S[c] = s.background[c] * T;
+                            for (uint32_t j = last; j-- > 0;) {
+                              const TileGaussian& e = list[j];
+                              float gaussian, alpha;
+                              if (!blend_alpha(e, px, py, gaussian, alpha)) continue;
+                              const float keep = 1.f - alpha;
+                              T /= keep;  // transmittance in front of entry j
+                              const float w = alpha * T;
+                              const float* v = &values[size_t(j) * s.channels];
+                              float* d = &local[size_t(j) * stride];
+                              // C = sum_i v_i alpha_i T_i + T_N bg: dC/dalpha_j = v_j T_j - S_j /
+                              // (1 - alpha_j).
+                              float d_alpha = 0.f;
+                              for (int c = 0; c < s.channels; ++c) {
+                                d[kSlotGeometry + c] += w * g[c];
+                                d_alpha += g[c] * (v[c] * T - S[c] / keep);
+                                S[c] += v[c] * w;
+                              }
+                              if (e.opacity * gaussian > kMaxAlpha)
+                                continue;  // clamped: alpha is constant
+                              // alpha = o exp(power), power = -0.5 (A dx^2 + C dy^2) - B dx dy, d =
+                              // mean2d - pixel.
+                              const float d_power = d_alpha * alpha;
+                              const float dx = e.mx - px, dy = e.my - py;
+                              d[0] -= d_power * (e.A * dx + e.B * dy);
+                              d[1] -= d_power * (e.C * dy + e.B * dx);
+                              d[2] -= 0.5f * d_power * dx * dx;
+                              d[3] -= d_power * dx * dy;
+                              d[4] -= 0.5f * d_power * dy * dy;
+                              d[5] += d_alpha * gaussian;
+                            }
+                          }
+                        for (uint32_t j = 0; j < count; ++j)
+                          std::copy_n(&local[size_t(j) * stride], stride,
+                                      &slot_grads[size_t(list[j].slot) * stride]);
+                      }
+                    });
+
+  // Pass 2, per Gaussian: sum its slots in tile order, then chain through colour and projection.
+  tbb::parallel_for(
+      tbb::blocked_range<size_t>(0, n, 256), [&](const tbb::blocked_range<size_t>& r) {
+        std::vector<float> sum(stride);
+        float basis[kMaxShCoeffs];
+        Eigen::Vector3f basis_grad[kMaxShCoeffs];
+        for (size_t gi = r.begin(); gi != r.end(); ++gi) {
+          if (s.slot_offsets[gi] == s.slot_offsets[gi + 1]) continue;
+          std::fill(sum.begin(), sum.end(), 0.f);
+          for (uint32_t k = s.slot_offsets[gi]; k < s.slot_offsets[gi + 1]; ++k)
+            for (int c = 0; c < stride; ++c) sum[c] += slot_grads[size_t(k) * stride + c];
+          const float* dv = sum.data() + kSlotGeometry;
+          const float* mean = &model.means[3 * gi];
+
+          const float o = sigmoid(model.opacity_logits[gi]);
+          accumulate.opacity_logits[gi] += sum[5] * o * (1.f - o);
+          if (s.rgb_offset >= 0) {
+            float length;
+            const Eigen::Vector3f dir = view_direction(view, mean, length);
+            sh_basis(s.sh_degree, dir, basis, basis_grad);
+            const float* sh = &model.sh[gi * K * 3];
+            const Eigen::Vector3f raw = sh_colour(sh, s.sh_degree, basis);
+            Eigen::Vector3f d_colour;
+            for (int c = 0; c < 3; ++c) d_colour[c] = raw[c] < 0.f ? 0.f : dv[s.rgb_offset + c];
+            Eigen::Vector3f d_dir = Eigen::Vector3f::Zero();
+            for (int k = 0; k < GaussianModel::sh_coeffs(s.sh_degree); ++k) {
+              float along = 0.f;
+              for (int c = 0; c < 3; ++c) {
+                accumulate.sh[(gi * K + k) * 3 + c] += basis[k] * d_colour[c];
+                along += sh[3 * k + c] * d_colour[c];
+              }
+              d_dir += along * basis_grad[k];
+            }
+            // dir = (mu - centre) / |mu - centre|.
+            const Eigen::Vector3f d_mu = (d_dir - dir * dir.dot(d_dir)) / length;
+            for (int k = 0; k < 3; ++k) accumulate.means[3 * gi + k] += d_mu[k];
+          }
+          for (int f = 0; s.feature_offset >= 0 && f < D; ++f)
+            accumulate.features[gi * D + f] += dv[s.feature_offset + f];
+
+          ProjectionGrads pg;
+          pg.mean2d = Eigen::Vector2f(sum[0], sum[1]);
+          pg.conic = Eigen::Vector3f(sum[2], sum[3], sum[4]);
+          if (s.depth_offset >= 0) pg.depth = dv[s.depth_offset];
+          if (s.normal_offset >= 0)
+            pg.normal = Eigen::Vector3f(dv[s.normal_offset], dv[s.normal_offset + 1],
+                                        dv[s.normal_offset + 2]);
+          project_gaussian_backward(view, mean, &model.log_scales[3 * gi], &model.quats[4 * gi], pg,
+                                    &accumulate.means[3 * gi], &accumulate.log_scales[3 * gi],
+                                    &accumulate.quats[4 * gi]);
+          // View-space gradient in NDC units for densification (3DGS threshold 2e-4).
+          accumulate.mean2d_abs[gi] +=
+              std::hypot(sum[0] * 0.5f * s.width, sum[1] * 0.5f * s.height);
+          accumulate.visible[gi] += 1;
+        }
+      });
+}
+
+}  // namespace gslift
