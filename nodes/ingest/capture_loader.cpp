@@ -1,0 +1,132 @@
+#include "nodes/ingest/capture_loader.hpp"
+
+#include <set>
+
+#include <yaml-cpp/yaml.h>
+
+#include "nodes/ingest/capture_manifest.hpp"
+#include "nodes/ingest/colmap_capture.hpp"
+#include "nodes/ingest/nerf_transforms.hpp"
+#include "nodes/ingest/rgbd_folders.hpp"
+#include "runtime/node.hpp"
+
+namespace gslift {
+namespace {
+
+namespace fs = std::filesystem;
+
+bool has_model(const fs::path& dir) {
+  return fs::exists(dir / "cameras.bin") || fs::exists(dir / "cameras.txt");
+}
+
+// The first existing <folder>/<stem><ext>, or an empty path.
+fs::path find_file(const fs::path& folder, const std::string& stem,
+                   std::initializer_list<const char*> exts) {
+  for (const char* ext : exts) {
+    fs::path p = folder / (stem + ext);
+    if (fs::is_regular_file(p)) return p;
+  }
+  return {};
+}
+
+void read_classes(const fs::path& file, Capture& capture) {
+  if (!fs::exists(file)) return;
+  try {
+    const YAML::Node y = YAML::LoadFile(file.string());
+    if (const auto c = y["classes"])
+      for (const auto& kv : c) capture.classes[kv.first.as<int>()] = kv.second.as<std::string>();
+    if (const auto i = y["instances"])
+      for (const auto& kv : i) capture.instance_class[kv.first.as<int>()] = kv.second.as<int>();
+  } catch (const YAML::Exception& e) {
+    throw InputError(file.string() + ": " + e.what());
+  }
+}
+
+// Views of a capture.yaml folder, with its depth prior and ground truth attached.
+std::vector<ViewFiles> manifest_views(const fs::path& root, const CaptureManifest& m,
+                                      const CaptureOptions& options, Capture& capture) {
+  auto views = read_colmap_views(root / m.model, root / m.images, options, capture.points);
+  const fs::path gt = m.gt.empty() ? fs::path() : root / m.gt;
+  for (auto& v : views) {
+    if (!m.depth.empty()) {
+      v.depth = find_file(root / m.depth, v.name, {".png", ".tiff", ".tif", ".exr"});
+      v.depth_scale = m.depth_scale;
+    }
+    if (!gt.empty()) {
+      v.gt_instance = find_file(gt / "instance", v.name, {".png"});
+      v.gt_semantic = find_file(gt / "semantic", v.name, {".png"});
+      v.gt_depth = find_file(gt / "depth", v.name, {".tiff", ".tif", ".exr"});
+      v.gt_normal = find_file(gt / "normal", v.name, {".tiff", ".tif", ".exr"});
+    }
+  }
+  if (!gt.empty()) read_classes(gt / "classes.yaml", capture);
+  if (m.has_held_out) {
+    std::set<std::string> names(m.held_out.begin(), m.held_out.end());
+    for (auto& v : views) v.held_out = names.erase(v.name) > 0;
+    if (!names.empty())
+      throw InputError((root / "capture.yaml").string() + ": held_out names view '" +
+                       *names.begin() + "', which the capture does not have");
+  }
+  return views;
+}
+
+fs::path images_beside(const fs::path& model_dir) {
+  const fs::path dir = fs::absolute(model_dir).lexically_normal().parent_path();
+  const fs::path up = dir.parent_path() / "images";
+  return fs::is_directory(dir / "images") || !fs::is_directory(up) ? dir / "images" : up;
+}
+
+std::string folder_name(const fs::path& dir) {
+  fs::path p = fs::absolute(dir).lexically_normal();
+  if (!p.has_filename()) p = p.parent_path();
+  return p.filename().string();
+}
+
+std::vector<ViewFiles> detected_views(const fs::path& path, const CaptureOptions& options,
+                                      Capture& capture) {
+  if (fs::is_regular_file(path) && path.extension() == ".json") return read_nerf_transforms(path);
+  if (!fs::is_directory(path)) throw InputError(path.string() + ": no such capture folder");
+  for (const char* model : {"sparse/0", "colmap"})
+    if (has_model(path / model))
+      return read_colmap_views(path / model, path / "images", options, capture.points);
+  if (has_model(path)) return read_colmap_views(path, images_beside(path), options, capture.points);
+  for (const char* json : {"transforms.json", "transforms_train.json"})
+    if (fs::exists(path / json)) return read_nerf_transforms(path / json);
+  if (fs::is_directory(path / "results") && fs::exists(path / "traj.txt"))
+    return read_replica_views(path);
+  if (fs::exists(path / "camera-intrinsics.txt")) return read_3dmatch_views(path);
+  throw InputError(path.string() +
+                   ": not a capture; looked for capture.yaml, a COLMAP model (sparse/0/, colmap/ "
+                   "or cameras.bin|txt), transforms.json, transforms_train.json, Replica "
+                   "(results/ + traj.txt) and 3DMatch (camera-intrinsics.txt)");
+}
+
+}  // namespace
+
+Capture load_capture(const fs::path& input, const CaptureOptions& options) {
+  if (options.downscale < 1)
+    throw InputError(input.string() + ": downscale must be >= 1, got " +
+                     std::to_string(options.downscale));
+  const fs::path path = input.filename() == "capture.yaml" ? input.parent_path() : input;
+  Capture capture;
+  capture.root = fs::is_regular_file(path) ? path.parent_path() : path;
+  std::vector<ViewFiles> views;
+  bool named_held_out = false;
+  if (fs::exists(path / "capture.yaml")) {
+    const CaptureManifest m = read_capture_manifest(path);
+    capture.name = m.name;
+    views = manifest_views(path, m, options, capture);
+    named_held_out = m.has_held_out;
+  } else {
+    views = detected_views(path, options, capture);
+  }
+  if (capture.name.empty()) capture.name = folder_name(capture.root);
+  if (views.empty()) throw InputError(path.string() + ": the capture has no views");
+  if (!named_held_out && options.holdout_every > 0)
+    for (size_t i = 0; i < views.size(); ++i)
+      views[i].held_out = i % static_cast<size_t>(options.holdout_every) == 0;
+  for (const auto& v : views) capture.views.push_back(make_view(v, options.downscale));
+  return capture;
+}
+
+}  // namespace gslift

@@ -1,0 +1,55 @@
+#include "nodes/ingest/capture_manifest.hpp"
+
+#include <yaml-cpp/yaml.h>
+
+#include "runtime/node.hpp"
+
+namespace gslift {
+
+CaptureManifest read_capture_manifest(const std::filesystem::path& root) {
+  CaptureManifest m;
+  const auto file = root / "capture.yaml";
+  if (!std::filesystem::exists(file)) return m;
+  const std::string where = file.string();
+  try {
+    const YAML::Node y = YAML::LoadFile(file.string());
+    const std::string format = y["format"] ? y["format"].as<std::string>() : "";
+    if (format != "gslift.capture/v1")
+      throw InputError(where + ": format must be gslift.capture/v1, got '" + format + "'");
+    if (y["name"]) m.name = y["name"].as<std::string>();
+    if (y["model"]) m.model = y["model"].as<std::string>();
+    if (y["images"]) m.images = y["images"].as<std::string>();
+    if (const auto d = y["depth"]) {
+      m.depth = d["folder"] ? d["folder"].as<std::string>() : "depth";
+      if (d["scale"]) m.depth_scale = d["scale"].as<double>();
+      if (!(m.depth_scale > 0)) throw InputError(where + ": depth.scale must be positive");
+    }
+    if (const auto h = y["held_out"]) {
+      m.has_held_out = true;
+      m.held_out = h.as<std::vector<std::string>>();
+    }
+    if (const auto v = y["vlm"]) {
+      if (v["folder"]) m.vlm = v["folder"].as<std::string>();
+      if (v["rounds"]) m.vlm_rounds = v["rounds"].as<int>();
+      if (v["coords"]) m.vlm_coords = v["coords"].as<std::string>();
+      if (v["input_size"]) {
+        const auto s = v["input_size"].as<std::vector<int>>();
+        if (s.size() != 2 || s[0] <= 0 || s[1] <= 0)
+          throw InputError(where + ": vlm.input_size must be [width, height]");
+        m.vlm_input_width = s[0];
+        m.vlm_input_height = s[1];
+      }
+      if (m.vlm_coords != "norm1000" && m.vlm_coords != "resized_abs" && m.vlm_coords != "pixels")
+        throw InputError(where + ": vlm.coords must be norm1000, resized_abs or pixels, got '" +
+                         m.vlm_coords + "'");
+    }
+    if (y["sam_box"]) m.sam_box = y["sam_box"].as<std::string>();
+    if (y["sam_auto"]) m.sam_auto = y["sam_auto"].as<std::string>();
+    if (y["gt"]) m.gt = y["gt"].as<std::string>();
+  } catch (const YAML::Exception& e) {
+    throw InputError(where + ": " + e.what());
+  }
+  return m;
+}
+
+}  // namespace gslift

@@ -1,0 +1,20 @@
+// How a capture is read, shared by every capture format reader and the ingest.capture node.
+#pragma once
+
+namespace gslift {
+
+struct CaptureOptions {
+  // Hold out every n-th view (index % n == 0, the NeRF/LLFF protocol) when the capture does not
+  // name its test views (capture.yaml held_out). 0 = no held-out views.
+  int holdout_every = 0;
+  // COLMAP models: an image listed in the model but absent from the images folder is an error
+  // by default (a broken capture); with this set it is skipped with a warning (DTU scan 24 here
+  // ships only the even views of its 49). NeRF transforms.json frames without an image are
+  // always skipped with a warning, as instant-ngp does.
+  bool skip_missing_images = false;
+  // Integer downscale factor applied when images are loaded (area filter for RGB, nearest for
+  // depth and label maps); intrinsics are scaled to match (Camera::scaled).
+  int downscale = 1;
+};
+
+}  // namespace gslift

@@ -1,0 +1,39 @@
+#include "nodes/ingest/colmap_capture.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include "nodes/ingest/colmap_model.hpp"
+#include "runtime/node.hpp"
+
+namespace gslift {
+
+std::vector<ViewFiles> read_colmap_views(const std::filesystem::path& model_dir,
+                                         const std::filesystem::path& images_dir,
+                                         const CaptureOptions& options, SparsePoints& points) {
+  ColmapModel model = read_colmap_model(model_dir);
+  std::vector<ViewFiles> views;
+  int skipped = 0;
+  for (const auto& im : model.images) {
+    const auto rgb = images_dir / im.name;
+    if (!std::filesystem::is_regular_file(rgb)) {
+      if (!options.skip_missing_images)
+        throw InputError(rgb.string() + ": image listed in the COLMAP model " + model_dir.string() +
+                         " is missing (set skip_missing_images to leave such views out)");
+      ++skipped;
+      continue;
+    }
+    ViewFiles v;
+    v.name = std::filesystem::path(im.name).replace_extension().generic_string();
+    v.camera = model.cameras.at(im.camera_id);
+    v.pose = im.pose;
+    v.rgb = rgb;
+    views.push_back(std::move(v));
+  }
+  if (skipped > 0)
+    spdlog::warn("{}: skipped {} of {} images listed in the COLMAP model: not in {}",
+                 model_dir.string(), skipped, model.images.size(), images_dir.string());
+  points = std::move(model.points);
+  return views;
+}
+
+}  // namespace gslift

@@ -1,0 +1,55 @@
+#include "nodes/ingest/view_files.hpp"
+
+#include <functional>
+#include <string>
+
+#include <opencv2/imgproc.hpp>
+
+#include "nodes/scene/image_io.hpp"
+#include "runtime/node.hpp"
+
+namespace gslift {
+namespace {
+
+using Decode = std::function<cv::Mat(const std::filesystem::path&)>;
+
+ImageSource checked_source(const std::filesystem::path& path, const Camera& camera, int downscale,
+                           Decode decode, int interpolation) {
+  if (path.empty()) return {};
+  const Camera scaled = camera.scaled(1.0 / downscale);
+  return ImageSource::on_disk(path, [=](const std::filesystem::path& p) {
+    cv::Mat m = decode(p);
+    if (m.cols != camera.width || m.rows != camera.height)
+      throw InputError(p.string() + ": image is " + std::to_string(m.cols) + " x " +
+                       std::to_string(m.rows) + ", but its camera is " +
+                       std::to_string(camera.width) + " x " + std::to_string(camera.height));
+    if (downscale == 1) return m;
+    cv::Mat out;
+    cv::resize(m, out, cv::Size(scaled.width, scaled.height), 0, 0, interpolation);
+    return out;
+  });
+}
+
+}  // namespace
+
+View make_view(const ViewFiles& f, int downscale) {
+  const Camera& c = f.camera;
+  View v;
+  v.name = f.name;
+  v.camera = downscale == 1 ? c : c.scaled(1.0 / downscale);
+  v.pose = f.pose;
+  v.held_out = f.held_out;
+  v.rgb = checked_source(
+      f.rgb, c, downscale, [](const auto& p) { return read_rgb(p); }, cv::INTER_AREA);
+  const double scale = f.depth_scale;
+  v.depth = checked_source(
+      f.depth, c, downscale, [scale](const auto& p) { return read_depth(p, scale); },
+      cv::INTER_NEAREST);
+  v.gt_instance = checked_source(f.gt_instance, c, downscale, read_label_map, cv::INTER_NEAREST);
+  v.gt_semantic = checked_source(f.gt_semantic, c, downscale, read_label_map, cv::INTER_NEAREST);
+  v.gt_depth = checked_source(f.gt_depth, c, downscale, read_float_tiff, cv::INTER_NEAREST);
+  v.gt_normal = checked_source(f.gt_normal, c, downscale, read_float_tiff, cv::INTER_NEAREST);
+  return v;
+}
+
+}  // namespace gslift
