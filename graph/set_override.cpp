@@ -28,7 +28,7 @@ void apply_set(GraphDocument& doc, const std::string& set, Diagnostics& diagnost
   YAML::Node value;
   try {
     value = YAML::Load(set.substr(eq + 1));
-  } catch (const YAML::ParserException& e) {
+  } catch (const YAML::Exception& e) {
     diagnostics.error(at, "bad-set", "the value is not a YAML scalar or flow list: " + e.msg);
     return;
   }

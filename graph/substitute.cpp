@@ -20,13 +20,18 @@ class Substitution {
                Diagnostics& diagnostics)
       : doc_(doc), vars_(vars), diagnostics_(diagnostics) {}
 
-  // The value with its ${} expanded; the value itself when there is nothing to expand or on error.
+  // The value with its ${} expanded, in a scalar or in the elements of a list (params hold no
+  // deeper values; not descending also keeps recursive aliases harmless). The value itself when
+  // there is nothing to expand or on error.
   YAML::Node apply(const YAML::Node& value, const SourceLoc& at) {
-    if (value.IsSequence()) {
-      YAML::Node out(YAML::NodeType::Sequence);
-      for (const auto& e : value) out.push_back(apply(e, at));
-      return out;
-    }
+    if (!value.IsSequence()) return apply_scalar(value, at);
+    YAML::Node out(YAML::NodeType::Sequence);
+    for (const auto& e : value) out.push_back(apply_scalar(e, at));
+    return out;
+  }
+
+ private:
+  YAML::Node apply_scalar(const YAML::Node& value, const SourceLoc& at) {
     if (!value.IsScalar() || value.Scalar().find("${") == std::string::npos) return value;
     const std::string& text = value.Scalar();
     if (text.size() > 3 && text.compare(0, 2, "${") == 0 && text.back() == '}') {
@@ -44,7 +49,6 @@ class Substitution {
     return value;
   }
 
- private:
   // The source of ${name}: a var (plain text, typed later like an unquoted YAML scalar) or a
   // graph param's YAML value. Reports `unknown-var` when there is none.
   std::optional<YAML::Node> lookup(const std::string& name, const SourceLoc& at) {

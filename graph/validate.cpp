@@ -30,6 +30,9 @@ struct Edge {
   std::string out_port;
 };
 
+// The checks against the catalog, in three steps that build on each other: resolve_nodes
+// (types, params, inputs; records the edges), topological_order (Kahn, cycles), then
+// report_unused_outputs.
 class Validator {
  public:
   Validator(const GraphDocument& doc, const NodeCatalog& catalog, Diagnostics& diagnostics)

@@ -28,23 +28,31 @@ Entries unique_entries(const YAML::Node& map) {
 }
 
 // yaml-cpp 0.7 keeps every entry of a map, duplicates included, and node["key"] returns the
-// first: walk every map and report each repeated key where it repeats. `is_root` names the
-// entries of the top-level `nodes:` map as node ids.
-void check_duplicate_keys(const YAML::Node& node, const std::string& file, bool is_root,
-                          const std::string& what, Diagnostics& diagnostics) {
+// first: walk every map and report each repeated key where it repeats. `what` names the keys
+// ("node id" for the entries of the top-level `nodes:`). `ancestors` stops the walk at an alias
+// of an enclosing node (`&x [1, *x]`), which yaml-cpp builds as a recursive structure.
+void check_duplicate_keys(const YAML::Node& node, const std::string& file, const std::string& what,
+                          std::vector<YAML::Node>& ancestors, Diagnostics& diagnostics) {
+  if (!node.IsMap() && !node.IsSequence()) return;
+  for (const auto& a : ancestors)
+    if (a.is(node)) {
+      diagnostics.error(loc_of(node, file), "schema", "a value may not contain an alias of itself");
+      return;
+    }
+  ancestors.push_back(node);
   if (node.IsSequence())
-    for (const auto& e : node) check_duplicate_keys(e, file, false, "key", diagnostics);
-  if (!node.IsMap()) return;
+    for (const auto& e : node) check_duplicate_keys(e, file, "key", ancestors, diagnostics);
   std::map<std::string, SourceLoc> seen;
-  for (auto it = node.begin(); it != node.end(); ++it) {
+  for (auto it = node.begin(); node.IsMap() && it != node.end(); ++it) {
     const std::string key = it->first.Scalar();
     const SourceLoc at = loc_of(it->first, file);
     if (auto [first, inserted] = seen.emplace(key, at); !inserted)
       diagnostics.error(at, "duplicate-key", "duplicate " + what + " '" + key + "'",
                         "first defined at line " + std::to_string(first->second.line));
-    const bool node_ids = is_root && key == "nodes";
-    check_duplicate_keys(it->second, file, false, node_ids ? "node id" : "key", diagnostics);
+    const bool node_ids = ancestors.size() == 1 && key == "nodes";
+    check_duplicate_keys(it->second, file, node_ids ? "node id" : "key", ancestors, diagnostics);
   }
+  ancestors.pop_back();
 }
 
 bool is_node_id(const std::string& s) {
@@ -125,11 +133,44 @@ std::optional<std::string> read_text(const fs::path& file) {
 
 std::optional<GraphDocument> read(const std::string& text, const std::string& name,
                                   const fs::path& base_dir, std::vector<fs::path>& chain,
+                                  Diagnostics& diagnostics);
+
+// The document `extends: <value>` names, read relative to `base_dir`; nullopt (reported) when
+// it cannot be read or would extend itself.
+std::optional<GraphDocument> read_base(const YAML::Node& value, const std::string& name,
+                                       const fs::path& base_dir, std::vector<fs::path>& chain,
+                                       Diagnostics& diagnostics) {
+  const auto rel = scalar_text(value, "'extends' (the base file)", name, diagnostics);
+  if (!rel) return std::nullopt;
+  const fs::path base_file = (base_dir / *rel).lexically_normal();
+  std::error_code ec;
+  const fs::path canonical = fs::weakly_canonical(base_file, ec);
+  if (std::find(chain.begin(), chain.end(), canonical) != chain.end()) {
+    std::string cycle;
+    for (const auto& f : chain) cycle += f.string() + " -> ";
+    diagnostics.error(loc_of(value, name), "extends-cycle",
+                      "extends cycle: " + cycle + canonical.string());
+    return std::nullopt;
+  }
+  const auto base_text = read_text(base_file);
+  if (!base_text) {
+    diagnostics.error(loc_of(value, name), "unreadable-file",
+                      "cannot read base graph " + base_file.string());
+    return std::nullopt;
+  }
+  chain.push_back(canonical);
+  auto base = read(*base_text, base_file.string(), base_file.parent_path(), chain, diagnostics);
+  chain.pop_back();
+  return base;
+}
+
+std::optional<GraphDocument> read(const std::string& text, const std::string& name,
+                                  const fs::path& base_dir, std::vector<fs::path>& chain,
                                   Diagnostics& diagnostics) {
   YAML::Node root;
   try {
     root = YAML::Load(text);
-  } catch (const YAML::ParserException& e) {
+  } catch (const YAML::Exception& e) {
     diagnostics.error(SourceLoc{name, e.mark.line + 1, e.mark.column + 1}, "yaml-syntax", e.msg);
     return std::nullopt;
   }
@@ -138,12 +179,13 @@ std::optional<GraphDocument> read(const std::string& text, const std::string& na
                       "a graph file must be a map with keys graph, params, nodes, extends");
     return std::nullopt;
   }
-  check_duplicate_keys(root, name, true, "key", diagnostics);
+  std::vector<YAML::Node> ancestors;
+  check_duplicate_keys(root, name, "key", ancestors, diagnostics);
 
-  GraphDocument doc;
   GraphDocument own;
   own.files.push_back(name);
-  bool has_base = false;
+  std::optional<GraphDocument> base;
+  bool base_failed = false;
   for (const auto& [k, v] : unique_entries(root)) {
     const std::string key = k.Scalar();
     if (key == "graph") {
@@ -162,37 +204,18 @@ std::optional<GraphDocument> read(const std::string& text, const std::string& na
       for (const auto& [nk, nv] : unique_entries(v))
         own.nodes.push_back(read_node(nk, nv, name, diagnostics));
     } else if (key == "extends") {
-      auto rel = scalar_text(v, "'extends' (the base file)", name, diagnostics);
-      if (!rel) continue;
-      const fs::path base_file = (base_dir / *rel).lexically_normal();
-      const fs::path canonical = fs::weakly_canonical(base_file);
-      if (std::find(chain.begin(), chain.end(), canonical) != chain.end()) {
-        std::string cycle;
-        for (const auto& f : chain) cycle += f.string() + " -> ";
-        diagnostics.error(loc_of(v, name), "extends-cycle",
-                          "extends cycle: " + cycle + canonical.string());
-        continue;
-      }
-      const auto base_text = read_text(base_file);
-      if (!base_text) {
-        diagnostics.error(loc_of(v, name), "unreadable-file",
-                          "cannot read base graph " + base_file.string());
-        continue;
-      }
-      chain.push_back(canonical);
-      auto base = read(*base_text, base_file.string(), base_file.parent_path(), chain, diagnostics);
-      chain.pop_back();
-      if (!base) continue;
-      doc = std::move(*base);
-      has_base = true;
+      base = read_base(v, name, base_dir, chain, diagnostics);
+      base_failed = !base;
     } else {
       report_unknown_key(k, {"graph", "params", "nodes", "extends"}, "the graph file", name,
                          diagnostics);
     }
   }
-  if (!has_base) return own;
-  merge_document(doc, own, diagnostics);
-  return doc;
+  // Without its base a derived file is incomplete: checking it alone would only add noise.
+  if (base_failed) return std::nullopt;
+  if (!base) return own;
+  merge_document(*base, own, diagnostics);
+  return base;
 }
 
 }  // namespace

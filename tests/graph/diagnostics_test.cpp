@@ -1,4 +1,7 @@
 // One case per diagnostic code: the code, the file:line:column it points at and the hint.
+#include <random>
+#include <set>
+
 #include <catch2/catch.hpp>
 
 #include "graph/loader.hpp"
@@ -307,4 +310,85 @@ TEST_CASE("all errors are reported at once, in reading order") {
   // The warning is still given: sum.carry is consumed by no node.
   CHECK(codes == std::vector<std::string>{"unknown-type", "unknown-param", "unknown-node",
                                           "type-mismatch", "unused-output"});
+}
+
+TEST_CASE("an alias of an enclosing value is reported, not followed forever") {
+  const std::string yaml = "nodes:\n  a: {type: src.make, params: {value: &x [1, *x]}}\n";
+  const auto r = load(yaml);
+  REQUIRE_FALSE(r.ok());
+  const auto d = only(r, "schema");
+  CHECK(d.loc.str() == position(yaml, "&x"));
+  CHECK(with_code(r, "param-type").size() == 1);
+}
+
+TEST_CASE("mangled graph files give diagnostics with documented codes, never an exception") {
+  const std::string valid =
+      "graph: t\n"
+      "params: {n: 2, name: \"x\"}\n"
+      "nodes:\n"
+      "  one: {type: src.make, params: {value: 1.5}}\n"
+      "  sum: {type: math.add, in: {a: one.value, b: one.value},\n"
+      "        params: {count: \"${n}\", tags: [\"${name}/a\", b], weights: [1, 2]}}\n"
+      "  show:\n"
+      "    type: sink.number\n"
+      "    in: {value: sum.sum}\n";
+  REQUIRE(load(valid).ok());
+  const std::set<std::string> documented{"yaml-syntax",
+                                         "duplicate-key",
+                                         "unknown-key",
+                                         "unknown-type",
+                                         "missing-type",
+                                         "unknown-param",
+                                         "param-type",
+                                         "param-range",
+                                         "missing-param",
+                                         "missing-input",
+                                         "unknown-input-port",
+                                         "bad-reference",
+                                         "unknown-node",
+                                         "unknown-output-port",
+                                         "type-mismatch",
+                                         "cycle",
+                                         "unknown-var",
+                                         "bad-substitution",
+                                         "bad-set",
+                                         "bad-id",
+                                         "schema",
+                                         "unreadable-file",
+                                         "extends-cycle",
+                                         "unused-output",
+                                         "dropped-params",
+                                         "dropped-inputs"};
+  const std::string alphabet = ":{}[],-\"'$ \n#&*.!|>?%@`0a";
+  std::mt19937 rng(7);
+  int failed = 0;
+  for (int trial = 0; trial < 400; ++trial) {
+    std::string yaml = valid;
+    const int edits = 1 + static_cast<int>(rng() % 3);
+    for (int e = 0; e < edits; ++e) {
+      const size_t at = rng() % yaml.size();
+      switch (rng() % 3) {
+        case 0:
+          yaml.erase(at, 1);
+          break;
+        case 1:
+          yaml.insert(yaml.begin() + at, alphabet[rng() % alphabet.size()]);
+          break;
+        default:
+          yaml[at] = alphabet[rng() % alphabet.size()];
+      }
+    }
+    LoadResult r;
+    REQUIRE_NOTHROW(r = load(yaml));
+    if (!r.ok()) {
+      ++failed;
+      CHECK_FALSE(r.diagnostics.empty());
+    }
+    for (const auto& d : r.diagnostics) {
+      INFO(yaml << "\n" << d.str());
+      CHECK(documented.count(d.code) == 1);
+      CHECK(!d.message.empty());
+    }
+  }
+  CHECK(failed > 100);  // the mutations do break most files
 }
