@@ -105,7 +105,7 @@ class Validator {
     if (!spec)
       diagnostics_.error(node.type_loc, "unknown-type",
                          "node '" + node.id + "' has unknown type '" + node.type + "'",
-                         suggest(node.type, catalog_.types()));
+                         unknown_type_hint(node.type));
     return spec;
   }
 
@@ -163,7 +163,7 @@ class Validator {
         continue;
       }
       wired.insert(port);
-      if (auto producer = resolve_reference(doc_node, port, in, ref)) {
+      if (auto producer = resolve_reference(consumer, port, in, ref)) {
         node.inputs[port] = PortRef{doc_.nodes[producer->first].id, producer->second};
         edges_.push_back(Edge{consumer, port, producer->first, producer->second});
       }
@@ -172,15 +172,17 @@ class Validator {
     for (const auto& in : spec->inputs)
       if (!in.optional && !wired.count(in.name))
         diagnostics_.error(doc_node.loc, "missing-input",
-                           describe(doc_node) + " needs input '" + in.name + "' (" + in.type + ")");
+                           describe(doc_node) + " needs input '" + in.name + "' (" + in.type + ")",
+                           outputs_of_type(in.type, consumer));
   }
 
   // Checks `ref` ("node.port") wired to input `port` (spec `in`, null when unknown); returns the
   // producer's index and output port when the reference resolves.
-  std::optional<std::pair<size_t, std::string>> resolve_reference(const DocNode& consumer,
+  std::optional<std::pair<size_t, std::string>> resolve_reference(size_t consumer_index,
                                                                   const std::string& port,
                                                                   const PortSpec* in,
                                                                   const DocValue& ref) {
+    const DocNode& consumer = doc_.nodes[consumer_index];
     const std::string text = ref.value.IsScalar() ? ref.value.Scalar() : std::string();
     const size_t dot = text.find('.');
     if (dot == std::string::npos || dot == 0 || dot + 1 == text.size() ||
@@ -215,8 +217,28 @@ class Validator {
       diagnostics_.error(ref.value_loc, "type-mismatch",
                          "input '" + port + "' of " + describe(consumer) + " takes " + in->type +
                              ", but '" + text + "' of " + describe(doc_.nodes[producer->second]) +
-                             " gives " + out->type);
+                             " gives " + out->type,
+                         outputs_of_type(in->type, consumer_index));
     return std::make_pair(producer->second, out_port);
+  }
+
+  std::string unknown_type_hint(const std::string& type) const {
+    const std::string near = suggest(type, catalog_.types());
+    return near.empty() ? "`gslift nodes` lists the types" : near;
+  }
+
+  // A hint naming the outputs in the graph that give `type` (not `except`'s own), at most five:
+  // "outputs of type Number: one.value, sum.sum".
+  std::string outputs_of_type(const std::string& type, size_t except) const {
+    std::vector<std::string> found;
+    for (size_t i = 0; i < doc_.nodes.size(); ++i)
+      if (i != except && specs_[i])
+        for (const auto& out : specs_[i]->outputs)
+          if (out.type == type) found.push_back(doc_.nodes[i].id + "." + out.name);
+    if (found.empty()) return {};
+    std::string hint = "outputs of type " + type + ":";
+    for (size_t i = 0; i < found.size() && i < 5; ++i) hint += (i ? ", " : " ") + found[i];
+    return found.size() > 5 ? hint + ", ..." : hint;
   }
 
   // Every node left by Kahn's algorithm has a producer that was left too; following producers

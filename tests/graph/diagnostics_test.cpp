@@ -92,6 +92,8 @@ TEST_CASE("unknown-type: points at the type, suggests the nearest registered typ
   const auto d = only(load(yaml), "unknown-type");
   CHECK(d.loc.str() == "test.yaml:2:13");
   CHECK(d.hint == "did you mean 'src.make'?");
+  CHECK(only(load("nodes:\n  a: {type: splat.reconstruct}\n"), "unknown-type").hint ==
+        "`gslift nodes` lists the types");
   CHECK(d.str() ==
         "test.yaml:2:13: error[unknown-type]: node 'a' has unknown type 'src.mkae' (did you "
         "mean 'src.make'?)");
@@ -172,6 +174,7 @@ TEST_CASE("missing-input: required ports must be wired, optional ones need not")
   const auto d = only(load(yaml), "missing-input");
   CHECK(d.loc.str() == "test.yaml:3:3");
   CHECK(d.message == "node 'sum' (math.add) needs input 'b' (Number)");
+  CHECK(d.hint == "outputs of type Number: one.value, mul.product");
 }
 
 TEST_CASE("unknown-input-port: points at the port, suggests the nearest") {
@@ -232,6 +235,9 @@ TEST_CASE("type-mismatch: names both port types") {
   CHECK(d.message ==
         "input 'text' of node 'p' (sink.print) takes String, but 'one.value' of node 'one' "
         "(src.make) gives Number");
+  CHECK(d.hint.empty());  // no String output in the graph
+  const std::string with_text = yaml + "  t: {type: src.text, params: {text: hi}}\n";
+  CHECK(only(load(with_text), "type-mismatch").hint == "outputs of type String: t.text");
 }
 
 TEST_CASE("cycle: each cycle named once, in data-flow order from its first declared node") {
