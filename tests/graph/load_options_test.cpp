@@ -35,7 +35,7 @@ T param(const LoadResult& r, const std::string& node, const std::string& name) {
 
 }  // namespace
 
-TEST_CASE("${} keeps the source's type for whole values and inserts text otherwise") {
+TEST_CASE("substitution keeps the source's type for whole values and inserts text otherwise") {
   LoadOptions options;
   options.vars = {{"m", "exact"}};
   const auto r = load(kSumGraph, options);
@@ -81,7 +81,7 @@ TEST_CASE("unknown-var and bad-substitution point at the value") {
   CHECK(with_code(r2, "unknown-var")[0].loc.str() == position(yaml, "\"a ${nope"));
 }
 
-TEST_CASE("--set overrides typed node params, lists and graph params") {
+TEST_CASE("set overrides: typed node params, lists and graph params") {
   LoadOptions options;
   options.vars = {{"m", "fast"}};
   options.sets = {
@@ -101,14 +101,14 @@ TEST_CASE("--set overrides typed node params, lists and graph params") {
   CHECK(r.graph->find("total")->param_locs.at("scale").str() == "--set total.scale=0.7");
 }
 
-TEST_CASE("--set params.NAME feeds ${NAME}") {
+TEST_CASE("set overrides: params.NAME feeds the substitution of NAME") {
   LoadOptions options;
   options.vars = {{"m", "fast"}};
   options.sets = {"params.n=11"};
   CHECK(param<int64_t>(load(kSumGraph, options), "total", "count") == 11);
 }
 
-TEST_CASE("--set node.type swaps a stage: params restart, later sets apply") {
+TEST_CASE("set overrides: node.type swaps a stage, params restart, later sets apply") {
   const std::string yaml =
       "nodes:\n"
       "  one: {type: src.make}\n"
@@ -129,7 +129,7 @@ TEST_CASE("--set node.type swaps a stage: params restart, later sets apply") {
   CHECK(dropped[0].message.find("dropped: scale") != std::string::npos);
 }
 
-TEST_CASE("--set errors say which --set and suggest the nearest name") {
+TEST_CASE("set overrides: errors say which --set and suggest the nearest name") {
   LoadOptions options;
   options.vars = {{"m", "fast"}};
   options.sets = {"totl.scale=1", "total.scael=1",   "params.nn=1",       "total",
