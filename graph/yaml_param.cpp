@@ -26,18 +26,16 @@ ParamType scalar_type(const YAML::Node& n) {
   return ParamType::String;
 }
 
-bool parse_int(const std::string& s, int64_t& out) {
+// The number in `s`, which scalar_type found to be an int (or a float); nullopt and `error`
+// when it does not fit the C++ type.
+template <class T>
+std::optional<T> parse_number(const std::string& s, std::string& error) {
   std::istringstream is(s);
   is.imbue(std::locale::classic());
-  return static_cast<bool>(is >> out) && is.peek() == std::char_traits<char>::eof();
-}
-
-double parse_float(const std::string& s) {
-  std::istringstream is(s);
-  is.imbue(std::locale::classic());
-  double x = 0;
-  is >> x;
-  return x;
+  T x{};
+  if (is >> x && is.peek() == std::char_traits<char>::eof()) return x;
+  error = "number " + s + " is out of range";
+  return std::nullopt;
 }
 
 // The list type a sequence of scalars holds; nullopt for nested lists.
@@ -77,18 +75,16 @@ std::optional<ParamValue> param_from_yaml(const YAML::Node& node, ParamType type
   const ParamType held = scalar ? scalar_type(node) : ParamType::String;
   switch (type) {
     case ParamType::Int: {
-      int64_t v = 0;
       if (!scalar || held != ParamType::Int) return fail(error, type, node);
-      if (!parse_int(node.Scalar(), v)) {
-        error = "integer " + node.Scalar() + " is out of range";
-        return std::nullopt;
-      }
-      return ParamValue{v};
+      const auto v = parse_number<int64_t>(node.Scalar(), error);
+      return v ? std::optional<ParamValue>(*v) : std::nullopt;
     }
-    case ParamType::Float:
+    case ParamType::Float: {
       if (!scalar || (held != ParamType::Int && held != ParamType::Float))
         return fail(error, type, node);
-      return ParamValue{parse_float(node.Scalar())};
+      const auto v = parse_number<double>(node.Scalar(), error);
+      return v ? std::optional<ParamValue>(*v) : std::nullopt;
+    }
     case ParamType::Bool:
       if (!scalar || held != ParamType::Bool) return fail(error, type, node);
       return ParamValue{node.Scalar().front() == 't' || node.Scalar().front() == 'T'};
@@ -100,22 +96,23 @@ std::optional<ParamValue> param_from_yaml(const YAML::Node& node, ParamType type
         return fail(error, type, node);
       std::vector<int64_t> v;
       for (const auto& e : node) {
-        int64_t x = 0;
-        if (!parse_int(e.Scalar(), x)) {
-          error = "integer " + e.Scalar() + " is out of range";
-          return std::nullopt;
-        }
-        v.push_back(x);
+        const auto x = parse_number<int64_t>(e.Scalar(), error);
+        if (!x) return std::nullopt;
+        v.push_back(*x);
       }
       return ParamValue{v};
     }
     case ParamType::FloatList: {
       const auto held_list = sequence ? list_type(node) : std::nullopt;
-      if (!sequence || (node.size() > 0 && held_list != ParamType::IntList &&
-                        held_list != ParamType::FloatList))
+      if (!sequence ||
+          (node.size() > 0 && held_list != ParamType::IntList && held_list != ParamType::FloatList))
         return fail(error, type, node);
       std::vector<double> v;
-      for (const auto& e : node) v.push_back(parse_float(e.Scalar()));
+      for (const auto& e : node) {
+        const auto x = parse_number<double>(e.Scalar(), error);
+        if (!x) return std::nullopt;
+        v.push_back(*x);
+      }
       return ParamValue{v};
     }
     case ParamType::StringList: {

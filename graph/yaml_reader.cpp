@@ -65,7 +65,7 @@ bool is_param_name(const std::string& s) {
   return std::regex_match(s, re);
 }
 
-// Reads a map of the document, reporting a `schema` error when the value is not one.
+// Whether `value` is a map; a `schema` error when it is not.
 bool expect_map(const YAML::Node& value, const std::string& what, const std::string& file,
                 Diagnostics& diagnostics) {
   if (value.IsMap()) return true;
@@ -73,6 +73,7 @@ bool expect_map(const YAML::Node& value, const std::string& what, const std::str
   return false;
 }
 
+// The text of a scalar; a `schema` error for a list, map or null.
 std::optional<std::string> scalar_text(const YAML::Node& value, const std::string& what,
                                        const std::string& file, Diagnostics& diagnostics) {
   if (value.IsScalar()) return value.Scalar();
@@ -124,6 +125,8 @@ DocNode read_node(const YAML::Node& key, const YAML::Node& value, const std::str
 }
 
 std::optional<std::string> read_text(const fs::path& file) {
+  std::error_code ec;
+  if (!fs::is_regular_file(file, ec)) return std::nullopt;  // a directory opens, then reads ""
   std::ifstream in(file, std::ios::binary);
   if (!in) return std::nullopt;
   std::ostringstream ss;

@@ -69,7 +69,11 @@ TEST_CASE("wrong kinds are rejected with expected/got") {
   CHECK(error_of("[[1]]", ParamType::StringList) == "expected list<string>, got list");
   CHECK(error_of("~", ParamType::Float) == "expected float, got null");
   CHECK(error_of("99999999999999999999", ParamType::Int) ==
-        "integer 99999999999999999999 is out of range");
+        "number 99999999999999999999 is out of range");
+  CHECK(error_of("1e999", ParamType::Float) == "number 1e999 is out of range");
+  CHECK(error_of("[1, 1e999]", ParamType::FloatList) == "number 1e999 is out of range");
+  CHECK(error_of("[1, 99999999999999999999]", ParamType::IntList) ==
+        "number 99999999999999999999 is out of range");
 }
 
 TEST_CASE("graph params infer their type") {
