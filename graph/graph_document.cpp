@@ -52,6 +52,7 @@ void merge_node(DocNode& node, const DocNode& over, Diagnostics& diagnostics) {
     node.inputs_of_replaced_type.erase(port);
   }
   for (const auto& [name, value] : over.params) node.params[name] = value;
+  for (const auto& [key, value] : over.unknown_keys) node.unknown_keys[key] = value;
 }
 
 void merge_document(GraphDocument& base, const GraphDocument& derived, Diagnostics& diagnostics) {

@@ -42,6 +42,9 @@ struct DocNode {
   // these ports, in which case they are dropped with a warning rather than reported as errors.
   std::set<std::string> inputs_of_replaced_type;
   std::map<std::string, DocValue> params;
+  // Keys other than type/in/params: reported by validation, which knows the type and can tell
+  // a param or input written outside `params:`/`in:`.
+  std::map<std::string, DocValue> unknown_keys;
 };
 
 struct GraphDocument {

@@ -49,6 +49,7 @@ class Validator {
       node.id = doc_node.id;
       node.type = doc_node.type;
       node.loc = doc_node.loc;
+      report_unknown_keys(doc_node, specs_[i]);
       if (specs_[i]) resolve_params(doc_node, *specs_[i], node);
       resolve_inputs(i, node);
       nodes.push_back(std::move(node));
@@ -107,6 +108,18 @@ class Validator {
                          "node '" + node.id + "' has unknown type '" + node.type + "'",
                          unknown_type_hint(node.type));
     return spec;
+  }
+
+  void report_unknown_keys(const DocNode& node, const NodeSpec* spec) {
+    for (const auto& [key, value] : node.unknown_keys) {
+      std::string hint = suggest(key, {"type", "in", "params"}, true);
+      if (spec && spec->find_param(key))
+        hint = "'" + key + "' is a param of " + node.type + ": write it under params:";
+      else if (spec && spec->find_input(key))
+        hint = "'" + key + "' is an input of " + node.type + ": write it under in:";
+      diagnostics_.error(value.key_loc, "unknown-key",
+                         "unknown key '" + key + "' in node '" + node.id + "'", hint);
+    }
   }
 
   void resolve_params(const DocNode& doc_node, const NodeSpec& spec, GraphNode& node) {

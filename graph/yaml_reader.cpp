@@ -81,14 +81,6 @@ std::optional<std::string> scalar_text(const YAML::Node& value, const std::strin
   return std::nullopt;
 }
 
-void report_unknown_key(const YAML::Node& key, const std::vector<std::string>& known,
-                        const std::string& where, const std::string& file,
-                        Diagnostics& diagnostics) {
-  diagnostics.error(loc_of(key, file), "unknown-key",
-                    "unknown key '" + key.Scalar() + "' in " + where,
-                    suggest(key.Scalar(), known, true));
-}
-
 DocNode read_node(const YAML::Node& key, const YAML::Node& value, const std::string& file,
                   Diagnostics& diagnostics) {
   DocNode node;
@@ -118,7 +110,7 @@ DocNode read_node(const YAML::Node& key, const YAML::Node& value, const std::str
       for (const auto& [param, pv] : unique_entries(v))
         node.params[param.Scalar()] = DocValue(pv, loc_of(param, file), loc_of(pv, file));
     } else {
-      report_unknown_key(k, {"type", "in", "params"}, where, file, diagnostics);
+      node.unknown_keys[name] = DocValue(v, loc_of(k, file), loc_of(v, file));
     }
   }
   return node;
@@ -210,8 +202,9 @@ std::optional<GraphDocument> read(const std::string& text, const std::string& na
       base = read_base(v, name, base_dir, chain, diagnostics);
       base_failed = !base;
     } else {
-      report_unknown_key(k, {"graph", "params", "nodes", "extends"}, "the graph file", name,
-                         diagnostics);
+      diagnostics.error(loc_of(k, name), "unknown-key",
+                        "unknown key '" + key + "' in the graph file",
+                        suggest(key, {"graph", "params", "nodes", "extends"}, true));
     }
   }
   // Without its base a derived file is incomplete: checking it alone would only add noise.

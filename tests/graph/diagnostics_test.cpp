@@ -85,6 +85,20 @@ TEST_CASE("unknown-key: top level and inside a node, with the nearest key") {
   CHECK(unknown[0].hint == "did you mean 'nodes'?");
   CHECK(unknown[1].loc.str() == position(yaml, "parmas"));
   CHECK(unknown[1].hint == "did you mean 'params'?");
+  CHECK(unknown[1].message == "unknown key 'parmas' in node 'a'");
+}
+
+TEST_CASE("unknown-key: a param or input written outside params:/in: says so") {
+  const std::string yaml =
+      "nodes:\n"
+      "  one: {type: src.make, value: 2}\n"
+      "  show: {type: sink.number, value: one.value}\n";
+  const auto unknown = with_code(load(yaml), "unknown-key");
+  REQUIRE(unknown.size() == 2);
+  CHECK(unknown[0].loc.str() == "test.yaml:2:25");
+  CHECK(unknown[0].hint == "'value' is a param of src.make: write it under params:");
+  CHECK(unknown[1].loc.str() == position(yaml, "value", 2));
+  CHECK(unknown[1].hint == "'value' is an input of sink.number: write it under in:");
 }
 
 TEST_CASE("unknown-type: points at the type, suggests the nearest registered type") {
