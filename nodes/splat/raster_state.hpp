@@ -13,7 +13,6 @@ namespace gslift {
 
 constexpr int kTileSize = 16;
 constexpr float kMaxAlpha = 0.99f;          // alpha clamp (3DGS)
-constexpr float kMinAlpha = 1.f / 255.f;    // skip fainter contributions
 constexpr float kMinTransmittance = 1e-4f;  // stop blending below this
 
 // One Gaussian in one tile's depth-sorted list, with what blending needs packed together.
@@ -21,7 +20,7 @@ struct TileGaussian {
   float mx, my;   // 2D mean
   float A, B, C;  // conic
   float opacity;
-  float power_min;  // log(1 / (255 opacity)): below it alpha < 1/255, no exp needed
+  float power_min;  // log(min_alpha / opacity): below it alpha < min_alpha, no exp needed
   uint32_t id;      // Gaussian index
   uint32_t slot;    // index of this (Gaussian, tile) pair in Gaussian-major order
 };
@@ -33,7 +32,8 @@ struct RasterState {
   int channels = 0;
   int rgb_offset = -1, depth_offset = -1, normal_offset = -1, feature_offset = -1,
       alpha_offset = -1;
-  int sh_degree = 0;  // degree evaluated
+  int sh_degree = 0;    // degree evaluated
+  float min_alpha = 0;  // RenderSettings::min_alpha
   std::vector<float> values;
   std::vector<float> background;               // per channel: the RGB background, 0 elsewhere
   std::vector<ProjectedGaussian> projections;  // N; radius 0 = not in any tile
@@ -50,13 +50,14 @@ struct RasterState {
 // Blending weight test shared by every pass so that they agree bit for bit. Returns false when the
 // Gaussian is skipped at pixel centre (px, py); otherwise gaussian = exp(power) and
 // alpha = min(0.99, opacity * gaussian).
-inline bool blend_alpha(const TileGaussian& g, float px, float py, float& gaussian, float& alpha) {
+inline bool blend_alpha(const TileGaussian& g, float px, float py, float min_alpha, float& gaussian,
+                        float& alpha) {
   const float dx = g.mx - px, dy = g.my - py;
   const float power = -0.5f * (g.A * dx * dx + g.C * dy * dy) - g.B * dx * dy;
   if (power > 0.f || power < g.power_min) return false;
   gaussian = std::exp(power);
   alpha = std::min(kMaxAlpha, g.opacity * gaussian);
-  return alpha >= kMinAlpha;
+  return alpha >= min_alpha;
 }
 
 // Front-to-back blending of one pixel over a tile list (3DGS): calls on(j, w_j = alpha_j T_j) for
@@ -64,12 +65,12 @@ inline bool blend_alpha(const TileGaussian& g, float px, float py, float& gaussi
 // last contributing index + 1; transmittance receives the final T.
 template <class OnContribution>
 inline uint32_t blend_pixel(const TileGaussian* list, uint32_t count, float px, float py,
-                            float& transmittance, OnContribution&& on) {
+                            float min_alpha, float& transmittance, OnContribution&& on) {
   float T = 1.f;
   uint32_t last = 0;
   for (uint32_t j = 0; j < count; ++j) {
     float gaussian, alpha;
-    if (!blend_alpha(list[j], px, py, gaussian, alpha)) continue;
+    if (!blend_alpha(list[j], px, py, min_alpha, gaussian, alpha)) continue;
     const float next_T = T * (1.f - alpha);
     if (next_T < kMinTransmittance) break;
     on(j, alpha * T);

@@ -170,7 +170,7 @@ void bin_gaussians(const GaussianModel& model, const ViewTransform& view,
              p.conic[1],
              p.conic[2],
              o,
-             std::log(kMinAlpha / std::max(o, 1e-30f)),
+             std::log(s.min_alpha / std::max(o, 1e-30f)),
              g,
              *k};
       }
@@ -228,6 +228,7 @@ RenderOutput render(const GaussianModel& model, const Camera& camera, const Pose
   s.tiles_y = (s.height + kTileSize - 1) / kTileSize;
   s.sh_degree =
       settings.sh_degree < 0 ? model.sh_degree : std::min(settings.sh_degree, model.sh_degree);
+  s.min_alpha = std::max(0.f, settings.min_alpha);
   const int D = model.feature_dim;
   auto add_block = [&](bool on, int size, int& offset) {
     if (on) {
@@ -273,11 +274,12 @@ RenderOutput render(const GaussianModel& model, const Camera& camera, const Pose
               const size_t pix = size_t(y) * s.width + x;
               std::fill(acc.begin(), acc.end(), 0.f);
               float T;
-              s.contributors[pix] =
-                  blend_pixel(list, count, x + 0.5f, y + 0.5f, T, [&](uint32_t j, float w) {
-                    const float* v = &values[size_t(j) * s.channels];
-                    for (int c = 0; c < s.channels; ++c) acc[c] += w * v[c];
-                  });
+              s.contributors[pix] = blend_pixel(list, count, x + 0.5f, y + 0.5f, s.min_alpha, T,
+                                                [&](uint32_t j, float w) {
+                                                  const float* v = &values[size_t(j) * s.channels];
+                                                  for (int c = 0; c < s.channels; ++c)
+                                                    acc[c] += w * v[c];
+                                                });
               s.final_transmittance[pix] = T;
               for (int c = 0; s.rgb_offset >= 0 && c < 3; ++c)
                 out.rgb[pix * 3 + c] = acc[s.rgb_offset + c] + T * settings.background[c];
@@ -422,7 +424,7 @@ void render_backward(const GaussianModel& model, const Camera& camera, const Pos
                             for (uint32_t j = last; j-- > 0;) {
                               const TileGaussian& e = list[j];
                               float gaussian, alpha;
-                              if (!blend_alpha(e, px, py, gaussian, alpha)) continue;
+                              if (!blend_alpha(e, px, py, s.min_alpha, gaussian, alpha)) continue;
                               const float keep = 1.f - alpha;
                               T /= keep;  // transmittance in front of entry j
                               const float w = alpha * T;

@@ -29,6 +29,9 @@ struct RenderSettings {
   // unnormalised sum, which is what a depth loss against a dense prior usually wants.
   bool normalize_depth = false;
   float near = 0.01f;  // cull Gaussians with camera z below this (near plane)
+  // Contributions with alpha below this are skipped (3DGS: 1/255). The skip makes the image a
+  // discontinuous function of the parameters; finite-difference gradient checks set it to 0.
+  float min_alpha = 1.f / 255.f;
   // SH degree evaluated (0..model.sh_degree); -1 = the model's degree. Training raises it
   // progressively as in 3DGS; higher coefficients are ignored and get zero gradient.
   int sh_degree = -1;

@@ -1,0 +1,154 @@
+#include "nodes/splat/render_cache.hpp"
+
+#include <limits>
+#include <string>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include "nodes/splat/raster_state.hpp"
+#include "runtime/node.hpp"
+
+namespace gslift {
+
+namespace {
+
+// Calls visit(pixel, j, w) for every contribution of every pixel of tile t, in blend order.
+template <class Visit>
+void visit_tile(const RasterState& s, int t, Visit&& visit) {
+  const TileGaussian* list = s.tile_gaussians.data() + s.tile_offsets[t];
+  const uint32_t count = s.tile_offsets[t + 1] - s.tile_offsets[t];
+  if (count == 0) return;
+  const int tx = t % s.tiles_x, ty = t / s.tiles_x;
+  const int x1 = std::min(s.width, (tx + 1) * kTileSize),
+            y1 = std::min(s.height, (ty + 1) * kTileSize);
+  for (int y = ty * kTileSize; y < y1; ++y)
+    for (int x = tx * kTileSize; x < x1; ++x) {
+      const size_t pix = size_t(y) * s.width + x;
+      float T;
+      blend_pixel(list, count, x + 0.5f, y + 0.5f, s.min_alpha, T,
+                  [&](uint32_t j, float w) { visit(pix, list[j].id, w); });
+    }
+}
+
+// out_row[c] = sum_k w_k attributes[id_k][c]; channels a template constant where it is common, so
+// the channel loop vectorises.
+template <int kChannels>
+void product_rows(const RenderCache& cache, const float* attributes, int channels, float* out,
+                  size_t begin, size_t end) {
+  const int C = kChannels > 0 ? kChannels : channels;
+  const auto& off = cache.pixel_offsets();
+  const uint32_t* ids = cache.ids().data();
+  const float* w = cache.weights().data();
+  for (size_t p = begin; p < end; ++p) {
+    float* o = out + p * C;
+    for (int c = 0; c < C; ++c) o[c] = 0.f;
+    for (uint32_t k = off[p]; k < off[p + 1]; ++k) {
+      const float* a = attributes + size_t(ids[k]) * C;
+      const float wk = w[k];
+      for (int c = 0; c < C; ++c) o[c] += wk * a[c];
+    }
+  }
+}
+
+}  // namespace
+
+RenderCache::RenderCache(const RenderOutput& forward) {
+  if (!forward.state) throw InputError("RenderCache: the forward output has no raster state");
+  const RasterState& s = *forward.state;
+  width_ = s.width;
+  height_ = s.height;
+  const size_t pixels = size_t(width_) * height_;
+  const size_t n = s.projections.size();
+
+  // Pass 1: contributions per pixel; pass 2: fill the rows at their offsets.
+  std::vector<uint32_t> counts(pixels, 0);
+  tbb::parallel_for(tbb::blocked_range<int>(0, s.tile_count()),
+                    [&](const tbb::blocked_range<int>& r) {
+                      for (int t = r.begin(); t != r.end(); ++t)
+                        visit_tile(s, t, [&](size_t pix, uint32_t, float) { ++counts[pix]; });
+                    });
+  pixel_offsets_.assign(pixels + 1, 0);
+  for (size_t p = 0; p < pixels; ++p) {
+    if (uint64_t(pixel_offsets_[p]) + counts[p] >= std::numeric_limits<uint32_t>::max())
+      throw InputError("RenderCache: more than 2^32 (pixel, Gaussian) pairs in one view");
+    pixel_offsets_[p + 1] = pixel_offsets_[p] + counts[p];
+  }
+  ids_.resize(pixel_offsets_[pixels]);
+  weights_.resize(ids_.size());
+  tbb::parallel_for(tbb::blocked_range<int>(0, s.tile_count()),
+                    [&](const tbb::blocked_range<int>& r) {
+                      for (int t = r.begin(); t != r.end(); ++t)
+                        visit_tile(s, t, [&](size_t pix, uint32_t id, float w) {
+                          const uint32_t k = pixel_offsets_[pix + 1] - counts[pix]--;
+                          ids_[k] = id;
+                          weights_[k] = w;
+                        });
+                    });
+
+  // Transpose by counting sort over Gaussians, scanning pixels in order.
+  gaussian_offsets_.assign(n + 1, 0);
+  for (uint32_t id : ids_) ++gaussian_offsets_[id + 1];
+  for (size_t g = 0; g < n; ++g) gaussian_offsets_[g + 1] += gaussian_offsets_[g];
+  std::vector<uint32_t> cursor(gaussian_offsets_.begin(), gaussian_offsets_.end() - 1);
+  pixels_.resize(ids_.size());
+  pixel_weights_.resize(ids_.size());
+  for (size_t p = 0; p < pixels; ++p)
+    for (uint32_t k = pixel_offsets_[p]; k < pixel_offsets_[p + 1]; ++k) {
+      const uint32_t dst = cursor[ids_[k]]++;
+      pixels_[dst] = uint32_t(p);
+      pixel_weights_[dst] = weights_[k];
+    }
+}
+
+size_t RenderCache::bytes() const {
+  return sizeof(uint32_t) *
+             (pixel_offsets_.size() + ids_.size() + gaussian_offsets_.size() + pixels_.size()) +
+         sizeof(float) * (weights_.size() + pixel_weights_.size());
+}
+
+void RenderCache::render(const float* attributes, int channels, float* out) const {
+  const size_t pixels = size_t(width_) * height_;
+  tbb::parallel_for(
+      tbb::blocked_range<size_t>(0, pixels, size_t(width_)),
+      [&](const tbb::blocked_range<size_t>& r) {
+        switch (channels) {
+          case 16:
+            return product_rows<16>(*this, attributes, channels, out, r.begin(), r.end());
+          case 32:
+            return product_rows<32>(*this, attributes, channels, out, r.begin(), r.end());
+          case 3:
+            return product_rows<3>(*this, attributes, channels, out, r.begin(), r.end());
+          case 1:
+            return product_rows<1>(*this, attributes, channels, out, r.begin(), r.end());
+          default:
+            return product_rows<0>(*this, attributes, channels, out, r.begin(), r.end());
+        }
+      });
+}
+
+std::vector<float> RenderCache::render(const std::vector<float>& attributes, int channels) const {
+  if (channels <= 0 || attributes.size() != gaussian_count() * size_t(channels))
+    throw InputError("RenderCache: attributes have " + std::to_string(attributes.size()) +
+                     " values, expected " + std::to_string(gaussian_count()) + " x " +
+                     std::to_string(channels));
+  std::vector<float> out(size_t(width_) * height_ * channels);
+  render(attributes.data(), channels, out.data());
+  return out;
+}
+
+void RenderCache::backward(const float* grad_out, int channels, float* grad_attributes) const {
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, gaussian_count(), 256),
+                    [&](const tbb::blocked_range<size_t>& r) {
+                      for (size_t g = r.begin(); g != r.end(); ++g) {
+                        float* d = grad_attributes + g * channels;
+                        for (uint32_t k = gaussian_offsets_[g]; k < gaussian_offsets_[g + 1]; ++k) {
+                          const float* go = grad_out + size_t(pixels_[k]) * channels;
+                          const float w = pixel_weights_[k];
+                          for (int c = 0; c < channels; ++c) d[c] += w * go[c];
+                        }
+                      }
+                    });
+}
+
+}  // namespace gslift
