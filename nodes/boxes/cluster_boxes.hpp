@@ -1,0 +1,52 @@
+// LangOR §1.1 (METHODS.md): multi-round VLM boxes of one view -> one robust box per object.
+//
+// The t candidate boxes of an image (all rounds together) are clustered by IoU, the cluster's
+// representative is chosen by LangOR Eq. 2,
+//   B*_k = argmax_{B_i in U_k} (1 / (t - 1)) sum_{j != i} IoU(B_i, B_j),
+// with the sum over ALL t candidates of the image (as the paper writes it, not only over U_k), and
+// the cluster's label is the majority vote of its members.
+//
+// Clustering [decision]: greedy, not single-linkage. Candidates are taken in decreasing Eq. 2
+// consensus score; the best unassigned one seeds a cluster and every unassigned candidate whose
+// IoU with the seed exceeds the threshold joins it. Single-linkage chains neighbouring objects
+// through one sloppy in-between box (two surgeons side by side); greedy seeding cannot chain
+// through a box that is not itself a seed, and because seeds come in score order the seed IS the
+// Eq. 2 representative of its cluster. (A box overlapping two objects by more than the threshold
+// and scoring above both would still seed and absorb both: the threshold must stay >= 0.5.)
+// The VLM's own score is not used: Qwen-VL grounding gives none (all 1).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "nodes/scene/boxes.hpp"
+
+namespace gslift {
+
+struct BoxClusteringParams {
+  // Two boxes are the same object when IoU(seed, box) > iou. 0.5 [decision, METHODS.md]: VLM
+  // jitter of one object across rounds stays well above it, distinct adjacent objects below.
+  float iou = 0.5f;
+  // Clusters supported by fewer distinct rounds are dropped as hallucinations. Clamped to the
+  // number of rounds of the view, so single-round input (the "w/o clustering" ablation) keeps its
+  // boxes. Default 2 [decision]: drops one-round hallucinations; to be measured against 1 on the
+  // embedded OR.
+  int min_support = 2;
+};
+
+// LangOR Eq. 2 score of each candidate: mean IoU with the other t - 1 candidates (0 when t = 1).
+std::vector<double> consensus_scores(const std::vector<Box>& candidates);
+
+// Clusters the candidates of one view. Each output box is a copy of its cluster's representative
+// with: label = majority label of the cluster (labels compared lower-cased with surrounding
+// spaces trimmed; ties go to the label of the member with the highest Eq. 2 score), support =
+// number of distinct rounds in the cluster, round/source_index = those of the representative
+// (source_index: its index among its round's boxes, so its SAM mask can be found). Output in
+// decreasing Eq. 2 score of the representatives. `rounds` = rounds asked (for the clamp).
+std::vector<Box> cluster_boxes(const std::vector<Box>& candidates, int rounds,
+                               const BoxClusteringParams& params);
+
+// cluster_boxes on every view.
+BoxSet cluster_box_set(const BoxSet& boxes, const BoxClusteringParams& params);
+
+}  // namespace gslift
