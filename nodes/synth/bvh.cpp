@@ -1,0 +1,107 @@
+#include "nodes/synth/bvh.hpp"
+
+#include <algorithm>
+#include <limits>
+#include <numeric>
+
+namespace gslift::synth {
+
+namespace {
+
+constexpr int kLeafSize = 2;
+
+// Slab test of a ray against a box; inv_dir = 1 / dir component-wise (inf where dir is 0).
+bool ray_hits_box(const Eigen::AlignedBox3f& box, const Eigen::Vector3f& origin,
+                  const Eigen::Vector3f& inv_dir, float t_min, float t_max) {
+  for (int k = 0; k < 3; ++k) {
+    float t0 = (box.min()[k] - origin[k]) * inv_dir[k];
+    float t1 = (box.max()[k] - origin[k]) * inv_dir[k];
+    if (t0 > t1) std::swap(t0, t1);
+    // NaN (0 * inf on a slab boundary) compares false and leaves the interval unchanged.
+    if (t0 > t_min) t_min = t0;
+    if (t1 < t_max) t_max = t1;
+    if (t_min > t_max) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+Bvh::Bvh(const std::vector<Primitive>& primitives) : primitives_(primitives) {
+  boxes_.reserve(primitives.size());
+  for (const auto& p : primitives) boxes_.push_back(bounds(p));
+  order_.resize(primitives.size());
+  std::iota(order_.begin(), order_.end(), 0);
+  if (!primitives.empty()) build(0, static_cast<int>(primitives.size()));
+}
+
+int Bvh::build(int begin, int end) {
+  const int index = static_cast<int>(nodes_.size());
+  nodes_.emplace_back();
+  Eigen::AlignedBox3f box, centroids;
+  for (int i = begin; i < end; ++i) {
+    box.extend(boxes_[order_[i]]);
+    centroids.extend(boxes_[order_[i]].center());
+  }
+  nodes_[index].box = box;
+  if (end - begin <= kLeafSize) {
+    nodes_[index].first = begin;
+    nodes_[index].count = end - begin;
+    return index;
+  }
+  int axis = 0;
+  centroids.sizes().maxCoeff(&axis);
+  const int mid = (begin + end) / 2;
+  // Ties broken by index so the tree (and the traversal order) does not depend on the sort.
+  std::nth_element(order_.begin() + begin, order_.begin() + mid, order_.begin() + end,
+                   [&](int a, int b) {
+                     const float ca = boxes_[a].center()[axis], cb = boxes_[b].center()[axis];
+                     return ca < cb || (ca == cb && a < b);
+                   });
+  build(begin, mid);
+  const int right = build(mid, end);
+  nodes_[index].first = right;
+  return index;
+}
+
+template <bool kAnyHit>
+RayHit Bvh::traverse(const Eigen::Vector3f& origin, const Eigen::Vector3f& dir, float t_min,
+                     float t_max) const {
+  RayHit result;
+  if (nodes_.empty()) return result;
+  const Eigen::Vector3f inv_dir = dir.cwiseInverse();
+  int stack[64];
+  int top = 0;
+  stack[top++] = 0;
+  while (top > 0) {
+    const Node& node = nodes_[stack[--top]];
+    if (!ray_hits_box(node.box, origin, inv_dir, t_min, t_max)) continue;
+    if (node.count > 0) {
+      for (int i = node.first; i < node.first + node.count; ++i) {
+        Hit hit;
+        if (!intersect(primitives_[order_[i]], origin, dir, t_min, t_max, hit)) continue;
+        result.primitive = order_[i];
+        result.hit = hit;
+        if (kAnyHit) return result;
+        t_max = hit.t;
+      }
+      continue;
+    }
+    const int self = static_cast<int>(&node - nodes_.data());
+    stack[top++] = node.first;  // right child
+    stack[top++] = self + 1;    // left child, visited first
+  }
+  return result;
+}
+
+RayHit Bvh::closest(const Eigen::Vector3f& origin, const Eigen::Vector3f& dir, float t_min,
+                    float t_max) const {
+  return traverse<false>(origin, dir, t_min, t_max);
+}
+
+bool Bvh::occluded(const Eigen::Vector3f& origin, const Eigen::Vector3f& dir, float t_min,
+                   float t_max) const {
+  return traverse<true>(origin, dir, t_min, t_max).primitive >= 0;
+}
+
+}  // namespace gslift::synth

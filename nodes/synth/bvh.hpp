@@ -1,0 +1,47 @@
+// Bounding-volume hierarchy over the scene's primitives: median split on the longest centroid
+// axis, flattened into a depth-first array so traversal is a tight loop with a small stack.
+#pragma once
+
+#include <vector>
+
+#include <Eigen/Geometry>
+
+#include "nodes/synth/primitive.hpp"
+
+namespace gslift::synth {
+
+struct RayHit {
+  int primitive = -1;  // index into the primitives, -1 = miss
+  Hit hit;
+};
+
+class Bvh {
+ public:
+  // Keeps a reference to `primitives`; they must outlive the Bvh and not change.
+  explicit Bvh(const std::vector<Primitive>& primitives);
+
+  // Nearest hit with t in (t_min, t_max).
+  RayHit closest(const Eigen::Vector3f& origin, const Eigen::Vector3f& dir, float t_min,
+                 float t_max) const;
+  // Any hit with t in (t_min, t_max): shadow rays stop at the first blocker.
+  bool occluded(const Eigen::Vector3f& origin, const Eigen::Vector3f& dir, float t_min,
+                float t_max) const;
+
+ private:
+  struct Node {
+    Eigen::AlignedBox3f box;
+    int first = 0;  // leaf: first index into order_; inner: index of the right child
+    int count = 0;  // > 0 for leaves
+  };
+  int build(int begin, int end);
+  template <bool kAnyHit>
+  RayHit traverse(const Eigen::Vector3f& origin, const Eigen::Vector3f& dir, float t_min,
+                  float t_max) const;
+
+  const std::vector<Primitive>& primitives_;
+  std::vector<Eigen::AlignedBox3f> boxes_;
+  std::vector<int> order_;
+  std::vector<Node> nodes_;
+};
+
+}  // namespace gslift::synth

@@ -1,0 +1,262 @@
+#include "nodes/synth/or_capture.hpp"
+
+#include <atomic>
+#include <locale>
+#include <sstream>
+#include <stdexcept>
+
+#include <tbb/parallel_for.h>
+#include <unistd.h>
+#include <nlohmann/json.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "nodes/ingest/colmap_model.hpp"
+#include "nodes/scene/image_io.hpp"
+#include "nodes/synth/bvh.hpp"
+#include "nodes/synth/coco_rle.hpp"
+#include "nodes/synth/depth_prior_simulator.hpp"
+#include "nodes/synth/pose_noise.hpp"
+#include "nodes/synth/random_stream.hpp"
+#include "nodes/synth/render_view.hpp"
+#include "nodes/synth/sam_auto_simulator.hpp"
+#include "nodes/synth/sam_box_simulator.hpp"
+#include "nodes/synth/visible_instances.hpp"
+#include "nodes/synth/vlm_simulator.hpp"
+#include "runtime/atomic_file.hpp"
+
+namespace gslift::synth {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+std::ostringstream classic_stream() {
+  std::ostringstream s;
+  s.imbue(std::locale::classic());
+  s.precision(17);
+  return s;
+}
+
+// A SAM-style mask record: COCO RLE segmentation plus the fields SAM's generator reports.
+nlohmann::json mask_record(const cv::Mat1b& mask, double predicted_iou, double stability) {
+  const cv::Rect b = cv::boundingRect(mask);
+  return {{"segmentation", coco_rle(mask)},
+          {"bbox", {b.x, b.y, b.width, b.height}},
+          {"area", cv::countNonZero(mask)},
+          {"predicted_iou", predicted_iou},
+          {"stability_score", stability}};
+}
+
+std::string classes_yaml(const OrScene& scene) {
+  std::ostringstream y = classic_stream();
+  y << "classes:\n";
+  for (const auto& [id, name] : or_class_names()) y << "  " << id << ": \"" << name << "\"\n";
+  y << "instances:\n";
+  for (const auto& [inst, cls] : scene.instance_class) y << "  " << inst << ": " << cls << "\n";
+  return y.str();
+}
+
+std::string capture_yaml(const OrCaptureSettings& s, const OrScene& scene) {
+  std::ostringstream y = classic_stream();
+  y << "format: gslift.capture/v1\n"
+    << "name: " << capture_name(s) << "\n"
+    << "model: sparse/0\n"
+    << "images: images\n"
+    << "depth: {folder: depth, scale: 1000}\n"
+    << "held_out: [";
+  bool first = true;
+  for (const OrCamera& c : scene.cameras) {
+    if (!c.held_out) continue;
+    y << (first ? "" : ", ") << c.name;
+    first = false;
+  }
+  y << "]\n"
+    << "vlm:\n  folder: vlm\n  rounds: " << s.knobs.vlm_rounds << "\n  coords: norm1000\n"
+    << "  input_size: [" << s.scene.width << ", " << s.scene.height << "]\n"
+    << "sam_box: sam_box\nsam_auto: sam_auto\ngt: gt\n";
+  return y.str();
+}
+
+std::string synth_yaml(const OrCaptureSettings& s) {
+  std::ostringstream y = classic_stream();
+  y << "# Settings this capture was generated with (gslift synth); same settings, same bytes.\n"
+    << "generator: gslift.synth/v1\n";
+  for (const auto& [k, v] : settings_entries(s)) y << k << ": " << v << "\n";
+  return y.str();
+}
+
+// Everything generated for one view.
+struct ViewOutput {
+  SparsePoints points;
+};
+
+void write_view(const OrCaptureSettings& s, const OrScene& scene, const Bvh& bvh, int index,
+                int points_per_view, const fs::path& dir, ViewOutput& out) {
+  const OrCamera& cam = scene.cameras[index];
+  const SynthKnobs& k = s.knobs;
+  const uint64_t seed = s.scene.seed;
+  RenderOptions ro;
+  ro.shadows = k.shadows;
+  const RenderedView r = render_view(scene, bvh, cam.camera, cam.pose, ro);
+  const std::string stem = cam.name;
+
+  write_rgb_png(dir / "images" / (stem + ".png"), r.rgb);
+  write_label_png16(dir / "gt" / "instance" / (stem + ".png"), r.instance);
+  write_label_png16(dir / "gt" / "semantic" / (stem + ".png"), r.semantic);
+  write_depth_tiff(dir / "gt" / "depth" / (stem + ".tiff"), r.depth);
+  write_float_tiff(dir / "gt" / "normal" / (stem + ".tiff"), r.normal);
+
+  RandomStream depth_rng(stream_seed(seed, kDepthPriorStream, index));
+  write_depth_png_mm(dir / "depth" / (stem + ".png"),
+                     simulate_depth_prior(r.depth, k.depth_noise, k.depth_holes, depth_rng));
+
+  // VLM rounds and the SAM masks prompted with each round's boxes, in the same order.
+  const auto visible = visible_instances(r.instance, scene.instance_class, k.vlm_min_visible);
+  const auto rounds = simulate_vlm(visible, cam.camera.width, cam.camera.height, k,
+                                   stream_seed(seed, kVlmStream, index));
+  const std::vector<int> pixels =
+      count_labels(r.instance, cv::Rect(0, 0, r.instance.cols, r.instance.rows));
+  for (size_t q = 0; q < rounds.size(); ++q) {
+    const std::string round = "round_" + std::to_string(q);
+    write_file_atomically(dir / "vlm" / stem / (round + ".txt"), rounds[q].reply);
+    RandomStream sam_rng(stream_seed(seed, kSamBoxStream, index * 1000 + q));
+    nlohmann::json masks = nlohmann::json::array();
+    for (const VlmBox& b : rounds[q].boxes) {
+      const SamBoxMask m = simulate_sam_box(b.box, r.instance, pixels, k, sam_rng);
+      masks.push_back(mask_record(m.mask, sam_rng.uniform(0.85, 1.0), sam_rng.uniform(0.9, 1.0)));
+    }
+    write_file_atomically(dir / "sam_box" / stem / (round + ".json"), masks.dump());
+  }
+
+  RandomStream auto_rng(stream_seed(seed, kSamAutoStream, index));
+  nlohmann::json autos = nlohmann::json::array();
+  for (const AutoMask& a : simulate_sam_auto(r.instance, r.part, k, auto_rng)) {
+    nlohmann::json rec = mask_record(a.mask, a.predicted_iou, a.stability_score);
+    rec["granularity"] = a.granularity;
+    autos.push_back(std::move(rec));
+  }
+  write_file_atomically(dir / "sam_auto" / (stem + ".json"), autos.dump());
+
+  // Sparse points: random pixels of the training views back-projected with the exact depth,
+  // displaced along the ray by the depth-prior noise level (an MVS point cloud's error).
+  if (cam.held_out) return;
+  RandomStream pts_rng(stream_seed(seed, kSparsePointStream, index));
+  const Eigen::Vector3d centre = cam.pose.centre();
+  for (int i = 0; i < points_per_view; ++i) {
+    const int u = pts_rng.below(r.depth.cols), v = pts_rng.below(r.depth.rows);
+    const float d = r.depth.at<float>(v, u);
+    const double noise = pts_rng.normal(0, k.depth_noise);
+    if (d <= 0) continue;
+    const Eigen::Vector3d ray_cam((u + 0.5 - cam.camera.cx) / cam.camera.fx,
+                                  (v + 0.5 - cam.camera.cy) / cam.camera.fy, 1.0);
+    const Eigen::Vector3d x = centre + cam.pose.R.transpose() * ray_cam * (d * (1 + noise));
+    const cv::Vec3b c = r.rgb.at<cv::Vec3b>(v, u);
+    out.points.xyz.push_back(x.cast<float>());
+    out.points.rgb.emplace_back(c[0], c[1], c[2]);
+  }
+}
+
+}  // namespace
+
+std::vector<std::pair<std::string, std::string>> settings_entries(const OrCaptureSettings& s) {
+  std::vector<std::pair<std::string, std::string>> e = {
+      {"seed", std::to_string(s.scene.seed)},     {"phase", to_string(s.scene.phase)},
+      {"views", std::to_string(s.scene.views)},   {"width", std::to_string(s.scene.width)},
+      {"height", std::to_string(s.scene.height)}, {"preset", s.preset},
+  };
+  for (const KnobInfo& k : synth_knob_table()) e.emplace_back(k.name, knob_value(s.knobs, k));
+  return e;
+}
+
+OrCaptureSettings make_settings(const std::vector<std::pair<std::string, std::string>>& entries) {
+  OrCaptureSettings s;
+  for (const auto& [name, value] : entries) {
+    if (name == "preset") s.preset = value;
+  }
+  s.knobs = preset_knobs(s.preset);
+  auto integer = [](const std::string& name, const std::string& value) {
+    size_t used = 0;
+    long long v = 0;
+    try {
+      v = std::stoll(value, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used == 0 || used != value.size() || v < 0) {
+      throw std::invalid_argument(name + ": '" + value + "' is not a non-negative integer");
+    }
+    return v;
+  };
+  for (const auto& [name, value] : entries) {
+    if (name == "preset") continue;
+    if (name == "seed") {
+      s.scene.seed = static_cast<uint64_t>(integer(name, value));
+    } else if (name == "phase") {
+      s.scene.phase = parse_or_phase(value);
+    } else if (name == "views") {
+      s.scene.views = static_cast<int>(integer(name, value));
+    } else if (name == "width") {
+      s.scene.width = static_cast<int>(integer(name, value));
+    } else if (name == "height") {
+      s.scene.height = static_cast<int>(integer(name, value));
+    } else {
+      set_knob(s.knobs, name, value);
+    }
+  }
+  return s;
+}
+
+std::string capture_name(const OrCaptureSettings& s) {
+  return "or_s" + std::to_string(s.scene.seed) + "_" + to_string(s.scene.phase);
+}
+
+void write_or_capture(const OrCaptureSettings& s, const fs::path& out_dir) {
+  if (fs::exists(out_dir) && !(fs::is_directory(out_dir) && fs::is_empty(out_dir))) {
+    throw std::invalid_argument(out_dir.string() + " already exists and is not an empty folder");
+  }
+  const OrScene scene = make_or_scene(s.scene);
+  const Bvh bvh(scene.primitives);
+  const fs::path parent = out_dir.has_parent_path() ? out_dir.parent_path() : fs::path(".");
+  fs::create_directories(parent);
+  // Unique per process and call, so concurrent generations never share a temporary folder.
+  static std::atomic<unsigned> counter{0};
+  const fs::path tmp = parent / (out_dir.filename().string() + ".partial-" +
+                                 std::to_string(::getpid()) + "-" + std::to_string(counter++));
+  fs::remove_all(tmp);
+  try {
+    const int views = static_cast<int>(scene.cameras.size());
+    const int train = views - held_out_count(views);
+    const int points_per_view = s.knobs.sparse_points / std::max(1, train);
+    std::vector<ViewOutput> outputs(views);
+    tbb::parallel_for(
+        0, views, [&](int i) { write_view(s, scene, bvh, i, points_per_view, tmp, outputs[i]); });
+
+    ColmapModel model;
+    Camera shared = scene.cameras.front().camera;
+    model.cameras[1] = shared;
+    for (int i = 0; i < views; ++i) {
+      const OrCamera& c = scene.cameras[i];
+      RandomStream pose_rng(stream_seed(s.scene.seed, kPoseNoiseStream, i));
+      model.images.push_back(
+          {i + 1, 1, c.name + ".png",
+           perturb_pose(c.pose, s.knobs.pose_noise_deg, s.knobs.pose_noise_m, pose_rng)});
+      // Views are concatenated in view order, whatever order the threads finished in.
+      const SparsePoints& p = outputs[i].points;
+      model.points.xyz.insert(model.points.xyz.end(), p.xyz.begin(), p.xyz.end());
+      model.points.rgb.insert(model.points.rgb.end(), p.rgb.begin(), p.rgb.end());
+    }
+    write_colmap_text(tmp / "sparse" / "0", model);
+    write_file_atomically(tmp / "gt" / "classes.yaml", classes_yaml(scene));
+    write_file_atomically(tmp / "vlm" / "prompt.txt", vlm_prompt());
+    write_file_atomically(tmp / "synth.yaml", synth_yaml(s));
+    write_file_atomically(tmp / "capture.yaml", capture_yaml(s, scene));
+    if (fs::exists(out_dir)) fs::remove(out_dir);  // the empty folder checked above
+    fs::rename(tmp, out_dir);
+  } catch (...) {
+    std::error_code ec;
+    fs::remove_all(tmp, ec);
+    throw;
+  }
+}
+
+}  // namespace gslift::synth

@@ -1,0 +1,40 @@
+// Writes an embedded OR capture to disk in the project's one capture layout
+// (docs/capture_format.md): renders every view, runs the simulated upstream models and writes
+// images, depth prior, ground truth, COLMAP text model, VLM replies, SAM masks and capture.yaml.
+// The same settings give byte-identical files at any thread count.
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "nodes/synth/or_scene.hpp"
+#include "nodes/synth/synth_knobs.hpp"
+
+namespace gslift::synth {
+
+struct OrCaptureSettings {
+  OrSceneOptions scene;
+  std::string preset = "default";  // recorded; the knobs already hold the preset's values
+  SynthKnobs knobs;
+};
+
+// Every setting as (name, value) text, in a fixed order: the capture's identity. Recorded in
+// <capture>/synth.yaml and hashed into the cache key of embedded captures.
+std::vector<std::pair<std::string, std::string>> settings_entries(const OrCaptureSettings& s);
+
+// Settings from (name, value) text pairs: seed, phase, views, width, height, preset and every
+// knob of synth_knob_table(). The preset is applied first, whatever its position, so explicit
+// knobs always win. Throws std::invalid_argument naming the setting and what is wrong.
+OrCaptureSettings make_settings(const std::vector<std::pair<std::string, std::string>>& entries);
+
+// "or_s<seed>_<phase>", the capture's name in capture.yaml.
+std::string capture_name(const OrCaptureSettings& s);
+
+// Generates the capture into a temporary sibling of out_dir and renames it into place, so
+// out_dir appears complete or not at all. out_dir must not exist or be an empty folder
+// (std::invalid_argument otherwise; invalid settings throw std::invalid_argument too).
+void write_or_capture(const OrCaptureSettings& settings, const std::filesystem::path& out_dir);
+
+}  // namespace gslift::synth

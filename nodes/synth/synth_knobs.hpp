@@ -1,0 +1,60 @@
+// The failure-mode knobs of the simulated upstream models (VLM, SAM, MVS depth, poses) and of the
+// renderer. Defaults are the "default" preset; `easy` and `hard` move every failure rate in the
+// same direction. Every knob is settable by name (`gslift synth --set vlm_miss_rate=0.3`, the
+// synth.capture node's params), and the table below is the single source for parsing, the node's
+// ParamSpecs and docs/synth.md.
+#pragma once
+
+#include <string>
+#include <variant>
+#include <vector>
+
+namespace gslift::synth {
+
+struct SynthKnobs {
+  // VLM (Qwen-VL grounding), LangOR's robust perceptor asks N rounds per image.
+  int vlm_rounds = 5;                // rounds of answers per view
+  double vlm_miss_rate = 0.15;       // P(a visible instance gets no box in a round)
+  double vlm_jitter = 0.05;          // sigma of each box edge, as a fraction of box width/height
+  double vlm_confusion_rate = 0.15;  // P(a person's label is swapped for another look-alike role)
+  double vlm_hallucination_rate = 0.3;  // expected boxes per view and round covering nothing real
+  double vlm_min_visible = 0.002;       // an instance is "visible" above this fraction of the image
+  // SAM prompted with boxes.
+  double sam_boundary_noise = 1.5;  // amplitude (pixels) of the smooth boundary displacement
+  double sam_leak_rate = 0.1;       // P(a mask also takes a neighbouring instance inside the box)
+  // SAM automatic mask generator (per view, inconsistent across views).
+  double sam_auto_split_rate = 0.25;  // P(an instance comes out as its parts: head/torso/legs...)
+  double sam_auto_merge_rate = 0.1;   // P(an instance is merged with its most adjacent neighbour)
+  double sam_auto_fragments = 2.0;    // expected small spurious fragments per view
+  int sam_auto_granularities = 2;     // 1: whole-object masks only; 2: also part masks (SAGA)
+  // Feed-forward MVS depth prior (VGGT-like) and poses.
+  double depth_noise = 0.02;  // relative sigma of the depth prior (half smooth, half per pixel)
+  double depth_holes = 0.03;  // fraction of depth-prior pixels set invalid (0), in blobs
+  double pose_noise_deg = 0;  // sigma of the rotation error of the written poses (degrees)
+  double pose_noise_m = 0;    // sigma of the camera-centre error of the written poses (metres)
+  // Rendering and initialisation.
+  bool shadows = true;        // hard shadows from every light
+  int sparse_points = 20000;  // SfM/MVS-like coloured points sampled from the training views
+};
+
+// "easy", "default" or "hard"; throws std::invalid_argument for anything else.
+SynthKnobs preset_knobs(const std::string& preset);
+const std::vector<std::string>& preset_names();
+
+struct KnobInfo {
+  std::string name;
+  std::variant<int SynthKnobs::*, double SynthKnobs::*, bool SynthKnobs::*> field;
+  double min = 0, max = 0;  // inclusive range (ignored for bool)
+  std::string doc;
+};
+
+// Every knob, in declaration order.
+const std::vector<KnobInfo>& synth_knob_table();
+
+// Sets knob `name` from its text value ("0.3", "true", "5"); throws std::invalid_argument naming
+// the knob and what is wrong (unknown name, not a number, out of range).
+void set_knob(SynthKnobs& knobs, const std::string& name, const std::string& value);
+// The knob's value as text, locale-independent and exact (round-trips through set_knob).
+std::string knob_value(const SynthKnobs& knobs, const KnobInfo& info);
+
+}  // namespace gslift::synth
