@@ -3,9 +3,9 @@
 #include <algorithm>
 #include <fstream>
 
-#include "nodes/ingest/colmap_model.hpp"
 #include "nodes/scene/image_io.hpp"
 #include "runtime/node.hpp"
+#include "tests/ingest/small_capture.hpp"
 #include "tests/test_support.hpp"
 
 using namespace gslift;
@@ -13,41 +13,6 @@ using Catch::Matchers::Contains;
 namespace fs = std::filesystem;
 
 namespace {
-
-// A 3-view gslift.capture/v1 folder written with the same writers the synthetic generator uses.
-fs::path write_small_capture(const std::string& name, const std::string& manifest_extra) {
-  const auto dir = test::scratch_dir(name);
-  ColmapModel m;
-  Camera cam;
-  cam.width = 8;
-  cam.height = 6;
-  cam.fx = cam.fy = 10;
-  cam.cx = 4;
-  cam.cy = 3;
-  m.cameras[1] = cam;
-  for (int i = 0; i < 3; ++i) {
-    ColmapImage im;
-    im.id = i + 1;
-    im.camera_id = 1;
-    im.name = std::string("cam_0") + char('0' + i) + ".png";
-    im.pose.t = Eigen::Vector3d(i, 0, 2);
-    m.images.push_back(im);
-    const std::string stem = im.name.substr(0, 6);
-    write_rgb_png(dir / "images" / im.name, cv::Mat(6, 8, CV_8UC3, cv::Scalar(i, 2 * i, 3 * i)));
-    write_depth_png_mm(dir / "depth" / (stem + ".png"), cv::Mat1f(6, 8, 1.5f + i));
-    write_label_png16(dir / "gt/instance" / (stem + ".png"), cv::Mat1i(6, 8, 300 + i));
-  }
-  m.points.xyz.push_back({1, 2, 3});
-  m.points.rgb.push_back({4, 5, 6});
-  write_colmap_text(dir / "sparse/0", m);
-  std::ofstream(dir / "capture.yaml") << "format: gslift.capture/v1\nname: small\nmodel: sparse/0\n"
-                                         "images: images\ndepth: {folder: depth, scale: 1000}\n"
-                                         "gt: gt\n"
-                                      << manifest_extra;
-  std::ofstream(dir / "gt/classes.yaml") << "classes: {1: table, 2: surgeon}\n"
-                                            "instances: {300: 1, 301: 2}\n";
-  return dir;
-}
 
 // Median |depth of frame b at the reprojection of frame a's pixels - their depth in b|, over a
 // grid of valid pixels: small only when intrinsics, depth scale and pose convention agree.
@@ -86,7 +51,7 @@ void check_depth_range(const View& v, float lo, float hi) {
 }  // namespace
 
 TEST_CASE("capture.yaml folder: views, depth in metres, ground truth, held-out views") {
-  const auto dir = write_small_capture("capture_yaml", "held_out: [cam_01]\n");
+  const auto dir = test::write_small_capture("capture_yaml", "held_out: [cam_01]\n");
   const Capture c = load_capture(dir);
   CHECK(c.name == "small");
   REQUIRE(c.views.size() == 3);
@@ -125,12 +90,12 @@ TEST_CASE("capture.yaml folder: views, depth in metres, ground truth, held-out v
 
 TEST_CASE("capture.yaml errors name the file") {
   SECTION("wrong format") {
-    const auto dir = write_small_capture("capture_bad_format", "");
+    const auto dir = test::write_small_capture("capture_bad_format", "");
     std::ofstream(dir / "capture.yaml") << "format: gslift.capture/v9\n";
     CHECK_THROWS_WITH(load_capture(dir), Contains("capture.yaml") && Contains("v9"));
   }
   SECTION("unknown held-out view") {
-    const auto dir = write_small_capture("capture_bad_holdout", "held_out: [cam_07]\n");
+    const auto dir = test::write_small_capture("capture_bad_holdout", "held_out: [cam_07]\n");
     CHECK_THROWS_WITH(load_capture(dir), Contains("capture.yaml") && Contains("cam_07"));
   }
   SECTION("not a capture") {
@@ -140,7 +105,7 @@ TEST_CASE("capture.yaml errors name the file") {
 }
 
 TEST_CASE("holdout_every marks every n-th view when capture.yaml names none") {
-  const auto dir = write_small_capture("capture_holdout_every", "");
+  const auto dir = test::write_small_capture("capture_holdout_every", "");
   CHECK(load_capture(dir, {2, false, 1}).test_views() == std::vector<int>{0, 2});
   CHECK(load_capture(dir).test_views().empty());
 }

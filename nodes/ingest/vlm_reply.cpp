@@ -1,0 +1,124 @@
+#include "nodes/ingest/vlm_reply.hpp"
+
+#include <algorithm>
+#include <stdexcept>
+
+#include <spdlog/spdlog.h>
+#include <nlohmann/json.hpp>
+
+#include "runtime/node.hpp"
+
+namespace gslift {
+namespace {
+
+using nlohmann::json;
+
+// The text inside the first ``` fence (after its language tag), or all of it without fences.
+std::string unfenced(const std::string& text) {
+  const size_t open = text.find("```");
+  if (open == std::string::npos) return text;
+  size_t start = text.find('\n', open);
+  start = start == std::string::npos ? open + 3 : start + 1;
+  const size_t close = text.find("```", start);
+  return text.substr(start, close == std::string::npos ? std::string::npos : close - start);
+}
+
+// The first balanced [...] or {...} of `s`, skipping brackets inside JSON strings.
+std::string first_json_value(const std::string& s, const std::string& where) {
+  const size_t begin = s.find_first_of("[{");
+  if (begin == std::string::npos) throw InputError(where + ": no JSON array or object in reply");
+  int depth = 0;
+  bool in_string = false, escaped = false;
+  for (size_t i = begin; i < s.size(); ++i) {
+    const char c = s[i];
+    if (in_string) {
+      if (escaped)
+        escaped = false;
+      else if (c == '\\')
+        escaped = true;
+      else if (c == '"')
+        in_string = false;
+    } else if (c == '"') {
+      in_string = true;
+    } else if (c == '[' || c == '{') {
+      ++depth;
+    } else if ((c == ']' || c == '}') && --depth == 0) {
+      return s.substr(begin, i - begin + 1);
+    }
+  }
+  throw InputError(where + ": unterminated JSON in reply");
+}
+
+}  // namespace
+
+VlmCoords vlm_coords_from_string(const std::string& s) {
+  if (s == "norm1000") return VlmCoords::Norm1000;
+  if (s == "resized_abs") return VlmCoords::ResizedAbs;
+  if (s == "pixels") return VlmCoords::Pixels;
+  throw std::invalid_argument("unknown VLM coordinate space '" + s +
+                              "' (norm1000, resized_abs or pixels)");
+}
+
+std::vector<Box> parse_vlm_reply(const std::string& text, const VlmFrame& frame, int round,
+                                 const std::string& source) {
+  const std::string where = source + " (round " + std::to_string(round) + ")";
+  json reply;
+  try {
+    reply = json::parse(first_json_value(unfenced(text), where));
+  } catch (const json::exception& e) {
+    throw InputError(where + ": invalid JSON: " + e.what());
+  }
+  if (reply.is_object()) reply = json::array({reply});
+
+  double sx = 1, sy = 1;
+  switch (frame.coords) {
+    case VlmCoords::Norm1000:
+      sx = frame.image_width / 1000.0;
+      sy = frame.image_height / 1000.0;
+      break;
+    case VlmCoords::ResizedAbs:
+      if (frame.input_width <= 0 || frame.input_height <= 0)
+        throw InputError(where + ": resized_abs coordinates need the VLM input size");
+      sx = static_cast<double>(frame.image_width) / frame.input_width;
+      sy = static_cast<double>(frame.image_height) / frame.input_height;
+      break;
+    case VlmCoords::Pixels:
+      sx = sy = frame.pixel_scale;
+      break;
+  }
+  std::vector<Box> boxes;
+  int degenerate = 0;
+  for (size_t i = 0; i < reply.size(); ++i) {
+    const json& e = reply[i];
+    const std::string item = where + " item " + std::to_string(i);
+    if (!e.is_object()) throw InputError(item + ": expected an object with bbox_2d");
+    const json* bbox = e.contains("bbox_2d") ? &e["bbox_2d"]
+                       : e.contains("bbox")  ? &e["bbox"]
+                                             : nullptr;
+    if (!bbox) throw InputError(item + ": no bbox_2d");
+    if (!bbox->is_array() || bbox->size() != 4 ||
+        !std::all_of(bbox->begin(), bbox->end(), [](const json& x) { return x.is_number(); }))
+      throw InputError(item + ": bbox_2d must be 4 numbers [x1, y1, x2, y2]");
+    auto clamp = [](double v, int hi) { return static_cast<float>(std::clamp(v, 0.0, 1.0 * hi)); };
+    Box b;
+    b.x1 = clamp((*bbox)[0].get<double>() * sx, frame.image_width);
+    b.y1 = clamp((*bbox)[1].get<double>() * sy, frame.image_height);
+    b.x2 = clamp((*bbox)[2].get<double>() * sx, frame.image_width);
+    b.y2 = clamp((*bbox)[3].get<double>() * sy, frame.image_height);
+    if (e.contains("label") && e["label"].is_string()) b.label = e["label"].get<std::string>();
+    if (e.contains("score") && e["score"].is_number()) b.score = e["score"].get<float>();
+    b.round = round;
+    b.source_index = static_cast<int>(i);
+    if (b.area() <= 0) {
+      ++degenerate;
+      continue;
+    }
+    boxes.push_back(std::move(b));
+  }
+  if (degenerate > 0)
+    spdlog::warn("{}: dropped {} degenerate box(es) (empty after clamping to the image)", where,
+                 degenerate);
+  return boxes;
+}
+
+}  // namespace gslift

@@ -1,0 +1,43 @@
+// Parsing of VLM grounding replies (Qwen-VL style) into XYXY pixel boxes.
+//
+// A reply is free text holding one JSON array of {"bbox_2d": [x1, y1, x2, y2], "label": "..."}
+// (also accepted: the key "bbox", an optional numeric "score", and a single object instead of
+// an array), possibly fenced in ```json ... ``` and surrounded by prose. The first JSON value
+// (inside the first fence when there is one) is taken.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "nodes/scene/boxes.hpp"
+
+namespace gslift {
+
+// The coordinate space the VLM answers in.
+enum class VlmCoords {
+  Norm1000,    // 0..1000 relative to the image (Qwen2-VL, Qwen3-VL): x * W / 1000
+  ResizedAbs,  // absolute pixels of the model's resized input (Qwen2.5-VL): x * W / input_w
+  Pixels,      // pixels of the original image: x * pixel_scale
+};
+
+// "norm1000" | "resized_abs" | "pixels"; throws std::invalid_argument otherwise.
+VlmCoords vlm_coords_from_string(const std::string& s);
+
+struct VlmFrame {
+  VlmCoords coords = VlmCoords::Norm1000;
+  int input_width = 0, input_height = 0;  // ResizedAbs only: the model's input size
+  // The image the boxes are for (after any downscale at ingest); boxes are clamped to it.
+  int image_width = 0, image_height = 0;
+  // Pixels only: image_width / the width of the image the VLM saw (1 without downscale).
+  double pixel_scale = 1;
+};
+
+// Boxes of one reply in image pixels, clamped to the image, in reply order. Box::round = round,
+// Box::source_index = position in the reply. Degenerate boxes (empty after clamping) are
+// dropped with a warning, so source_index may skip values. Malformed replies (no JSON value,
+// unterminated or invalid JSON, a bbox that is not 4 numbers) throw InputError starting with
+// `source` (the file name).
+std::vector<Box> parse_vlm_reply(const std::string& text, const VlmFrame& frame, int round,
+                                 const std::string& source);
+
+}  // namespace gslift
