@@ -175,10 +175,11 @@ uint64_t run_seed(const Graph& graph) {
                    to_string(it->second));
 }
 
-RunOptions run_options(const Args& args, const Graph& graph) {
+// The options known from the command line alone, checked before the graph is loaded; the seed
+// comes from the loaded graph (run_seed).
+RunOptions command_line_run_options(const Args& args) {
   RunOptions opt;
   opt.threads = static_cast<int>(parse_integer("threads", args.last("threads", "0"), 0));
-  opt.seed = run_seed(graph);
   opt.run_input = args.last("input");
   opt.cancel = &interrupt_flag();
   return opt;
@@ -300,16 +301,17 @@ int cmd_run(int argc, char** argv, const Registry& registry) {
   if (args.flags.count("help")) return print_command_help(command_named("run")), 0;
   if (args.positional.size() != 1) throw UsageError("run expects one GRAPH file");
   set_up_logging(args);
-  const LoadOptions lopt = load_options(args);
-  const auto graph = load_checked(args.positional[0], registry, lopt);
+  RunOptions opt = command_line_run_options(args);
+  const auto graph = load_checked(args.positional[0], registry, load_options(args));
   if (!graph) return exit_code::kInvalidGraph;
-  RunOptions opt = run_options(args, *graph);
+  opt.seed = run_seed(*graph);
   opt.out_dir = args.last("out", (fs::path("out") / graph->name).string());
   ConsoleProgress progress(is_terminal(stderr), stderr);
   opt.progress = &progress;
   install_interrupt_handlers();
-  spdlog::info("running {} ({} nodes, {} threads, seed {}) -> {}", graph->name, graph->nodes.size(),
-               opt.threads, opt.seed, opt.out_dir.string());
+  spdlog::info("running {} ({} nodes, threads {}, seed {}) -> {}", graph->name, graph->nodes.size(),
+               opt.threads ? std::to_string(opt.threads) : std::string("auto"), opt.seed,
+               opt.out_dir.string());
   const RunResult result = execute(*graph, registry, opt);
   if (result.error) std::fprintf(stderr, "error: %s\n", result.error->str().c_str());
   std::printf("%s in %.2f s\nresults: %s\n", to_string(result.status), result.total_s,
@@ -363,6 +365,7 @@ int cmd_batch(int argc, char** argv, const Registry& registry) {
   } catch (const std::invalid_argument& e) {
     throw UsageError(e.what());
   }
+  const RunOptions base = command_line_run_options(args);
   const auto manifest = read_manifest(args.positional[0]);
   const std::string graph_file = args.positional[1];
   // Validate once up front (with the shard's first capture as ${input}) so that a broken graph
@@ -385,7 +388,8 @@ int cmd_batch(int argc, char** argv, const Registry& registry) {
       for (const auto& d : loaded.diagnostics) text += "\n" + d.str();
       throw std::runtime_error(text);
     }
-    RunOptions opt = run_options(args, *loaded.graph);
+    RunOptions opt = base;
+    opt.seed = run_seed(*loaded.graph);
     opt.run_input = e.path;
     opt.out_dir = out;
     opt.progress = &progress;

@@ -1,0 +1,200 @@
+// End-to-end tests of the command line over the debug node types (gslift_debug_cli): the real
+// cli_main, argument parsing, run.json, batch folders and exit codes.
+#include <chrono>
+#include <fstream>
+
+#include <nlohmann/json.hpp>
+
+#include "runtime/exit_codes.hpp"
+#include "tests/cli/command.hpp"
+#include "tests/test_support.hpp"
+
+using namespace gslift;
+using gslift::test::run_command;
+using nlohmann::json;
+namespace fs = std::filesystem;
+
+namespace {
+
+const std::string kBinary = GSLIFT_DEBUG_BINARY;
+
+fs::path write_text(const fs::path& file, const std::string& text) {
+  std::ofstream(file) << text;
+  return file;
+}
+
+json read_json(const fs::path& f) {
+  std::ifstream in(f);
+  return json::parse(in);
+}
+
+std::string quoted(const fs::path& p) {
+  return "'" + p.string() + "'";
+}
+
+const char* kSums = R"(graph: sums
+params: {seed: 1}
+nodes:
+  a: {type: debug.constant, params: {value: 1.5}}
+  r: {type: debug.random}
+  s: {type: debug.add, in: {a: a.out, b: r.out}}
+)";
+
+}  // namespace
+
+TEST_CASE("run writes run.json with the seed and --set values and says where", "[cli]") {
+  const fs::path dir = test::scratch_dir("cli_run_ok");
+  const fs::path graph = write_text(dir / "sums.yaml", kSums);
+  const fs::path out = dir / "res";
+  const auto r = run_command(kBinary + " run " + quoted(graph) + " --out " + quoted(out) +
+                             " --seed 5 --threads=2 --set a.value=3 --log-level warn");
+  INFO(r.output);
+  REQUIRE(r.code == exit_code::kOk);
+  CHECK(r.output.find("results: " + out.string() + " (run.json)") != std::string::npos);
+  const json j = read_json(out / "run.json");
+  CHECK(j["run"]["status"] == "ok");
+  CHECK(j["run"]["seed"] == 5);
+  CHECK(j["run"]["threads"] == 2);
+  CHECK(j["graph"]["params"]["seed"] == 5);
+  CHECK(j["graph"]["nodes"][0]["params"]["value"] == 3.0);
+
+  // Without --seed the graph's seed param is the run seed; the random draw changes with it.
+  const auto r1 = run_command(kBinary + " run " + quoted(graph) + " --out " + quoted(dir / "res1") +
+                              " --log-level off");
+  REQUIRE(r1.code == exit_code::kOk);
+  const json j1 = read_json(dir / "res1" / "run.json");
+  CHECK(j1["run"]["seed"] == 1);
+  CHECK(j1["nodes"][1]["records"]["draw"] != j["nodes"][1]["records"]["draw"]);
+}
+
+TEST_CASE("run defaults its output folder to out/<graph name>", "[cli]") {
+  const fs::path dir = test::scratch_dir("cli_run_default_out");
+  write_text(dir / "sums.yaml", kSums);
+  const auto r = run_command("cd " + quoted(dir) + " && " + kBinary + " run sums.yaml");
+  INFO(r.output);
+  REQUIRE(r.code == exit_code::kOk);
+  CHECK(fs::exists(dir / "out" / "sums" / "run.json"));
+  CHECK(r.output.find("results: out/sums (run.json)") != std::string::npos);
+}
+
+TEST_CASE("run maps failures to exit codes and names the node and its line", "[cli]") {
+  const fs::path dir = test::scratch_dir("cli_run_fail");
+  const fs::path failing = write_text(dir / "fail.yaml",
+                                      "nodes:\n"
+                                      "  a: {type: debug.constant}\n"
+                                      "  f: {type: debug.fail, in: {in: a.out}, "
+                                      "params: {message: out of memory}}\n");
+  const auto r = run_command(kBinary + " run " + quoted(failing) + " --out " + quoted(dir / "o"));
+  INFO(r.output);
+  CHECK(r.code == exit_code::kNodeFailed);
+  CHECK(r.output.find(failing.string() + ":3:3: node 'f' (debug.fail) failed: out of memory") !=
+        std::string::npos);
+  CHECK(read_json(dir / "o" / "run.json")["run"]["error"]["node"] == "f");
+
+  const fs::path writer = write_text(dir / "write.yaml", "nodes:\n  w: {type: debug.write}\n");
+  const auto bad = run_command(kBinary + " run " + quoted(writer) + " --input /data/bad_scene" +
+                               " --out " + quoted(dir / "w"));
+  INFO(bad.output);
+  CHECK(bad.code == exit_code::kBadInput);
+  CHECK(bad.output.find("/data/bad_scene: unreadable") != std::string::npos);
+
+  const fs::path invalid = write_text(dir / "invalid.yaml",
+                                      "nodes:\n"
+                                      "  a: {type: debug.constant, params: {valeu: 2}}\n"
+                                      "  b: {type: debug.sleeep}\n");
+  const auto inv = run_command(kBinary + " run " + quoted(invalid) + " --out " + quoted(dir / "i"));
+  INFO(inv.output);
+  CHECK(inv.code == exit_code::kInvalidGraph);
+  // Every problem, each with file:line:col.
+  CHECK(inv.output.find(invalid.string() + ":2:") != std::string::npos);
+  CHECK(inv.output.find(invalid.string() + ":3:") != std::string::npos);
+  CHECK(inv.output.find("2 errors") != std::string::npos);
+  CHECK_FALSE(fs::exists(dir / "i"));
+
+  const auto missing = run_command(kBinary + " run " + quoted(dir / "absent.yaml"));
+  CHECK(missing.code == exit_code::kBadInput);
+}
+
+TEST_CASE("usage errors exit 2 with a hint", "[cli]") {
+  const auto option = run_command(kBinary + " run g.yaml --thread 2");
+  CHECK(option.code == exit_code::kUsage);
+  CHECK(option.output.find("unknown option '--thread' (did you mean '--threads'?)") !=
+        std::string::npos);
+  CHECK(run_command(kBinary + " run g.yaml --threads two").code == exit_code::kUsage);
+  CHECK(run_command(kBinary + " run").code == exit_code::kUsage);
+  CHECK(run_command(kBinary + " run g.yaml --out").code == exit_code::kUsage);
+  CHECK(run_command(kBinary + " run g.yaml --log-level loud").code == exit_code::kUsage);
+  const auto type = run_command(kBinary + " nodes debug.sleap");
+  CHECK(type.code == exit_code::kUsage);
+  CHECK(type.output.find("did you mean 'debug.sleep'?") != std::string::npos);
+  CHECK(run_command(kBinary + " batch m.txt g.yaml").code == exit_code::kUsage);  // no --out
+  CHECK(run_command(kBinary + " batch m.txt g.yaml --out o --shard 2/2").code == exit_code::kUsage);
+}
+
+TEST_CASE("validate --print prints the resolved graph", "[cli]") {
+  const fs::path dir = test::scratch_dir("cli_validate_print");
+  const fs::path graph = write_text(dir / "sums.yaml", kSums);
+  const auto ok = run_command(kBinary + " validate " + quoted(graph));
+  CHECK(ok.code == exit_code::kOk);
+  CHECK(ok.output.find("ok: graph 'sums' (3 nodes)") != std::string::npos);
+  const auto printed =
+      run_command(kBinary + " validate " + quoted(graph) + " --print --set a.value=7");
+  INFO(printed.output);
+  CHECK(printed.code == exit_code::kOk);
+  CHECK(printed.output.find("  a:\n    type: debug.constant\n    params: {value: 7.0}\n") !=
+        std::string::npos);
+  CHECK(printed.output.find("    in: {a: a.out, b: r.out}\n") != std::string::npos);
+}
+
+TEST_CASE("SIGINT stops a run cleanly with exit code 130 and a record", "[cli]") {
+  const fs::path dir = test::scratch_dir("cli_sigint");
+  const fs::path graph = write_text(dir / "slow.yaml",
+                                    "nodes:\n"
+                                    "  s: {type: debug.sleep, params: {ms: 20000}}\n"
+                                    "  t: {type: debug.sleep, in: {in: s.out}}\n");
+  const auto t0 = std::chrono::steady_clock::now();
+  const auto r = run_command("sh -c '" + kBinary + " run " + graph.string() + " --out " +
+                             (dir / "o").string() +
+                             " & pid=$!; sleep 0.5; kill -INT $pid; wait $pid; exit $?'");
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  INFO(r.output);
+  CHECK(r.code == exit_code::kInterrupted);
+  CHECK(seconds < 10);
+  const json j = read_json(dir / "o" / "run.json");
+  CHECK(j["run"]["status"] == "interrupted");
+  CHECK(j["nodes"][0]["status"] == "cancelled");
+  CHECK(j["nodes"][1]["status"] == "pending");
+}
+
+TEST_CASE("batch runs every capture, records failures, skips done ones and shards", "[cli]") {
+  const fs::path dir = test::scratch_dir("cli_batch");
+  const fs::path graph = write_text(dir / "write.yaml", "nodes:\n  w: {type: debug.write}\n");
+  const fs::path manifest =
+      write_text(dir / "manifest.txt", "# three captures\nor_1\nbad_2\nor_3\n");
+  const fs::path out = dir / "out";
+  const std::string cmd =
+      kBinary + " batch " + quoted(manifest) + " " + quoted(graph) + " --out " + quoted(out);
+  const auto first = run_command(cmd);
+  INFO(first.output);
+  CHECK(first.code == exit_code::kBatchPartial);
+  CHECK(first.output.find("2 done, 0 skipped, 1 failed") != std::string::npos);
+  CHECK(fs::exists(out / "or_1" / "_DONE"));
+  CHECK(fs::exists(out / "or_3" / "w" / "input.txt"));
+  CHECK(fs::exists(out / "bad_2" / "_FAILED.json"));
+  CHECK(read_json(out / "_summary.json")["failed"] == 1);
+
+  const auto again = run_command(cmd);
+  CHECK(again.code == exit_code::kBatchPartial);
+  CHECK(again.output.find("0 done, 2 skipped, 1 failed") != std::string::npos);
+
+  const fs::path good = write_text(dir / "good.txt", "a\nb\nc\n");
+  const std::string shard = kBinary + " batch " + quoted(good) + " " + quoted(graph) + " --out " +
+                            quoted(dir / "sharded") + " --shard ";
+  CHECK(run_command(shard + "1/2").code == exit_code::kOk);
+  CHECK(fs::exists(dir / "sharded" / "b" / "_DONE"));
+  CHECK_FALSE(fs::exists(dir / "sharded" / "a"));
+  CHECK(run_command(shard + "0/2").code == exit_code::kOk);
+  CHECK(fs::exists(dir / "sharded" / "a" / "_DONE"));
+  CHECK(fs::exists(dir / "sharded" / "c" / "_DONE"));
+}
