@@ -1,0 +1,28 @@
+#include "nodes/text/text_encoder.hpp"
+
+#include <cctype>
+
+namespace gslift {
+
+std::string normalise_text(const std::string& text) {
+  std::string out;
+  bool pending_space = false;
+  for (const char ch : text) {
+    const unsigned char c = static_cast<unsigned char>(ch);
+    if (std::isspace(c)) {
+      pending_space = !out.empty();
+      continue;
+    }
+    if (pending_space) out.push_back(' ');
+    pending_space = false;
+    out.push_back(static_cast<char>(std::tolower(c)));
+  }
+  return out;
+}
+
+float cosine(const Eigen::VectorXf& a, const Eigen::VectorXf& b) {
+  const float na = a.norm(), nb = b.norm();
+  return na > 0 && nb > 0 ? a.dot(b) / (na * nb) : 0.f;
+}
+
+}  // namespace gslift
