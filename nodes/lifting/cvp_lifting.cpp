@@ -1,0 +1,124 @@
+#include "nodes/lifting/cvp_lifting.hpp"
+
+#include <algorithm>
+#include <stdexcept>
+#include <string>
+
+#include "nodes/lifting/alias_sampler.hpp"
+#include "nodes/lifting/cvp_weights.hpp"
+
+namespace gslift {
+namespace {
+
+void check_inputs(const std::vector<FeatureMap>& views, const MaskSet& masks) {
+  if (views.size() != masks.views.size())
+    throw std::invalid_argument("lifting: " + std::to_string(views.size()) + " feature maps but " +
+                                std::to_string(masks.views.size()) + " views of masks");
+  for (size_t v = 0; v < views.size(); ++v) {
+    const FeatureMap& f = views[v];
+    if (f.values.size() != static_cast<size_t>(f.width) * f.height * f.dim)
+      throw std::invalid_argument("lifting: feature map of view " + std::to_string(v) +
+                                  " has the wrong number of values");
+    for (const Mask& m : masks.views[v].masks)
+      if (m.pixels.cols != f.width || m.pixels.rows != f.height)
+        throw std::invalid_argument("lifting: a mask of view '" + masks.views[v].view +
+                                    "' does not match its feature map's size");
+  }
+}
+
+// Eq. 5: per label, the mean of the member rows.
+Eigen::MatrixXf prototypes_of(const PointMatrix& features, const std::vector<int>& labels,
+                              int clusters) {
+  Eigen::MatrixXd sum = Eigen::MatrixXd::Zero(clusters, features.cols());
+  std::vector<double> count(clusters, 0.0);
+  for (size_t i = 0; i < labels.size(); ++i) {
+    if (labels[i] < 0) continue;
+    sum.row(labels[i]) += features.row(i);
+    count[labels[i]] += 1;
+  }
+  for (int c = 0; c < clusters; ++c) sum.row(c) /= count[c];
+  return sum.cast<float>();
+}
+
+}  // namespace
+
+HdbscanParams default_lifting_hdbscan() {
+  HdbscanParams p;
+  p.min_cluster_size = 10;
+  p.metric = HdbscanMetric::Cosine;
+  return p;
+}
+
+LiftedInstances cvp_lifting(const std::vector<FeatureMap>& views, const MaskSet& masks,
+                            const CvpLiftingParams& params) {
+  check_inputs(views, masks);
+  // All pixels of all masks with their Eq. 4 weights, in (view, mask, row-major pixel) order.
+  std::vector<SampledPixel> candidates;
+  std::vector<double> weights;
+  int mask_count = 0;
+  for (size_t v = 0; v < views.size(); ++v)
+    for (size_t m = 0; m < masks.views[v].masks.size(); ++m) {
+      const MaskPixelWeights w = cvp_weights(masks.views[v].masks[m].pixels, params.sigma);
+      mask_count += !w.pixels.empty();
+      for (size_t i = 0; i < w.pixels.size(); ++i) {
+        candidates.push_back(
+            {static_cast<int>(v), static_cast<int>(m), w.pixels[i].x, w.pixels[i].y});
+        weights.push_back(w.weights[i]);
+      }
+    }
+  if (candidates.empty()) throw std::invalid_argument("lifting: the masks have no pixels");
+
+  const int64_t budget = std::min<int64_t>(
+      params.max_samples, static_cast<int64_t>(params.samples_per_mask) * mask_count);
+  std::vector<int64_t> drawn = AliasSampler(weights).sample(budget, params.seed);
+  std::sort(drawn.begin(), drawn.end());
+  drawn.erase(std::unique(drawn.begin(), drawn.end()), drawn.end());
+
+  LiftedInstances out;
+  const int dim = views.front().dim;
+  PointMatrix features(static_cast<int64_t>(drawn.size()), dim);
+  for (size_t i = 0; i < drawn.size(); ++i) {
+    const SampledPixel& s = candidates[drawn[i]];
+    out.samples.push_back(s);
+    const float* f = views[s.view].at(s.x, s.y);
+    for (int k = 0; k < dim; ++k) features(static_cast<int64_t>(i), k) = f[k];
+  }
+  const HdbscanResult clusters = hdbscan(features, params.hdbscan);
+  out.labels = clusters.labels;
+  out.prototypes = prototypes_of(features, out.labels, clusters.clusters);
+  return out;
+}
+
+LiftedInstances mask_level_lifting(const std::vector<FeatureMap>& views, const MaskSet& masks,
+                                   const HdbscanParams& hdbscan_params) {
+  check_inputs(views, masks);
+  LiftedInstances out;
+  std::vector<std::vector<double>> rows;
+  for (size_t v = 0; v < views.size(); ++v)
+    for (size_t m = 0; m < masks.views[v].masks.size(); ++m) {
+      const cv::Mat1b& pixels = masks.views[v].masks[m].pixels;
+      std::vector<double> mean(views[v].dim, 0.0);
+      double count = 0;
+      for (int y = 0; y < pixels.rows; ++y)
+        for (int x = 0; x < pixels.cols; ++x)
+          if (pixels(y, x)) {
+            const float* f = views[v].at(x, y);
+            for (int k = 0; k < views[v].dim; ++k) mean[k] += f[k];
+            count += 1;
+          }
+      if (count == 0) continue;
+      for (double& value : mean) value /= count;
+      rows.push_back(std::move(mean));
+      out.samples.push_back({static_cast<int>(v), static_cast<int>(m), -1, -1});
+    }
+  if (rows.empty()) throw std::invalid_argument("lifting: the masks have no pixels");
+  PointMatrix features(static_cast<int64_t>(rows.size()), views.front().dim);
+  for (size_t i = 0; i < rows.size(); ++i)
+    for (size_t k = 0; k < rows[i].size(); ++k) features(static_cast<int64_t>(i), k) = rows[i][k];
+  const HdbscanResult clusters = hdbscan(features, hdbscan_params);
+  out.labels = clusters.labels;
+  out.prototypes = prototypes_of(features, out.labels, clusters.clusters);
+  return out;
+}
+
+}  // namespace gslift

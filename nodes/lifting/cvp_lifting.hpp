@@ -1,0 +1,74 @@
+// LangOR §1.3 instance lifting, the algorithm part of the lifting.cvp and lifting.mask_level
+// nodes (their adapters need the render cache): from per-view rendered instance features and the
+// 2D masks of the training views to 3D instances, each summarised by a prototype feature.
+//
+// CVP lifting: every mask's pixels get the Eq. 4 weights (cvp_weights.hpp); pixels of all masks
+// of all views are drawn jointly with the alias method, HDBSCAN clusters the drawn pixels'
+// features, noise is dropped, and each instance's prototype is the mean feature of its pixels
+// (Eq. 5). Mask-level lifting (the paper's "w/o CVP-L" ablation, LaGa-style): one prototype per
+// mask (masked mean feature), HDBSCAN over the mask prototypes of all views.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "nodes/lifting/hdbscan.hpp"
+#include "nodes/scene/masks.hpp"
+
+namespace gslift {
+
+// One view's rendered feature image F(p) (LangOR Eq. 1), row-major, `dim` floats per pixel.
+struct FeatureMap {
+  int width = 0;
+  int height = 0;
+  int dim = 0;
+  std::vector<float> values;  // height * width * dim
+
+  const float* at(int x, int y) const {
+    return values.data() + (static_cast<size_t>(y) * width + x) * dim;
+  }
+};
+
+struct SampledPixel {
+  int view = 0;  // index into the views / MaskSet::views
+  int mask = 0;  // index into that view's masks
+  int x = 0;
+  int y = 0;
+};
+
+// HDBSCAN settings for instance features [decisions]: cosine, since the contrastive loss (Eq. 3)
+// shapes features by cosine; min_cluster_size 10 (LaGa/SAGA use 5..10); epsilon 0.
+HdbscanParams default_lifting_hdbscan();
+
+struct CvpLiftingParams {
+  // Eq. 4 width in units of each mask's RMS radius; 0.5 in the paper, 0.7 in its ablation.
+  double sigma = 0.5;
+  // Sample budget [decision]: this many draws per mask, capped at max_samples in total (HDBSCAN
+  // is O(n^2)). Draws are with replacement and then deduplicated, so a mask may get fewer.
+  int samples_per_mask = 100;
+  int max_samples = 20000;
+  HdbscanParams hdbscan = default_lifting_hdbscan();
+  uint64_t seed = 0;
+};
+
+struct LiftedInstances {
+  // CVP: the distinct drawn pixels and their HDBSCAN labels (-1 noise).
+  // Mask level: one entry per mask (x = y = -1) and the mask's label.
+  std::vector<SampledPixel> samples;
+  std::vector<int> labels;
+  // Eq. 5: one row per instance, the mean feature of its members (noise excluded).
+  Eigen::MatrixXf prototypes;
+};
+
+// views[i] goes with masks.views[i]. Throws std::invalid_argument when the counts differ, a mask
+// does not match its feature map's size, or there are no mask pixels at all.
+LiftedInstances cvp_lifting(const std::vector<FeatureMap>& views, const MaskSet& masks,
+                            const CvpLiftingParams& params);
+
+// Masks without pixels are skipped (no entry).
+LiftedInstances mask_level_lifting(const std::vector<FeatureMap>& views, const MaskSet& masks,
+                                   const HdbscanParams& hdbscan);
+
+}  // namespace gslift
