@@ -71,6 +71,12 @@ const NodeRecord* RunResult::node(const std::string& id) const {
 
 namespace {
 
+int64_t peak_rss_kb() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return usage.ru_maxrss;  // kilobytes on Linux
+}
+
 // The NodeContext a node body runs with: its inputs, params (on the GraphNode), seed, output
 // folder, and the run's shared cancellation state.
 class RunningNode final : public NodeContext {
@@ -203,6 +209,7 @@ class Execution {
       fail(i, RunError::Kind::NodeFailed, "unknown exception", group);
     }
     rec.end_s = seconds();
+    rec.peak_rss_kb = peak_rss_kb();
     if (options_.progress)
       options_.progress->node_finished(gn.id, to_string(rec.status), rec.end_s - rec.start_s);
   }
@@ -243,12 +250,6 @@ class Execution {
   std::optional<RunError> first_error_;
   std::chrono::steady_clock::time_point t0_;
 };
-
-int64_t peak_rss_kb() {
-  rusage usage{};
-  getrusage(RUSAGE_SELF, &usage);
-  return usage.ru_maxrss;  // kilobytes on Linux
-}
 
 }  // namespace
 

@@ -63,6 +63,9 @@ struct NodeRecord {
   NodeStatus status = NodeStatus::Pending;
   double start_s = 0;  // seconds since the run started (0 when never started)
   double end_s = 0;
+  // Process peak resident memory (ru_maxrss) when the node ended: the first node after which it
+  // jumps is the one that needed the memory.
+  int64_t peak_rss_kb = 0;
   std::map<std::string, RecordValue> records;  // what the node passed to ctx.record
   std::string error;                           // the node's own error message, if any
 };

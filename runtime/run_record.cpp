@@ -34,8 +34,13 @@ json node_json(const NodeRecord& n) {
   json records = json::object();
   for (const auto& [key, value] : n.records)
     records[key] = std::visit([](const auto& x) { return json(x); }, value);
-  json out = {{"id", n.id},           {"type", n.type},   {"status", to_string(n.status)},
-              {"start_s", n.start_s}, {"end_s", n.end_s}, {"wall_s", n.end_s - n.start_s},
+  json out = {{"id", n.id},
+              {"type", n.type},
+              {"status", to_string(n.status)},
+              {"start_s", n.start_s},
+              {"end_s", n.end_s},
+              {"wall_s", n.end_s - n.start_s},
+              {"peak_rss_mb", static_cast<double>(n.peak_rss_kb) / 1024.0},
               {"records", records}};
   if (n.status == NodeStatus::Failed) out["error"] = n.error;
   return out;

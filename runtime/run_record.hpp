@@ -5,7 +5,8 @@
 //             params {name: value}}]}  -- the resolved graph, every param with its value
 //   run      {status, error {kind, node, type, loc, message} | null, seed, threads, started_at,
 //             total_s, peak_rss_mb}
-//   nodes    [{id, type, status, start_s, end_s, wall_s, records {key: number|string},
+//   nodes    [{id, type, status, start_s, end_s, wall_s, peak_rss_mb (process peak at the node's
+//             end), records {key: number|string},
 //             error (only when the node failed)}]
 #pragma once
 

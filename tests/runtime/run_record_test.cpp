@@ -74,6 +74,9 @@ TEST_CASE("run.json records the resolved graph, the run and every node", "[run_r
         Approx(rn["end_s"].get<double>() - rn["start_s"].get<double>()));
   CHECK(rn["records"]["draw"].get<double>() == std::get<double>(r.node("r")->records.at("draw")));
   CHECK(rn["records"]["seed"] == std::get<std::string>(r.node("r")->records.at("seed")));
+  CHECK(rn["peak_rss_mb"].get<double>() == Approx(r.node("r")->peak_rss_kb / 1024.0));
+  CHECK(rn["peak_rss_mb"].get<double>() > 1.0);
+  CHECK(rn["peak_rss_mb"].get<double>() <= j["run"]["peak_rss_mb"].get<double>());
   CHECK_FALSE(rn.contains("error"));
 }
 
