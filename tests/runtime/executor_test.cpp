@@ -80,6 +80,8 @@ TEST_CASE("a failing node stops the run and names node, type and line", "[execut
   // The 5 s sibling saw ctx.cancelled() and stopped long before its time.
   CHECK(r.node("slow")->status == NodeStatus::Cancelled);
   CHECK(r.node("slow")->end_s < 2.0);
+  // execute() returned only after every running body had finished.
+  CHECK(r.node("slow")->end_s <= r.total_s);
   CHECK(r.total_s < 2.0);
   // Outputs of the nodes that finished are still visible.
   CHECK(r.values.count("early.out") == 1);
