@@ -21,8 +21,11 @@ struct TileGaussian {
   float A, B, C;  // conic
   float opacity;
   float power_min;  // log(min_alpha / opacity): below it alpha < min_alpha, no exp needed
-  uint32_t id;      // Gaussian index
-  uint32_t slot;    // index of this (Gaussian, tile) pair in Gaussian-major order
+  // Pixels [x0, x1) x [y0, y1) the Gaussian is evaluated at (image coordinates, clipped to the
+  // image): the tiles of its 3-sigma square, tightened to the box where alpha >= min_alpha.
+  int16_t x0, y0, x1, y1;
+  uint32_t id;    // Gaussian index
+  uint32_t slot;  // index of this (Gaussian, tile) pair in Gaussian-major order
 };
 
 struct RasterState {
@@ -60,25 +63,59 @@ inline bool blend_alpha(const TileGaussian& g, float px, float py, float min_alp
   return alpha >= min_alpha;
 }
 
-// Front-to-back blending of one pixel over a tile list (3DGS): calls on(j, w_j = alpha_j T_j) for
-// every contributing entry j, stops before the entry that would bring T below 1e-4. Returns the
-// last contributing index + 1; transmittance receives the final T.
+// Pixel rectangle of tile t, and of a list entry clipped to it.
+struct PixelRect {
+  int x0, y0, x1, y1;
+};
+inline PixelRect tile_pixels(const RasterState& s, int t) {
+  const int tx = t % s.tiles_x, ty = t / s.tiles_x;
+  return {tx * kTileSize, ty * kTileSize, std::min(s.width, (tx + 1) * kTileSize),
+          std::min(s.height, (ty + 1) * kTileSize)};
+}
+inline PixelRect clip(const TileGaussian& g, const PixelRect& tile) {
+  return {std::max<int>(g.x0, tile.x0), std::max<int>(g.y0, tile.y0), std::min<int>(g.x1, tile.x1),
+          std::min<int>(g.y1, tile.y1)};
+}
+
+// Per-pixel result of blending one tile: final transmittance and last contributing index + 1.
+struct TileBlend {
+  float T[kTileSize * kTileSize];
+  uint32_t last[kTileSize * kTileSize];
+};
+
+// Front-to-back blending of one tile (3DGS), Gaussian by Gaussian over the pixels of each one's
+// rectangle, which visits every pixel's contributions in the same depth order as a per-pixel loop
+// would. Calls on(local pixel index, j, w_j = alpha_j T_j) for every contribution and stops a
+// pixel before the entry that would bring its T below 1e-4.
 template <class OnContribution>
-inline uint32_t blend_pixel(const TileGaussian* list, uint32_t count, float px, float py,
-                            float min_alpha, float& transmittance, OnContribution&& on) {
-  float T = 1.f;
-  uint32_t last = 0;
-  for (uint32_t j = 0; j < count; ++j) {
-    float gaussian, alpha;
-    if (!blend_alpha(list[j], px, py, min_alpha, gaussian, alpha)) continue;
-    const float next_T = T * (1.f - alpha);
-    if (next_T < kMinTransmittance) break;
-    on(j, alpha * T);
-    T = next_T;
-    last = j + 1;
+inline void blend_tile(const RasterState& s, int t, TileBlend& out, OnContribution&& on) {
+  const TileGaussian* list = s.tile_gaussians.data() + s.tile_offsets[t];
+  const uint32_t count = s.tile_offsets[t + 1] - s.tile_offsets[t];
+  const PixelRect tile = tile_pixels(s, t);
+  std::fill(std::begin(out.T), std::end(out.T), 1.f);
+  std::fill(std::begin(out.last), std::end(out.last), 0u);
+  bool done[kTileSize * kTileSize] = {};
+  int active = (tile.x1 - tile.x0) * (tile.y1 - tile.y0);
+  for (uint32_t j = 0; j < count && active > 0; ++j) {
+    const TileGaussian& e = list[j];
+    const PixelRect r = clip(e, tile);
+    for (int y = r.y0; y < r.y1; ++y)
+      for (int x = r.x0; x < r.x1; ++x) {
+        const int p = (y - tile.y0) * kTileSize + (x - tile.x0);
+        if (done[p]) continue;
+        float gaussian, alpha;
+        if (!blend_alpha(e, x + 0.5f, y + 0.5f, s.min_alpha, gaussian, alpha)) continue;
+        const float next_T = out.T[p] * (1.f - alpha);
+        if (next_T < kMinTransmittance) {
+          done[p] = true;
+          --active;
+          continue;
+        }
+        on(p, j, alpha * out.T[p]);
+        out.T[p] = next_T;
+        out.last[p] = j + 1;
+      }
   }
-  transmittance = T;
-  return last;
 }
 
 }  // namespace gslift

@@ -56,24 +56,56 @@ Eigen::Vector3f sh_colour(const float* sh, int degree, const float* basis) {
   return c;
 }
 
-// Tile range [x0, x1) x [y0, y1) covered by the 3-sigma square around a projected Gaussian.
-struct TileRect {
-  int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
-  uint32_t area() const { return x1 > x0 && y1 > y0 ? uint32_t((x1 - x0) * (y1 - y0)) : 0u; }
+// Pixels [x0, x1) x [y0, y1) a projected Gaussian is blended into, and the tiles they touch.
+struct BlendRect {
+  int x0 = 0, y0 = 0, x1 = 0, y1 = 0;      // pixels, clipped to the image
+  int tx0 = 0, ty0 = 0, tx1 = 0, ty1 = 0;  // tiles
+  uint32_t tiles() const {
+    return tx1 > tx0 && ty1 > ty0 ? uint32_t((tx1 - tx0) * (ty1 - ty0)) : 0u;
+  }
 };
 
-TileRect tile_rect(const ProjectedGaussian& p, int tiles_x, int tiles_y) {
-  // Clamp in float first: a Gaussian near the image plane can project anywhere.
-  auto tile = [](float coord, int tiles) {
-    return int(std::clamp(std::floor(coord / kTileSize), -1.f, float(tiles)));
+// 3DGS evaluates a Gaussian at every pixel of the tiles its 3-sigma square (half-width = radius)
+// touches and skips alpha < min_alpha there. The pixels where alpha = o exp(-0.5 d^T conic d) can
+// reach min_alpha lie in the bounding box of the ellipse d^T cov^-1 d <= 2 ln(o / min_alpha), of
+// half-widths sqrt(2 ln(o / min_alpha) cov_xx) and likewise for y; intersecting the two gives the
+// same image with far fewer evaluations, and fewer tiles, for faint and flat Gaussians.
+BlendRect blend_rect(const ProjectedGaussian& p, float opacity, float min_alpha, int width,
+                     int height) {
+  // Clamp in float before converting: a Gaussian near the image plane can project anywhere.
+  auto tile = [](float coord, int size) {
+    return int(std::clamp(std::floor(coord / kTileSize), 0.f, float((size - 1) / kTileSize)));
   };
   const float r = float(p.radius);
-  TileRect rect;
-  rect.x0 = std::max(0, tile(p.mean2d.x() - r, tiles_x));
-  rect.y0 = std::max(0, tile(p.mean2d.y() - r, tiles_y));
-  rect.x1 = std::min(tiles_x, tile(p.mean2d.x() + r, tiles_x) + 1);
-  rect.y1 = std::min(tiles_y, tile(p.mean2d.y() + r, tiles_y) + 1);
-  return rect;
+  const float mx = p.mean2d.x(), my = p.mean2d.y();
+  if (mx + r < 0.f || my + r < 0.f || mx - r >= width || my - r >= height) return BlendRect{};
+  BlendRect b;
+  b.x0 = tile(mx - r, width) * kTileSize;
+  b.y0 = tile(my - r, height) * kTileSize;
+  b.x1 = std::min(width, (tile(mx + r, width) + 1) * kTileSize);
+  b.y1 = std::min(height, (tile(my + r, height) + 1) * kTileSize);
+  if (min_alpha > 0.f) {
+    if (opacity < min_alpha) return BlendRect{};
+    const float k = 2.f * std::log(opacity / min_alpha);
+    const float hx = std::sqrt(k * p.cov2d[0]), hy = std::sqrt(k * p.cov2d[2]);
+    // Pixel x is inside when its centre x + 0.5 lies in [mx - hx, mx + hx].
+    auto first = [](float lo, int size) {
+      return int(std::clamp(std::ceil(lo - 0.5f), 0.f, float(size)));
+    };
+    auto end = [](float hi, int size) {
+      return int(std::clamp(std::floor(hi - 0.5f) + 1.f, 0.f, float(size)));
+    };
+    b.x0 = std::max(b.x0, first(mx - hx, width));
+    b.x1 = std::min(b.x1, end(mx + hx, width));
+    b.y0 = std::max(b.y0, first(my - hy, height));
+    b.y1 = std::min(b.y1, end(my + hy, height));
+  }
+  if (b.x1 <= b.x0 || b.y1 <= b.y0) return BlendRect{};
+  b.tx0 = b.x0 / kTileSize;
+  b.ty0 = b.y0 / kTileSize;
+  b.tx1 = (b.x1 - 1) / kTileSize + 1;
+  b.ty1 = (b.y1 - 1) / kTileSize + 1;
+  return b;
 }
 
 // Projects every Gaussian, computes its blended values and fills the depth-sorted tile lists.
@@ -85,7 +117,7 @@ void bin_gaussians(const GaussianModel& model, const ViewTransform& view,
   s.projections.resize(n);
   s.values.assign(n * s.channels, 0.f);
   std::vector<uint32_t> counts(n, 0);
-  std::vector<TileRect> rects(n);
+  std::vector<BlendRect> rects(n);
   tbb::parallel_for(
       tbb::blocked_range<size_t>(0, n, 1024), [&](const tbb::blocked_range<size_t>& r) {
         float basis[kMaxShCoeffs];
@@ -94,8 +126,9 @@ void bin_gaussians(const GaussianModel& model, const ViewTransform& view,
           if (!project_gaussian(view, &model.means[3 * g], &model.log_scales[3 * g],
                                 &model.quats[4 * g], settings.near, p))
             continue;
-          rects[g] = tile_rect(p, s.tiles_x, s.tiles_y);
-          counts[g] = rects[g].area();
+          rects[g] =
+              blend_rect(p, sigmoid(model.opacity_logits[g]), s.min_alpha, s.width, s.height);
+          counts[g] = rects[g].tiles();
           if (counts[g] == 0) {
             p.radius = 0;
             continue;
@@ -128,9 +161,9 @@ void bin_gaussians(const GaussianModel& model, const ViewTransform& view,
                     [&](const tbb::blocked_range<size_t>& r) {
                       for (size_t g = r.begin(); g != r.end(); ++g) {
                         uint32_t slot = s.slot_offsets[g];
-                        const TileRect& rect = rects[g];
-                        for (int ty = rect.y0; ty < rect.y1 && counts[g]; ++ty)
-                          for (int tx = rect.x0; tx < rect.x1; ++tx)
+                        const BlendRect& rect = rects[g];
+                        for (int ty = rect.ty0; ty < rect.ty1 && counts[g]; ++ty)
+                          for (int tx = rect.tx0; tx < rect.tx1; ++tx)
                             slot_tile[slot++] = uint32_t(ty * s.tiles_x + tx);
                       }
                     });
@@ -163,29 +196,23 @@ void bin_gaussians(const GaussianModel& model, const ViewTransform& view,
         const uint32_t g = slot_gaussian[*k];
         const ProjectedGaussian& p = s.projections[g];
         const float o = sigmoid(model.opacity_logits[g]);
-        TileGaussian& e = s.tile_gaussians[k - bucket.data()];
-        e = {p.mean2d.x(),
-             p.mean2d.y(),
-             p.conic[0],
-             p.conic[1],
-             p.conic[2],
-             o,
-             std::log(s.min_alpha / std::max(o, 1e-30f)),
-             g,
-             *k};
+        const BlendRect& rect = rects[g];
+        s.tile_gaussians[k - bucket.data()] = {p.mean2d.x(),
+                                               p.mean2d.y(),
+                                               p.conic[0],
+                                               p.conic[1],
+                                               p.conic[2],
+                                               o,
+                                               std::log(s.min_alpha / std::max(o, 1e-30f)),
+                                               int16_t(rect.x0),
+                                               int16_t(rect.y0),
+                                               int16_t(rect.x1),
+                                               int16_t(rect.y1),
+                                               g,
+                                               *k};
       }
     }
   });
-}
-
-// Pixel range of tile t.
-struct TilePixels {
-  int x0, y0, x1, y1;
-};
-TilePixels tile_pixels(const RasterState& s, int t) {
-  const int tx = t % s.tiles_x, ty = t / s.tiles_x;
-  return {tx * kTileSize, ty * kTileSize, std::min(s.width, (tx + 1) * kTileSize),
-          std::min(s.height, (ty + 1) * kTileSize)};
 }
 
 // Copies a tile's per-Gaussian values into a contiguous buffer (cache-friendly blending).
@@ -216,9 +243,12 @@ void ModelGrads::reset(const GaussianModel& model) {
 RenderOutput render(const GaussianModel& model, const Camera& camera, const Pose& pose,
                     const RenderSettings& settings) {
   check_model(model);
-  if (camera.width <= 0 || camera.height <= 0 || !(camera.fx > 0) || !(camera.fy > 0))
-    throw InputError("rasterizer: camera has no pixels or a non-positive focal length (" +
-                     std::to_string(camera.width) + "x" + std::to_string(camera.height) + ")");
+  if (camera.width <= 0 || camera.height <= 0 || camera.width > 32767 || camera.height > 32767 ||
+      !(camera.fx > 0) || !(camera.fy > 0))
+    throw InputError(
+        "rasterizer: camera has no pixels, more than 32767 in a row or column, or a "
+        "non-positive focal length (" +
+        std::to_string(camera.width) + "x" + std::to_string(camera.height) + ")");
   const ViewTransform view(camera, pose);
   auto state = std::make_shared<RasterState>();
   RasterState& s = *state;
@@ -263,40 +293,42 @@ RenderOutput render(const GaussianModel& model, const Camera& camera, const Pose
 
   tbb::parallel_for(
       tbb::blocked_range<int>(0, s.tile_count()), [&](const tbb::blocked_range<int>& r) {
-        std::vector<float> values, acc(s.channels);
+        std::vector<float> values, acc(size_t(kTileSize) * kTileSize * s.channels);
+        TileBlend blend;
         for (int t = r.begin(); t != r.end(); ++t) {
           const TileGaussian* list = s.tile_gaussians.data() + s.tile_offsets[t];
-          const uint32_t count = s.tile_offsets[t + 1] - s.tile_offsets[t];
-          gather_values(s, list, count, values);
-          const TilePixels tp = tile_pixels(s, t);
-          for (int y = tp.y0; y < tp.y1; ++y)
-            for (int x = tp.x0; x < tp.x1; ++x) {
+          gather_values(s, list, s.tile_offsets[t + 1] - s.tile_offsets[t], values);
+          std::fill(acc.begin(), acc.end(), 0.f);
+          blend_tile(s, t, blend, [&](int p, uint32_t j, float w) {
+            const float* v = &values[size_t(j) * s.channels];
+            float* a = &acc[size_t(p) * s.channels];
+            for (int c = 0; c < s.channels; ++c) a[c] += w * v[c];
+          });
+          const PixelRect tile = tile_pixels(s, t);
+          for (int y = tile.y0; y < tile.y1; ++y)
+            for (int x = tile.x0; x < tile.x1; ++x) {
+              const int p = (y - tile.y0) * kTileSize + (x - tile.x0);
               const size_t pix = size_t(y) * s.width + x;
-              std::fill(acc.begin(), acc.end(), 0.f);
-              float T;
-              s.contributors[pix] = blend_pixel(list, count, x + 0.5f, y + 0.5f, s.min_alpha, T,
-                                                [&](uint32_t j, float w) {
-                                                  const float* v = &values[size_t(j) * s.channels];
-                                                  for (int c = 0; c < s.channels; ++c)
-                                                    acc[c] += w * v[c];
-                                                });
+              const float* a = &acc[size_t(p) * s.channels];
+              const float T = blend.T[p];
               s.final_transmittance[pix] = T;
+              s.contributors[pix] = blend.last[p];
               for (int c = 0; s.rgb_offset >= 0 && c < 3; ++c)
-                out.rgb[pix * 3 + c] = acc[s.rgb_offset + c] + T * settings.background[c];
+                out.rgb[pix * 3 + c] = a[s.rgb_offset + c] + T * settings.background[c];
               if (s.depth_offset >= 0) {
-                float d = acc[s.depth_offset];
+                float d = a[s.depth_offset];
                 if (settings.normalize_depth) {
-                  const float a = acc[s.alpha_offset];
-                  d = a >= kMinAlphaForDepth ? d / a : 0.f;
+                  const float alpha = a[s.alpha_offset];
+                  d = alpha >= kMinAlphaForDepth ? d / alpha : 0.f;
                 }
                 out.depth[pix] = d;
               }
               for (int c = 0; s.normal_offset >= 0 && c < 3; ++c)
-                out.normal[pix * 3 + c] = acc[s.normal_offset + c];
+                out.normal[pix * 3 + c] = a[s.normal_offset + c];
               for (int f = 0; s.feature_offset >= 0 && f < D; ++f)
-                out.features[pix * D + f] = acc[s.feature_offset + f];
-              if (s.alpha_offset >= 0) s.alpha_sum[pix] = acc[s.alpha_offset];
-              if (settings.alpha) out.alpha[pix] = acc[s.alpha_offset];
+                out.features[pix * D + f] = a[s.feature_offset + f];
+              if (s.alpha_offset >= 0) s.alpha_sum[pix] = a[s.alpha_offset];
+              if (settings.alpha) out.alpha[pix] = a[s.alpha_offset];
             }
         }
       });
@@ -397,66 +429,75 @@ void render_backward(const GaussianModel& model, const Camera& camera, const Pos
   const PixelGrads pixel_grads(s, settings, forward, grads);
   const ViewTransform view(camera, pose);
 
-  // Pass 1, per tile, back to front per pixel (3DGS backward): gradients of each list entry,
-  // written to the entry's own slot, so no two tiles write the same memory.
+  // Pass 1, per tile, back to front (3DGS backward), Gaussian by Gaussian in reverse depth order
+  // over each one's pixels: every pixel still sees its contributions back to front. Each entry's
+  // gradient goes to its own slot, so no two tiles write the same memory.
   const int stride = kSlotGeometry + s.channels;
+  const int C = s.channels;
   std::vector<float> slot_grads(size_t(s.slot_offsets[n]) * stride, 0.f);
-  tbb::parallel_for(tbb::blocked_range<int>(0, s.tile_count()),
-                    [&](const tbb::blocked_range<int>& r) {
-                      std::vector<float> values, local, g(s.channels), S(s.channels);
-                      for (int t = r.begin(); t != r.end(); ++t) {
-                        const TileGaussian* list = s.tile_gaussians.data() + s.tile_offsets[t];
-                        const uint32_t count = s.tile_offsets[t + 1] - s.tile_offsets[t];
-                        if (count == 0) continue;
-                        gather_values(s, list, count, values);
-                        local.assign(size_t(count) * stride, 0.f);
-                        const TilePixels tp = tile_pixels(s, t);
-                        for (int y = tp.y0; y < tp.y1; ++y)
-                          for (int x = tp.x0; x < tp.x1; ++x) {
-                            const size_t pix = size_t(y) * s.width + x;
-                            const uint32_t last = s.contributors[pix];
-                            if (last == 0 || !pixel_grads.at(pix, g.data())) continue;
-                            const float px = x + 0.5f, py = y + 0.5f;
-                            float T = s.final_transmittance[pix];
-                            // S[c]: what the entries behind the current one (and the background)
-                            // add to channel c.
-                            for (int c = 0; c < s.channels; ++c) S[c] = s.background[c] * T;
-                            for (uint32_t j = last; j-- > 0;) {
-                              const TileGaussian& e = list[j];
-                              float gaussian, alpha;
-                              if (!blend_alpha(e, px, py, s.min_alpha, gaussian, alpha)) continue;
-                              const float keep = 1.f - alpha;
-                              T /= keep;  // transmittance in front of entry j
-                              const float w = alpha * T;
-                              const float* v = &values[size_t(j) * s.channels];
-                              float* d = &local[size_t(j) * stride];
-                              // C = sum_i v_i alpha_i T_i + T_N bg: dC/dalpha_j = v_j T_j - S_j /
-                              // (1 - alpha_j).
-                              float d_alpha = 0.f;
-                              for (int c = 0; c < s.channels; ++c) {
-                                d[kSlotGeometry + c] += w * g[c];
-                                d_alpha += g[c] * (v[c] * T - S[c] / keep);
-                                S[c] += v[c] * w;
-                              }
-                              if (e.opacity * gaussian > kMaxAlpha)
-                                continue;  // clamped: alpha is constant
-                              // alpha = o exp(power), power = -0.5 (A dx^2 + C dy^2) - B dx dy, d =
-                              // mean2d - pixel.
-                              const float d_power = d_alpha * alpha;
-                              const float dx = e.mx - px, dy = e.my - py;
-                              d[0] -= d_power * (e.A * dx + e.B * dy);
-                              d[1] -= d_power * (e.C * dy + e.B * dx);
-                              d[2] -= 0.5f * d_power * dx * dx;
-                              d[3] -= d_power * dx * dy;
-                              d[4] -= 0.5f * d_power * dy * dy;
-                              d[5] += d_alpha * gaussian;
-                            }
-                          }
-                        for (uint32_t j = 0; j < count; ++j)
-                          std::copy_n(&local[size_t(j) * stride], stride,
-                                      &slot_grads[size_t(list[j].slot) * stride]);
-                      }
-                    });
+  tbb::parallel_for(
+      tbb::blocked_range<int>(0, s.tile_count()), [&](const tbb::blocked_range<int>& r) {
+        constexpr int kPixels = kTileSize * kTileSize;
+        std::vector<float> values, d(stride), g(size_t(kPixels) * C), S(size_t(kPixels) * C);
+        float T[kPixels];
+        uint32_t last[kPixels];
+        for (int t = r.begin(); t != r.end(); ++t) {
+          const TileGaussian* list = s.tile_gaussians.data() + s.tile_offsets[t];
+          const uint32_t count = s.tile_offsets[t + 1] - s.tile_offsets[t];
+          if (count == 0) continue;
+          gather_values(s, list, count, values);
+          const PixelRect tile = tile_pixels(s, t);
+          for (int y = tile.y0; y < tile.y1; ++y)
+            for (int x = tile.x0; x < tile.x1; ++x) {
+              const int p = (y - tile.y0) * kTileSize + (x - tile.x0);
+              const size_t pix = size_t(y) * s.width + x;
+              last[p] = s.contributors[pix];
+              if (last[p] > 0 && !pixel_grads.at(pix, &g[size_t(p) * C])) last[p] = 0;
+              T[p] = s.final_transmittance[pix];
+              // S: what the entries behind the current one (and the background) add to each
+              // channel.
+              for (int c = 0; c < C; ++c) S[size_t(p) * C + c] = s.background[c] * T[p];
+            }
+          for (uint32_t j = count; j-- > 0;) {
+            const TileGaussian& e = list[j];
+            const PixelRect rect = clip(e, tile);
+            const float* v = &values[size_t(j) * C];
+            std::fill(d.begin(), d.end(), 0.f);
+            for (int y = rect.y0; y < rect.y1; ++y)
+              for (int x = rect.x0; x < rect.x1; ++x) {
+                const int p = (y - tile.y0) * kTileSize + (x - tile.x0);
+                if (j >= last[p]) continue;
+                const float px = x + 0.5f, py = y + 0.5f;
+                float gaussian, alpha;
+                if (!blend_alpha(e, px, py, s.min_alpha, gaussian, alpha)) continue;
+                const float keep = 1.f - alpha;
+                T[p] /= keep;  // transmittance in front of entry j
+                const float w = alpha * T[p];
+                const float* gp = &g[size_t(p) * C];
+                float* Sp = &S[size_t(p) * C];
+                // C = sum_i v_i alpha_i T_i + T_N bg: dC/dalpha_j = v_j T_j - S_j / (1 - alpha_j).
+                float d_alpha = 0.f;
+                for (int c = 0; c < C; ++c) {
+                  d[kSlotGeometry + c] += w * gp[c];
+                  d_alpha += gp[c] * (v[c] * T[p] - Sp[c] / keep);
+                  Sp[c] += v[c] * w;
+                }
+                if (e.opacity * gaussian > kMaxAlpha) continue;  // clamped: alpha is constant
+                // alpha = o exp(power), power = -0.5 (A dx^2 + C dy^2) - B dx dy, d = mean2d -
+                // pixel.
+                const float d_power = d_alpha * alpha;
+                const float dx = e.mx - px, dy = e.my - py;
+                d[0] -= d_power * (e.A * dx + e.B * dy);
+                d[1] -= d_power * (e.C * dy + e.B * dx);
+                d[2] -= 0.5f * d_power * dx * dx;
+                d[3] -= d_power * dx * dy;
+                d[4] -= 0.5f * d_power * dy * dy;
+                d[5] += d_alpha * gaussian;
+              }
+            std::copy(d.begin(), d.end(), &slot_grads[size_t(e.slot) * stride]);
+          }
+        }
+      });
 
   // Pass 2, per Gaussian: sum its slots in tile order, then chain through colour and projection.
   tbb::parallel_for(

@@ -13,22 +13,16 @@ namespace gslift {
 
 namespace {
 
-// Calls visit(pixel, j, w) for every contribution of every pixel of tile t, in blend order.
+// Calls visit(pixel, id, w) for every contribution of every pixel of tile t; each pixel's
+// contributions come front to back.
 template <class Visit>
-void visit_tile(const RasterState& s, int t, Visit&& visit) {
+void visit_tile(const RasterState& s, int t, TileBlend& blend, Visit&& visit) {
   const TileGaussian* list = s.tile_gaussians.data() + s.tile_offsets[t];
-  const uint32_t count = s.tile_offsets[t + 1] - s.tile_offsets[t];
-  if (count == 0) return;
-  const int tx = t % s.tiles_x, ty = t / s.tiles_x;
-  const int x1 = std::min(s.width, (tx + 1) * kTileSize),
-            y1 = std::min(s.height, (ty + 1) * kTileSize);
-  for (int y = ty * kTileSize; y < y1; ++y)
-    for (int x = tx * kTileSize; x < x1; ++x) {
-      const size_t pix = size_t(y) * s.width + x;
-      float T;
-      blend_pixel(list, count, x + 0.5f, y + 0.5f, s.min_alpha, T,
-                  [&](uint32_t j, float w) { visit(pix, list[j].id, w); });
-    }
+  const PixelRect tile = tile_pixels(s, t);
+  blend_tile(s, t, blend, [&](int p, uint32_t j, float w) {
+    const size_t pix = size_t(tile.y0 + p / kTileSize) * s.width + tile.x0 + p % kTileSize;
+    visit(pix, list[j].id, w);
+  });
 }
 
 // out_row[c] = sum_k w_k attributes[id_k][c]; channels a template constant where it is common, so
@@ -63,11 +57,12 @@ RenderCache::RenderCache(const RenderOutput& forward) {
 
   // Pass 1: contributions per pixel; pass 2: fill the rows at their offsets.
   std::vector<uint32_t> counts(pixels, 0);
-  tbb::parallel_for(tbb::blocked_range<int>(0, s.tile_count()),
-                    [&](const tbb::blocked_range<int>& r) {
-                      for (int t = r.begin(); t != r.end(); ++t)
-                        visit_tile(s, t, [&](size_t pix, uint32_t, float) { ++counts[pix]; });
-                    });
+  tbb::parallel_for(
+      tbb::blocked_range<int>(0, s.tile_count()), [&](const tbb::blocked_range<int>& r) {
+        TileBlend blend;
+        for (int t = r.begin(); t != r.end(); ++t)
+          visit_tile(s, t, blend, [&](size_t pix, uint32_t, float) { ++counts[pix]; });
+      });
   pixel_offsets_.assign(pixels + 1, 0);
   for (size_t p = 0; p < pixels; ++p) {
     if (uint64_t(pixel_offsets_[p]) + counts[p] >= std::numeric_limits<uint32_t>::max())
@@ -78,8 +73,9 @@ RenderCache::RenderCache(const RenderOutput& forward) {
   weights_.resize(ids_.size());
   tbb::parallel_for(tbb::blocked_range<int>(0, s.tile_count()),
                     [&](const tbb::blocked_range<int>& r) {
+                      TileBlend blend;
                       for (int t = r.begin(); t != r.end(); ++t)
-                        visit_tile(s, t, [&](size_t pix, uint32_t id, float w) {
+                        visit_tile(s, t, blend, [&](size_t pix, uint32_t id, float w) {
                           const uint32_t k = pixel_offsets_[pix + 1] - counts[pix]--;
                           ids_[k] = id;
                           weights_[k] = w;

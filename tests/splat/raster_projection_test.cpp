@@ -96,7 +96,7 @@ TEST_CASE("raster: a single Gaussian renders its colour with alpha = o exp(-0.5 
           "[splat][raster]") {
   // Constant colour 0.5 + C0 * 1 wherever it is drawn; the blend weight has a closed form at
   // every pixel of the tiles its 3-sigma square (radius 16 around (60, 34)) touches, i.e. pixel
-  // columns 32..79, and it is not drawn at all outside them.
+  // columns 32..79 and rows 16..63, and it is not drawn at all outside them.
   const GaussianModel model =
       one_gaussian({0.2f, -0.1f, 2.f}, {0.1f, 0.05f, 0.02f}, {1.f, 0.f, 0.f, 0.f});
   RenderSettings s;
@@ -109,7 +109,7 @@ TEST_CASE("raster: a single Gaussian renders its colour with alpha = o exp(-0.5 
     const double power = -0.5 * (c / det * dx * dx + a / det * dy * dy) - (-b / det) * dx * dy;
     return 1.0 / (1.0 + std::exp(-2.0)) * std::exp(power);
   };
-  for (auto [x, y] : {std::pair{59, 33}, std::pair{62, 37}, std::pair{76, 33}, std::pair{33, 30}}) {
+  for (auto [x, y] : {std::pair{59, 33}, std::pair{62, 37}, std::pair{76, 33}, std::pair{59, 44}}) {
     const size_t pix = size_t(y) * 100 + x;
     CHECK(out.alpha[pix] == Approx(alpha_at(x, y)).epsilon(1e-5));
     CHECK(out.rgb[pix * 3] == Approx(alpha_at(x, y) * (0.5 + 0.28209479)).epsilon(1e-5));
@@ -118,9 +118,16 @@ TEST_CASE("raster: a single Gaussian renders its colour with alpha = o exp(-0.5 
   CHECK(out.radii[0] == 16);
   CHECK(out.alpha[size_t(33) * 100 + 80] == 0.f);
   CHECK(out.alpha[size_t(33) * 100 + 31] == 0.f);
-  // With the default 1/255 threshold the faint tail at column 77 (alpha 0.0036) is skipped.
-  REQUIRE(alpha_at(77, 33) < 1.0 / 255.0);
-  CHECK(render(model, hand_camera(), Pose{}, RenderSettings{}).rgb[(33 * 100 + 77) * 3] == 0.f);
+  CHECK(out.alpha[size_t(64) * 100 + 60] == 0.f);
+  // With the default 1/255 threshold the faint tail at (59, 44) (alpha 0.0024) is skipped and the
+  // brighter pixels are unchanged.
+  REQUIRE(alpha_at(59, 44) < 1.0 / 255.0);
+  RenderSettings defaults;
+  defaults.alpha = true;
+  const RenderOutput thresholded = render(model, hand_camera(), Pose{}, defaults);
+  CHECK(thresholded.alpha[size_t(44) * 100 + 59] == 0.f);
+  CHECK(thresholded.alpha[size_t(33) * 100 + 76] == out.alpha[size_t(33) * 100 + 76]);
+  CHECK(thresholded.alpha[size_t(37) * 100 + 62] == out.alpha[size_t(37) * 100 + 62]);
 }
 
 TEST_CASE("raster: an empty view renders the background and has zero gradients",

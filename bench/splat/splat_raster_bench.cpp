@@ -1,0 +1,251 @@
+// bench_splat_raster [--runs R] [--out DIR]: times the CPU rasterizer on random scenes in front of
+// a 640x480 camera and writes DIR/splat_raster.json and .svg (default bench/results), printing a
+// table. Medians over R runs (default 5) after one warm-up run.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <ctime>
+#include <random>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <tbb/global_control.h>
+#include <nlohmann/json.hpp>
+
+#include "nodes/splat/rasterizer.hpp"
+#include "nodes/splat/render_cache.hpp"
+#include "runtime/atomic_file.hpp"
+
+using namespace gslift;
+
+namespace {
+
+constexpr int kWidth = 640, kHeight = 480, kFeatures = 16;
+
+// A scene as a 3DGS reconstruction of a room looks from one view: Gaussians 2-6 m away, filling
+// the frustum, scales 0.5-3 cm (log-uniform), opacities spread over (0.1, 0.9), SH degree 3 and
+// 16 feature channels.
+GaussianModel random_scene(int n, uint32_t seed) {
+  std::mt19937 rng(seed);
+  auto uniform = [&](float a, float b) { return std::uniform_real_distribution<float>(a, b)(rng); };
+  GaussianModel m;
+  m.sh_degree = 3;
+  m.feature_dim = kFeatures;
+  m.resize(n);
+  const int K = GaussianModel::sh_coeffs(3);
+  for (int i = 0; i < n; ++i) {
+    const float z = uniform(2.f, 6.f);
+    m.means[3 * i] = uniform(-0.65f, 0.65f) * z;
+    m.means[3 * i + 1] = uniform(-0.5f, 0.5f) * z;
+    m.means[3 * i + 2] = z;
+    for (int k = 0; k < 3; ++k)
+      m.log_scales[3 * i + k] = uniform(std::log(0.005f), std::log(0.03f));
+    for (int k = 0; k < 4; ++k) m.quats[4 * i + k] = uniform(-1.f, 1.f);
+    m.opacity_logits[i] = uniform(-2.2f, 2.2f);
+    for (int k = 0; k < K * 3; ++k)
+      m.sh[i * K * 3 + k] = k < 3 ? uniform(-1.f, 1.f) : uniform(-0.1f, 0.1f);
+    for (int f = 0; f < kFeatures; ++f) m.features[i * kFeatures + f] = uniform(-1.f, 1.f);
+  }
+  return m;
+}
+
+double thread_cpu_ms() {
+  timespec ts;
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
+}
+
+// Median wall time and median CPU time of the calling thread, in ms. With one TBB thread all work
+// runs on the calling thread, so its CPU time is the cost of the work itself, free of the waiting
+// that other processes on a shared machine add to the wall time.
+struct Timing {
+  double wall_ms = 0, cpu_ms = 0;
+};
+
+template <class F>
+Timing median_ms(int runs, F&& f) {
+  f();  // warm-up
+  std::vector<double> wall, cpu;
+  for (int r = 0; r < runs; ++r) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const double c0 = thread_cpu_ms();
+    f();
+    cpu.push_back(thread_cpu_ms() - c0);
+    wall.push_back(
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+  }
+  std::sort(wall.begin(), wall.end());
+  std::sort(cpu.begin(), cpu.end());
+  return {wall[wall.size() / 2], cpu[cpu.size() / 2]};
+}
+
+struct Row {
+  int gaussians = 0, threads = 0;
+  double forward_ms = 0, forward_backward_ms = 0;
+  double forward_cpu_ms = 0, forward_backward_cpu_ms = 0, cache_render_cpu_ms = 0;
+  double cache_build_ms = 0, cache_render_ms = 0, cache_backward_ms = 0;
+  double cache_mb = 0, contributions_per_pixel = 0;
+};
+
+std::string svg_chart(const std::vector<Row>& rows) {
+  // Grouped bars per Gaussian count: forward and forward+backward at 1 and 2 threads, with the
+  // 60 ms target as a dashed line.
+  const int W = 720, H = 400, left = 60, bottom = 340, top = 40;
+  double max_ms = 60;
+  for (const Row& r : rows) max_ms = std::max(max_ms, r.forward_backward_ms);
+  max_ms *= 1.1;
+  auto y = [&](double ms) { return bottom - (bottom - top) * ms / max_ms; };
+  const char* colours[4] = {"#9ecae1", "#3182bd", "#fdae6b", "#e6550d"};
+  std::ostringstream s;
+  s << "<svg xmlns='http://www.w3.org/2000/svg' width='" << W << "' height='" << H
+    << "' font-family='sans-serif' font-size='12'>\n<rect width='100%' height='100%' "
+       "fill='white'/>\n"
+    << "<text x='" << W / 2 << "' y='20' text-anchor='middle' font-size='14'>CPU rasterizer, "
+    << kWidth << "x" << kHeight << ", RGB+depth+normal, ms per view (median)</text>\n";
+  for (int t = 0; t <= 5; ++t) {
+    const double ms = max_ms * t / 5;
+    s << "<line x1='" << left << "' x2='" << W - 20 << "' y1='" << y(ms) << "' y2='" << y(ms)
+      << "' stroke='#ddd'/><text x='" << left - 6 << "' y='" << y(ms) + 4 << "' text-anchor='end'>"
+      << int(ms) << "</text>\n";
+  }
+  std::vector<int> counts;
+  for (const Row& r : rows)
+    if (std::find(counts.begin(), counts.end(), r.gaussians) == counts.end())
+      counts.push_back(r.gaussians);
+  const double group = double(W - 20 - left) / counts.size(), bar = group / 6;
+  for (size_t g = 0; g < counts.size(); ++g) {
+    int b = 0;
+    for (const Row& r : rows) {
+      if (r.gaussians != counts[g]) continue;
+      for (double ms : {r.forward_ms, r.forward_backward_ms}) {
+        const int series = (ms == r.forward_ms ? 0 : 2) + (r.threads == 2 ? 1 : 0);
+        const double x = left + g * group + bar + b++ * bar;
+        s << "<rect x='" << x << "' y='" << y(ms) << "' width='" << bar * 0.9 << "' height='"
+          << bottom - y(ms) << "' fill='" << colours[series] << "'/>\n";
+      }
+    }
+    s << "<text x='" << left + g * group + group / 2 << "' y='" << bottom + 18
+      << "' text-anchor='middle'>" << counts[g] / 1000 << "k Gaussians</text>\n";
+  }
+  s << "<line x1='" << left << "' x2='" << W - 20 << "' y1='" << y(60) << "' y2='" << y(60)
+    << "' stroke='red' stroke-dasharray='6 4'/><text x='" << W - 22 << "' y='" << y(60) - 4
+    << "' text-anchor='end' fill='red'>target fwd+bwd 60 ms</text>\n";
+  const char* names[4] = {"forward, 1 thread", "forward, 2 threads", "fwd+bwd, 1 thread",
+                          "fwd+bwd, 2 threads"};
+  for (int i = 0; i < 4; ++i)
+    s << "<rect x='" << left + i * 160 << "' y='" << H - 30 << "' width='12' height='12' fill='"
+      << colours[i] << "'/><text x='" << left + i * 160 + 16 << "' y='" << H - 20 << "'>"
+      << names[i] << "</text>\n";
+  s << "</svg>\n";
+  return s.str();
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  int runs = 5;
+  std::string out_dir = std::string(GSLIFT_SOURCE_DIR) + "/bench/results";
+  for (int i = 1; i + 1 < argc; i += 2) {
+    const std::string arg = argv[i];
+    if (arg == "--runs")
+      runs = std::max(1, std::stoi(argv[i + 1]));
+    else if (arg == "--out")
+      out_dir = argv[i + 1];
+  }
+  Camera camera;
+  camera.width = kWidth;
+  camera.height = kHeight;
+  camera.fx = camera.fy = 525;
+  camera.cx = kWidth / 2.0;
+  camera.cy = kHeight / 2.0;
+  const Pose pose;
+  RenderSettings settings;
+  settings.depth = settings.normal = true;
+
+  std::vector<Row> rows;
+  std::printf("wall ms (CPU ms of the work in brackets, 1 thread only)\n");
+  std::printf("%9s %7s %18s %18s %9s %10s %11s %16s %9s\n", "gaussians", "threads", "fwd",
+              "fwd+bwd", "cache MB", "contrib/px", "cache build", "cache 16ch", "cache bwd");
+  for (int n : {20000, 50000, 100000}) {
+    const GaussianModel model = random_scene(n, 1234u + n);
+    for (int threads : {1, 2}) {
+      tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+      Row row;
+      row.gaussians = n;
+      row.threads = threads;
+      const Timing forward = median_ms(runs, [&] { render(model, camera, pose, settings); });
+      row.forward_ms = forward.wall_ms;
+      row.forward_cpu_ms = forward.cpu_ms;
+      RenderGrads grads;
+      ModelGrads model_grads;
+      const Timing forward_backward = median_ms(runs, [&] {
+        const RenderOutput out = render(model, camera, pose, settings);
+        grads.rgb.assign(out.rgb.size(), 1e-3f);
+        grads.depth.assign(out.depth.size(), 1e-3f);
+        grads.normal.assign(out.normal.size(), 1e-3f);
+        model_grads.reset(model);
+        render_backward(model, camera, pose, settings, out, grads, model_grads);
+      });
+      row.forward_backward_ms = forward_backward.wall_ms;
+      row.forward_backward_cpu_ms = forward_backward.cpu_ms;
+      RenderSettings weights_only;
+      weights_only.rgb = false;
+      const RenderOutput out = render(model, camera, pose, weights_only);
+      row.cache_build_ms = median_ms(runs, [&] { RenderCache cache(out); }).wall_ms;
+      const RenderCache cache(out);
+      row.cache_mb = cache.bytes() / 1048576.0;
+      row.contributions_per_pixel = double(cache.entries()) / (kWidth * kHeight);
+      std::vector<float> features(size_t(kWidth) * kHeight * kFeatures);
+      const Timing cache_render =
+          median_ms(runs, [&] { cache.render(model.features.data(), kFeatures, features.data()); });
+      row.cache_render_ms = cache_render.wall_ms;
+      row.cache_render_cpu_ms = cache_render.cpu_ms;
+      std::vector<float> feature_grad(model.features.size());
+      row.cache_backward_ms = median_ms(runs, [&] {
+                                std::fill(feature_grad.begin(), feature_grad.end(), 0.f);
+                                cache.backward(features.data(), kFeatures, feature_grad.data());
+                              }).wall_ms;
+      auto both = [&](double wall, double cpu) {
+        char buf[64];
+        std::snprintf(buf, sizeof buf, threads == 1 ? "%.1f (%.1f)" : "%.1f", wall, cpu);
+        return std::string(buf);
+      };
+      std::printf("%9d %7d %18s %18s %9.1f %10.2f %11.1f %16s %9.1f\n", n, threads,
+                  both(row.forward_ms, row.forward_cpu_ms).c_str(),
+                  both(row.forward_backward_ms, row.forward_backward_cpu_ms).c_str(), row.cache_mb,
+                  row.contributions_per_pixel, row.cache_build_ms,
+                  both(row.cache_render_ms, row.cache_render_cpu_ms).c_str(),
+                  row.cache_backward_ms);
+      rows.push_back(row);
+    }
+  }
+
+  nlohmann::json j;
+  j["benchmark"] = "splat_raster";
+  j["image"] = {kWidth, kHeight};
+  j["channels_timed"] = "rgb (SH degree 3) + depth + normal";
+  j["cache_channels"] = kFeatures;
+  j["runs_per_median"] = runs;
+  j["scene"] =
+      "random: depth 2-6 m filling the frustum, scales 0.5-3 cm log-uniform, opacity "
+      "sigmoid(U(-2.2, 2.2))";
+  for (const Row& r : rows)
+    j["rows"].push_back({{"gaussians", r.gaussians},
+                         {"threads", r.threads},
+                         {"forward_ms", r.forward_ms},
+                         {"forward_backward_ms", r.forward_backward_ms},
+                         {"forward_cpu_ms", r.forward_cpu_ms},
+                         {"forward_backward_cpu_ms", r.forward_backward_cpu_ms},
+                         {"cache_render_16ch_cpu_ms", r.cache_render_cpu_ms},
+                         {"cache_build_ms", r.cache_build_ms},
+                         {"cache_render_16ch_ms", r.cache_render_ms},
+                         {"cache_backward_16ch_ms", r.cache_backward_ms},
+                         {"cache_mb", r.cache_mb},
+                         {"contributions_per_pixel", r.contributions_per_pixel}});
+  write_file_atomically(out_dir + "/splat_raster.json", j.dump(2) + "\n");
+  write_file_atomically(out_dir + "/splat_raster.svg", svg_chart(rows));
+  std::printf("wrote %s/splat_raster.{json,svg}\n", out_dir.c_str());
+  return 0;
+}
