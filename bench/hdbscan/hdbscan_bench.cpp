@@ -1,0 +1,182 @@
+// HDBSCAN wall time vs point count: n = 1k, 5k, 10k, 20k points of 16-d features (a mixture of
+// 12 Gaussian blobs plus 5% uniform noise, like rendered instance features), at 1 and 2 threads,
+// median of `reps` runs. Writes DIR/hdbscan.json and DIR/hdbscan.svg (default bench/results).
+//
+//   bench_hdbscan [DIR] [--reps R] [--sizes 1000,5000,...]
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <ctime>
+#include <fstream>
+#include <random>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <tbb/global_control.h>
+#include <nlohmann/json.hpp>
+
+#include "nodes/lifting/hdbscan.hpp"
+#include "runtime/atomic_file.hpp"
+
+using namespace gslift;
+
+namespace {
+
+constexpr int kDim = 16;
+constexpr int kBlobs = 12;
+
+PointMatrix blob_features(int n, uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> gauss(0.0, 1.0);
+  std::uniform_real_distribution<double> uniform(-4.0, 4.0);
+  PointMatrix centres(kBlobs, kDim);
+  for (int c = 0; c < kBlobs; ++c)
+    for (int k = 0; k < kDim; ++k) centres(c, k) = uniform(rng);
+  PointMatrix x(n, kDim);
+  for (int i = 0; i < n; ++i) {
+    const bool noise = i % 20 == 0;
+    for (int k = 0; k < kDim; ++k)
+      x(i, k) = noise ? uniform(rng) : centres(i % kBlobs, k) + 0.3 * gauss(rng);
+  }
+  return x;
+}
+
+struct Row {
+  int n = 0;
+  int threads = 0;
+  double median_s = 0;
+  std::vector<double> runs_s;
+  double median_cpu_s = 0;  // process CPU time (all threads): the work, without waiting
+  std::vector<double> cpu_s;
+  int clusters = 0;
+};
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v[v.size() / 2];
+}
+
+// The 1-minute load average: the machine is shared, and wall times only mean something next to it.
+double load_average() {
+  std::ifstream in("/proc/loadavg");
+  double load = -1;
+  in >> load;
+  return load;
+}
+
+std::string svg_chart(const std::vector<Row>& rows, const std::vector<int>& sizes) {
+  const int W = 640, H = 400, L = 70, R = 20, T = 40, B = 50;
+  double max_t = 0;
+  for (const auto& r : rows) max_t = std::max(max_t, r.median_s);
+  max_t = max_t > 0 ? max_t * 1.1 : 1;
+  const double max_n = sizes.empty() ? 1 : *std::max_element(sizes.begin(), sizes.end());
+  auto px = [&](double n) { return L + (W - L - R) * n / max_n; };
+  auto py = [&](double t) { return H - B - (H - T - B) * t / max_t; };
+  std::ostringstream s;
+  s << "<svg xmlns='http://www.w3.org/2000/svg' width='" << W << "' height='" << H
+    << "' font-family='sans-serif' font-size='12'>\n"
+    << "<rect width='100%' height='100%' fill='white'/>\n"
+    << "<text x='" << W / 2 << "' y='20' text-anchor='middle' font-size='14'>HDBSCAN (exact, "
+    << kDim << "-d): median wall time vs points</text>\n"
+    << "<line x1='" << L << "' y1='" << H - B << "' x2='" << W - R << "' y2='" << H - B
+    << "' stroke='black'/>\n<line x1='" << L << "' y1='" << T << "' x2='" << L << "' y2='" << H - B
+    << "' stroke='black'/>\n";
+  for (const int n : sizes)
+    s << "<text x='" << px(n) << "' y='" << H - B + 18 << "' text-anchor='middle'>" << n
+      << "</text>\n";
+  for (int i = 0; i <= 4; ++i) {
+    const double t = max_t * i / 4;
+    char label[32];
+    std::snprintf(label, sizeof label, "%.2f s", t);
+    s << "<text x='" << L - 6 << "' y='" << py(t) + 4 << "' text-anchor='end'>" << label
+      << "</text>\n";
+  }
+  s << "<text x='" << (L + W - R) / 2 << "' y='" << H - 10 << "' text-anchor='middle'>points"
+    << "</text>\n";
+  const char* colours[] = {"#1f77b4", "#d62728"};
+  for (int threads = 1; threads <= 2; ++threads) {
+    std::ostringstream pts;
+    for (const auto& r : rows)
+      if (r.threads == threads) pts << px(r.n) << "," << py(r.median_s) << " ";
+    s << "<polyline fill='none' stroke='" << colours[threads - 1] << "' stroke-width='2' points='"
+      << pts.str() << "'/>\n"
+      << "<text x='" << L + 10 << "' y='" << T + 16 * threads << "' fill='" << colours[threads - 1]
+      << "'>" << threads << (threads == 1 ? " thread" : " threads") << "</text>\n";
+  }
+  s << "</svg>\n";
+  return s.str();
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::string out_dir = std::string(GSLIFT_SOURCE_DIR) + "/bench/results";
+  int reps = 3;
+  std::vector<int> sizes{1000, 5000, 10000, 20000};
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "--reps" && i + 1 < argc) {
+      reps = std::max(1, std::stoi(argv[++i]));
+    } else if (a == "--sizes" && i + 1 < argc) {
+      sizes.clear();
+      std::istringstream list(argv[++i]);
+      std::string item;
+      while (std::getline(list, item, ',')) sizes.push_back(std::stoi(item));
+    } else {
+      out_dir = a;
+    }
+  }
+
+  HdbscanParams params;
+  params.min_cluster_size = 10;
+  std::vector<Row> rows;
+  const double load_before = load_average();
+  for (const int n : sizes) {
+    const PointMatrix x = blob_features(n, 1234);
+    for (int threads = 1; threads <= 2; ++threads) {
+      tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+      Row row;
+      row.n = n;
+      row.threads = threads;
+      for (int r = 0; r < reps; ++r) {
+        const auto start = std::chrono::steady_clock::now();
+        const std::clock_t cpu_start = std::clock();
+        const HdbscanResult result = hdbscan(x, params);
+        row.cpu_s.push_back(static_cast<double>(std::clock() - cpu_start) / CLOCKS_PER_SEC);
+        row.runs_s.push_back(
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+        row.clusters = result.clusters;
+      }
+      row.median_s = median(row.runs_s);
+      row.median_cpu_s = median(row.cpu_s);
+      std::printf("n=%6d threads=%d median %.3f s wall, %.3f s CPU (%d clusters)\n", n, threads,
+                  row.median_s, row.median_cpu_s, row.clusters);
+      std::fflush(stdout);
+      rows.push_back(row);
+    }
+  }
+
+  nlohmann::json j;
+  j["benchmark"] = "hdbscan";
+  j["dim"] = kDim;
+  j["blobs"] = kBlobs;
+  j["min_cluster_size"] = params.min_cluster_size;
+  j["repetitions"] = reps;
+  j["hardware_threads"] = std::thread::hardware_concurrency();
+  j["load_average_before"] = load_before;
+  j["load_average_after"] = load_average();
+  for (const auto& r : rows)
+    j["results"].push_back({{"points", r.n},
+                            {"threads", r.threads},
+                            {"median_seconds", r.median_s},
+                            {"runs_seconds", r.runs_s},
+                            {"median_cpu_seconds", r.median_cpu_s},
+                            {"cpu_seconds", r.cpu_s},
+                            {"clusters", r.clusters}});
+  write_file_atomically(out_dir + "/hdbscan.json", j.dump(2) + "\n");
+  write_file_atomically(out_dir + "/hdbscan.svg", svg_chart(rows, sizes));
+  std::printf("wrote %s/hdbscan.{json,svg}\n", out_dir.c_str());
+  return 0;
+}
