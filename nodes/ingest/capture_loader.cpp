@@ -125,7 +125,8 @@ Capture load_capture(const fs::path& input, const CaptureOptions& options) {
   if (!named_held_out && options.holdout_every > 0)
     for (size_t i = 0; i < views.size(); ++i)
       views[i].held_out = i % static_cast<size_t>(options.holdout_every) == 0;
-  for (const auto& v : views) capture.views.push_back(make_view(v, options.downscale));
+  for (const auto& v : views)
+    capture.views.push_back(make_view(v, options.downscale, options.undistort));
   return capture;
 }
 

@@ -15,6 +15,11 @@ struct CaptureOptions {
   // Integer downscale factor applied when images are loaded (area filter for RGB, nearest for
   // depth and label maps); intrinsics are scaled to match (Camera::scaled).
   int downscale = 1;
+  // Undistort images of cameras with distortion coefficients when they are loaded (bilinear for
+  // RGB, nearest for depth and label maps; pixels mapped from outside the image are 0) and give
+  // the view the same camera without distortion, so every later stage sees an ideal pinhole
+  // (camera.hpp). Off: images stay as captured and Camera::distortion is kept.
+  bool undistort = true;
 };
 
 }  // namespace gslift

@@ -35,12 +35,16 @@ void add_capture(Registry& registry) {
                   "COLMAP: leave out images the model lists but the images folder lacks, with a "
                   "warning, instead of failing"),
        int_param("downscale", d.downscale,
-                 "integer image downscale on load; intrinsics are scaled to match", 1, 64)}};
+                 "integer image downscale on load; intrinsics are scaled to match", 1, 64),
+       bool_param("undistort", d.undistort,
+                  "undistort images of cameras with distortion on load, so views are ideal "
+                  "pinholes; off keeps the images and Camera::distortion as captured")}};
   registry.add(std::move(spec), [](NodeContext& ctx) {
     CaptureOptions o;
     o.holdout_every = static_cast<int>(ctx.param_int("holdout_every"));
     o.skip_missing_images = ctx.param_bool("skip_missing_images");
     o.downscale = static_cast<int>(ctx.param_int("downscale"));
+    o.undistort = ctx.param_bool("undistort");
     Capture capture = load_capture(resolve_capture_path(ctx.param_string("path")), o);
     ctx.record("views", static_cast<double>(capture.views.size()));
     ctx.record("test_views", static_cast<double>(capture.test_views().size()));

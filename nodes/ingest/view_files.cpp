@@ -3,6 +3,8 @@
 #include <functional>
 #include <string>
 
+#include <opencv2/calib3d.hpp>
+#include <opencv2/core/eigen.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "nodes/scene/image_io.hpp"
@@ -13,16 +15,34 @@ namespace {
 
 using Decode = std::function<cv::Mat(const std::filesystem::path&)>;
 
+// The image an ideal pinhole with the same K would have seen (cv::undistort, with the
+// interpolation of the image's kind).
+cv::Mat undistorted(const cv::Mat& m, const Camera& camera, int interpolation) {
+  cv::Mat k, map_x, map_y, out;
+  cv::eigen2cv(camera.K(), k);
+  // OpenCV puts pixel centres at integer coordinates, gslift at +0.5 (camera.hpp).
+  k.at<double>(0, 2) -= 0.5;
+  k.at<double>(1, 2) -= 0.5;
+  cv::initUndistortRectifyMap(k, camera.distortion, cv::noArray(), k, m.size(), CV_32FC1, map_x,
+                              map_y);
+  cv::remap(m, out, map_x, map_y,
+            interpolation == cv::INTER_AREA ? cv::INTER_LINEAR : interpolation, cv::BORDER_CONSTANT,
+            cv::Scalar::all(0));
+  return out;
+}
+
 ImageSource checked_source(const std::filesystem::path& path, const Camera& camera, int downscale,
-                           Decode decode, int interpolation) {
+                           bool undistort, Decode decode, int interpolation) {
   if (path.empty()) return {};
   const Camera scaled = camera.scaled(1.0 / downscale);
+  const bool remap = undistort && !camera.distortion.empty();
   return ImageSource::on_disk(path, [=](const std::filesystem::path& p) {
     cv::Mat m = decode(p);
     if (m.cols != camera.width || m.rows != camera.height)
       throw InputError(p.string() + ": image is " + std::to_string(m.cols) + " x " +
                        std::to_string(m.rows) + ", but its camera is " +
                        std::to_string(camera.width) + " x " + std::to_string(camera.height));
+    if (remap) m = undistorted(m, camera, interpolation);
     if (downscale == 1) return m;
     cv::Mat out;
     cv::resize(m, out, cv::Size(scaled.width, scaled.height), 0, 0, interpolation);
@@ -32,23 +52,28 @@ ImageSource checked_source(const std::filesystem::path& path, const Camera& came
 
 }  // namespace
 
-View make_view(const ViewFiles& f, int downscale) {
+View make_view(const ViewFiles& f, int downscale, bool undistort) {
   const Camera& c = f.camera;
   View v;
   v.name = f.name;
   v.camera = downscale == 1 ? c : c.scaled(1.0 / downscale);
+  if (undistort) v.camera.distortion.clear();
   v.pose = f.pose;
   v.held_out = f.held_out;
   v.rgb = checked_source(
-      f.rgb, c, downscale, [](const auto& p) { return read_rgb(p); }, cv::INTER_AREA);
+      f.rgb, c, downscale, undistort, [](const auto& p) { return read_rgb(p); }, cv::INTER_AREA);
   const double scale = f.depth_scale;
   v.depth = checked_source(
-      f.depth, c, downscale, [scale](const auto& p) { return read_depth(p, scale); },
+      f.depth, c, downscale, undistort, [scale](const auto& p) { return read_depth(p, scale); },
       cv::INTER_NEAREST);
-  v.gt_instance = checked_source(f.gt_instance, c, downscale, read_label_map, cv::INTER_NEAREST);
-  v.gt_semantic = checked_source(f.gt_semantic, c, downscale, read_label_map, cv::INTER_NEAREST);
-  v.gt_depth = checked_source(f.gt_depth, c, downscale, read_float_tiff, cv::INTER_NEAREST);
-  v.gt_normal = checked_source(f.gt_normal, c, downscale, read_float_tiff, cv::INTER_NEAREST);
+  v.gt_instance =
+      checked_source(f.gt_instance, c, downscale, undistort, read_label_map, cv::INTER_NEAREST);
+  v.gt_semantic =
+      checked_source(f.gt_semantic, c, downscale, undistort, read_label_map, cv::INTER_NEAREST);
+  v.gt_depth =
+      checked_source(f.gt_depth, c, downscale, undistort, read_float_tiff, cv::INTER_NEAREST);
+  v.gt_normal =
+      checked_source(f.gt_normal, c, downscale, undistort, read_float_tiff, cv::INTER_NEAREST);
   return v;
 }
 

@@ -27,7 +27,8 @@ struct ViewFiles {
 
 // The view read at 1/downscale resolution: camera.scaled(1 / downscale), RGB resized with the
 // area filter, depth and label maps with nearest neighbour (averaging across a depth edge or an
-// instance border invents values).
-View make_view(const ViewFiles& files, int downscale);
+// instance border invents values). With `undistort`, images of a camera with distortion are
+// undistorted to the same K before the resize and the view's camera has no distortion.
+View make_view(const ViewFiles& files, int downscale, bool undistort);
 
 }  // namespace gslift

@@ -121,7 +121,7 @@ TEST_CASE("NeRF transforms.json: intrinsics, per-frame overrides, missing images
       {"file_path": "imgs/absent.png", "transform_matrix": [[1,0,0,0],[0,1,0,0],[0,0,1,0],[0,0,0,1]]},
       {"file_path": "imgs/b.png", "fl_x": 7, "cx": 2.5, "k1": 0,
        "transform_matrix": [[1,0,0,0],[0,1,0,0],[0,0,1,0],[0,0,0,1]]}]})";
-  const Capture c = load_capture(dir);
+  const Capture c = load_capture(dir, {0, false, 1, false});  // keep the distortion
   REQUIRE(c.views.size() == 2);
   const Camera& a = c.views[0].camera;
   CHECK(a.width == 6);         // from the image: the file gives no w/h
@@ -161,11 +161,15 @@ TEST_CASE("DTU scan 24 COLMAP text model: missing odd views") {
 
 TEST_CASE("DTU scan 24 workspace: binary sparse/0 is found first") {
   GSLIFT_REQUIRE_SHARED_DATA("dtu_scan24");
-  const Capture c = load_capture(test::shared_data("dtu_scan24"), {0, true, 1});
+  const Capture c = load_capture(test::shared_data("dtu_scan24"), {0, true, 1, false});
   CHECK(c.name == "dtu_scan24");
   CHECK(c.views.size() == 25);
   CHECK(c.points.size() == 34673);
   CHECK(c.views[0].camera.distortion.size() == 4);
+  // Undistorted by default: a pinhole camera, and images of the same size.
+  const Capture u = load_capture(test::shared_data("dtu_scan24"), {0, true, 4});
+  CHECK(u.views[0].camera.distortion.empty());
+  CHECK(u.views[0].rgb.load().size() == cv::Size(400, 300));
 }
 
 TEST_CASE("NeRF lego and instant-ngp fox") {
@@ -184,7 +188,7 @@ TEST_CASE("NeRF lego and instant-ngp fox") {
   }
 
   GSLIFT_REQUIRE_SHARED_DATA("instant_ngp_fox");
-  const Capture fox = load_capture(test::shared_data("instant_ngp_fox"), {8, false, 8});
+  const Capture fox = load_capture(test::shared_data("instant_ngp_fox"), {8, false, 8, false});
   REQUIRE(fox.views.size() == 50);
   CHECK(fox.test_views().size() == 7);
   CHECK(fox.views[0].camera.distortion.size() == 4);

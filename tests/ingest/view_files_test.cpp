@@ -1,0 +1,76 @@
+#include "nodes/ingest/view_files.hpp"
+
+#include <cmath>
+
+#include "nodes/scene/image_io.hpp"
+#include "runtime/node.hpp"
+#include "tests/test_support.hpp"
+
+using namespace gslift;
+using Catch::Matchers::Contains;
+
+namespace {
+
+// Intensity-weighted centroid in gslift pixel coordinates (pixel centres at +0.5).
+Eigen::Vector2d centroid(const cv::Mat& rgb) {
+  double sum = 0, sx = 0, sy = 0;
+  for (int y = 0; y < rgb.rows; ++y)
+    for (int x = 0; x < rgb.cols; ++x) {
+      const double w = rgb.at<cv::Vec3b>(y, x)[0];
+      sum += w;
+      sx += w * (x + 0.5);
+      sy += w * (y + 0.5);
+    }
+  return {sx / sum, sy / sum};
+}
+
+}  // namespace
+
+TEST_CASE("undistortion moves a point to its ideal pinhole projection") {
+  const auto dir = test::scratch_dir("view_files_undistort");
+  ViewFiles f;
+  f.name = "v";
+  f.camera.width = 64;
+  f.camera.height = 48;
+  f.camera.fx = f.camera.fy = 50;
+  f.camera.cx = 32;
+  f.camera.cy = 24;
+  f.camera.distortion = {0.5, 0, 0, 0};
+  // Camera-frame point (0.3, 0.2, 1): pinhole pixel (32 + 15, 24 + 10) = (47, 34). With k1 = 0.5
+  // the normalised point scales by 1 + 0.5 * 0.13 = 1.065: distorted pixel (47.975, 34.65).
+  const Eigen::Vector2d ideal(47, 34), distorted(32 + 50 * 0.3 * 1.065, 24 + 50 * 0.2 * 1.065);
+  cv::Mat rgb(48, 64, CV_8UC3);
+  for (int y = 0; y < 48; ++y)
+    for (int x = 0; x < 64; ++x) {
+      const double d2 = (Eigen::Vector2d(x + 0.5, y + 0.5) - distorted).squaredNorm();
+      rgb.at<cv::Vec3b>(y, x) = cv::Vec3b::all(cv::saturate_cast<uchar>(255 * std::exp(-d2 / 4.5)));
+    }
+  write_rgb_png(dir / "v.png", rgb);
+  f.rgb = dir / "v.png";
+
+  const View raw = make_view(f, 1, false);
+  CHECK(raw.camera.distortion.size() == 4);
+  CHECK((centroid(raw.rgb.load()) - distorted).norm() < 0.1);
+
+  const View v = make_view(f, 1, true);
+  CHECK(v.camera.distortion.empty());
+  CHECK(v.camera.fx == 50);
+  CHECK((centroid(v.rgb.load()) - ideal).norm() < 0.15);
+}
+
+TEST_CASE("views check every file's size when it is loaded") {
+  const auto dir = test::scratch_dir("view_files_size");
+  ViewFiles f;
+  f.name = "v";
+  f.camera.width = 4;
+  f.camera.height = 2;
+  f.camera.fx = f.camera.fy = 1;
+  f.rgb = dir / "rgb.png";
+  f.gt_instance = dir / "ids.png";
+  write_rgb_png(f.rgb, cv::Mat(2, 4, CV_8UC3, cv::Scalar::all(1)));
+  write_label_png16(f.gt_instance, cv::Mat1i(3, 4, 5));
+  const View v = make_view(f, 1, true);  // nothing is read yet
+  CHECK(v.rgb.load().size() == cv::Size(4, 2));
+  CHECK_THROWS_WITH(v.gt_instance.load(), Contains("ids.png") && Contains("4 x 3"));
+  CHECK_FALSE(v.depth.present());
+}
