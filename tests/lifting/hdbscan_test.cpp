@@ -2,6 +2,7 @@
 #include "nodes/lifting/hdbscan.hpp"
 
 #include <fstream>
+#include <random>
 #include <sstream>
 
 #include <tbb/global_control.h>
@@ -180,4 +181,21 @@ TEST_CASE("numpy_argsort sorts, and orders ties as NumPy's introsort does") {
     if (i > 0) CHECK(v[order[i - 1]] <= v[order[i]]);
   }
   CHECK(std::count(seen.begin(), seen.end(), 1) == 1000);
+}
+
+TEST_CASE("HDBSCAN results do not depend on the thread count (parallel paths exercised)") {
+  // 3000 points: several chunks in both the core-distance loop and each Prim step.
+  std::mt19937_64 rng(9);
+  std::normal_distribution<double> gauss(0, 1);
+  PointMatrix p(3000, 4);
+  for (int64_t i = 0; i < p.rows(); ++i)
+    for (int k = 0; k < 4; ++k) p(i, k) = 5.0 * (i % 6 == k) + gauss(rng);
+  HdbscanParams params;
+  params.min_cluster_size = 15;
+  const HdbscanResult parallel = hdbscan(p, params);
+  tbb::global_control one_thread(tbb::global_control::max_allowed_parallelism, 1);
+  const HdbscanResult serial = hdbscan(p, params);
+  CHECK(parallel.clusters >= 2);
+  CHECK(serial.labels == parallel.labels);
+  CHECK(serial.probabilities == parallel.probabilities);
 }
