@@ -77,7 +77,7 @@ TEST_CASE("VLM boxes of every view, in the capture's pixel grid") {
   }
 }
 
-TEST_CASE("SAM box masks link to their boxes; automatic masks per view") {
+TEST_CASE("SAM box masks link to their boxes, automatic masks come per view") {
   const fs::path dir = annotated_capture("annotations_sam", "vlm: {coords: pixels}\n");
   const Capture c = load_capture(dir, {0, false, 2});
   const BoxSet boxes = load_vlm_boxes(c);
