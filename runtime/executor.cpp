@@ -78,7 +78,8 @@ int64_t peak_rss_kb() {
 }
 
 // The NodeContext a node body runs with: its inputs, params (on the GraphNode), seed, output
-// folder, and the run's shared cancellation state.
+// folder, and the run's shared cancellation state. A body may call it from inside its own
+// parallel loops, so the mutable parts are locked.
 class RunningNode final : public NodeContext {
  public:
   RunningNode(const GraphNode& node, const NodeSpec& spec, std::map<std::string, Value> inputs,
@@ -99,12 +100,14 @@ class RunningNode final : public NodeContext {
       throw std::logic_error("node '" + node().id + "' (" + node().type + "): output port '" +
                              port + "' is declared " + out->type + " but was given " +
                              (v.empty() ? std::string("nothing") : v.type_name()));
+    std::lock_guard<std::mutex> lock(mutex_);
     outputs_[port] = std::move(v);
   }
 
   fs::path out_dir() override {
     if (options_.out_dir.empty()) return {};
     const fs::path dir = options_.out_dir / node().id;
+    std::lock_guard<std::mutex> lock(mutex_);
     if (!out_dir_created_) {
       fs::create_directories(dir);
       out_dir_created_ = true;
@@ -123,8 +126,12 @@ class RunningNode final : public NodeContext {
            (options_.cancel && options_.cancel->load(std::memory_order_relaxed));
   }
 
-  void record(const std::string& key, double value) override { record_.records[key] = value; }
+  void record(const std::string& key, double value) override {
+    std::lock_guard<std::mutex> lock(mutex_);
+    record_.records[key] = value;
+  }
   void record(const std::string& key, const std::string& value) override {
+    std::lock_guard<std::mutex> lock(mutex_);
     record_.records[key] = value;
   }
 
@@ -140,6 +147,7 @@ class RunningNode final : public NodeContext {
   const RunOptions& options_;
   const std::atomic<bool>& stopping_;
   NodeRecord& record_;
+  std::mutex mutex_;
   std::map<std::string, Value> outputs_;
   bool out_dir_created_ = false;
 };
