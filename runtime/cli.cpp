@@ -5,9 +5,9 @@
 
 #include <algorithm>
 #include <cstdio>
-#include <cstdlib>
 #include <filesystem>
 #include <map>
+#include <optional>
 #include <set>
 #include <stdexcept>
 #include <string>
@@ -33,7 +33,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// A command-line mistake: printed with the command's usage line, exit code kUsage.
+// A command-line mistake: printed with a pointer to --help, exit code kUsage.
 struct UsageError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
