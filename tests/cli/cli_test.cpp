@@ -14,7 +14,7 @@ namespace {
 const std::string kBinary = GSLIFT_BINARY;
 }
 
-TEST_CASE("--help lists the commands and exit codes, globally and per command", "[cli]") {
+TEST_CASE("the help flags list the commands and exit codes, globally and per command", "[cli]") {
   for (const char* flag : {" --help", " -h"}) {
     const auto r = run_command(kBinary + flag);
     CHECK(r.code == exit_code::kOk);
@@ -34,7 +34,7 @@ TEST_CASE("--help lists the commands and exit codes, globally and per command", 
   CHECK(none.output.find("commands:") != std::string::npos);
 }
 
-TEST_CASE("--version prints the project and git versions", "[cli]") {
+TEST_CASE("the version flag prints the project and git versions", "[cli]") {
   const auto r = run_command(kBinary + " --version");
   CHECK(r.code == exit_code::kOk);
   CHECK(r.output.rfind("gslift 0.1.0 (", 0) == 0);
