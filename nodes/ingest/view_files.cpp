@@ -50,6 +50,11 @@ ImageSource checked_source(const std::filesystem::path& path, const Camera& came
   });
 }
 
+// Ground-truth label maps of the capture layout must be 16-bit (docs/capture_format.md).
+cv::Mat read_gt_labels(const std::filesystem::path& p) {
+  return read_label_map(p, false);
+}
+
 }  // namespace
 
 View make_view(const ViewFiles& f, int downscale, bool undistort) {
@@ -67,9 +72,9 @@ View make_view(const ViewFiles& f, int downscale, bool undistort) {
       f.depth, c, downscale, undistort, [scale](const auto& p) { return read_depth(p, scale); },
       cv::INTER_NEAREST);
   v.gt_instance =
-      checked_source(f.gt_instance, c, downscale, undistort, read_label_map, cv::INTER_NEAREST);
+      checked_source(f.gt_instance, c, downscale, undistort, read_gt_labels, cv::INTER_NEAREST);
   v.gt_semantic =
-      checked_source(f.gt_semantic, c, downscale, undistort, read_label_map, cv::INTER_NEAREST);
+      checked_source(f.gt_semantic, c, downscale, undistort, read_gt_labels, cv::INTER_NEAREST);
   v.gt_depth =
       checked_source(f.gt_depth, c, downscale, undistort, read_float_tiff, cv::INTER_NEAREST);
   v.gt_normal =

@@ -114,11 +114,15 @@ cv::Mat read_depth(const std::filesystem::path& path, double scale) {
   return depth;
 }
 
-cv::Mat read_label_map(const std::filesystem::path& path) {
+cv::Mat read_label_map(const std::filesystem::path& path, bool accept_8bit) {
   cv::Mat m = read_unchanged(path);
   if (m.channels() != 1)
     throw InputError(path.string() + ": label map must be single-channel, got a " + describe(m) +
                      " colour image");
+  if (m.depth() == CV_8U && !accept_8bit)
+    throw InputError(path.string() +
+                     ": 8-bit label map; the capture layout requires 16-bit ids "
+                     "(8 bits wrap past 255)");
   if (m.depth() == CV_8U)
     spdlog::warn("{}: 8-bit label map; ids above 255 cannot be represented", path.string());
   else if (m.depth() != CV_16U && m.depth() != CV_32S)

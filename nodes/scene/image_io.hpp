@@ -25,8 +25,10 @@ cv::Mat read_alpha(const std::filesystem::path& path);
 cv::Mat read_depth(const std::filesystem::path& path, double scale);
 
 // CV_32SC1 ids. Accepts 16-bit single-channel PNG/TIFF (and 32-bit integer TIFF); an 8-bit map
-// is accepted with a warning (it cannot hold more than 255 ids); colour images are rejected.
-cv::Mat read_label_map(const std::filesystem::path& path);
+// is accepted with a warning (it cannot hold more than 255 ids) unless `accept_8bit` is false,
+// as for the ground truth of a gslift capture, whose layout requires 16 bits; colour images are
+// rejected.
+cv::Mat read_label_map(const std::filesystem::path& path, bool accept_8bit = true);
 
 // A float32 map as stored (CV_32FC1 or CV_32FC3), e.g. gt/depth and gt/normal TIFFs.
 cv::Mat read_float_tiff(const std::filesystem::path& path);

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <fstream>
 
+#include <opencv2/imgcodecs.hpp>
+
 #include "nodes/scene/image_io.hpp"
 #include "runtime/node.hpp"
 #include "tests/ingest/small_capture.hpp"
@@ -80,6 +82,11 @@ TEST_CASE("capture.yaml folder: views, depth in metres, ground truth, held-out v
     const Capture bad = load_capture(dir);
     CHECK_THROWS_AS(bad.views[0].depth.load(), InputError);
     CHECK_THROWS_WITH(bad.views[0].depth.load(), Contains("cam_00.png") && Contains("8 x 5"));
+  }
+  SECTION("an 8-bit ground-truth label map fails when it is loaded, naming the file") {
+    cv::imwrite((dir / "gt/instance/cam_01.png").string(), cv::Mat1b(6, 8, uchar(3)));
+    CHECK_THROWS_WITH(load_capture(dir).views[1].gt_instance.load(),
+                      Contains("cam_01.png") && Contains("8-bit"));
   }
   SECTION("a listed image that is missing is an error unless skipped") {
     fs::remove(dir / "images/cam_02.png");

@@ -71,6 +71,7 @@ TEST_CASE("label maps: 16-bit round trip, 8-bit accepted, colour and overflow re
 
   cv::imwrite((dir / "l8.png").string(), cv::Mat1b(1, 2, uchar(7)));
   CHECK(read_label_map(dir / "l8.png").at<int>(0, 1) == 7);
+  CHECK_THROWS_WITH(read_label_map(dir / "l8.png", false), Contains("l8.png") && Contains("8-bit"));
 
   cv::imwrite((dir / "c.png").string(), cv::Mat(2, 2, CV_8UC3, cv::Scalar(1, 2, 3)));
   CHECK_THROWS_WITH(read_label_map(dir / "c.png"), Contains("c.png") && Contains("colour"));
