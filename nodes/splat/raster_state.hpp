@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <vector>
 
 #include "nodes/splat/projection.hpp"
@@ -50,17 +51,47 @@ struct RasterState {
   int tile_count() const { return tiles_x * tiles_y; }
 };
 
-// Blending weight test shared by every pass so that they agree bit for bit. Returns false when the
-// Gaussian is skipped at pixel centre (px, py); otherwise gaussian = exp(power) and
-// alpha = min(0.99, opacity * gaussian).
-inline bool blend_alpha(const TileGaussian& g, float px, float py, float min_alpha, float& gaussian,
-                        float& alpha) {
-  const float dx = g.mx - px, dy = g.my - py;
-  const float power = -0.5f * (g.A * dx * dx + g.C * dy * dy) - g.B * dx * dy;
-  if (power > 0.f || power < g.power_min) return false;
-  gaussian = std::exp(power);
-  alpha = std::min(kMaxAlpha, g.opacity * gaussian);
-  return alpha >= min_alpha;
+// exp(x) for x <= 0 to about 1e-7 relative error (Cephes expf: x = n ln2 + r, a degree-6
+// polynomial in r, times 2^n), inlined: the blending loops evaluate it once per contribution and
+// a libm call costs as much as the rest of the contribution. x below -87 gives exp(-87), which
+// only ever multiplies an opacity into a weight far below any threshold.
+inline float blend_exp(float x) {
+  x = std::max(x, -87.f);
+  const int n = int(x * 1.44269504088896341f - 0.5f);  // round to nearest for x <= 0
+  const float fn = float(n);
+  const float r = (x - fn * 0.693359375f) + fn * 2.12194440e-4f;
+  float p = 1.9875691500e-4f;
+  p = p * r + 1.3981999507e-3f;
+  p = p * r + 8.3334519073e-3f;
+  p = p * r + 4.1665795894e-2f;
+  p = p * r + 1.6666665459e-1f;
+  p = p * r + 5.0000001201e-1f;
+  p = p * r * r + r + 1.f;
+  const int32_t bits = (n + 127) << 23;
+  float scale;
+  std::memcpy(&scale, &bits, sizeof scale);
+  return p * scale;
+}
+
+// Blend weights of list entry g along one pixel row, shared by every pass so that they agree bit
+// for bit: for pixel centres (x + 0.5, y + 0.5), x in [x0, x1) (at most one tile wide),
+// gaussian[i] = exp(power) with power = -0.5 (A dx^2 + C dy^2) - B dx dy, d = mean2d - centre,
+// and alpha[i] = min(0.99, opacity * gaussian[i]), or -1 where the pixel is skipped (power > 0,
+// or alpha below min_alpha). Branch-free, so the compiler vectorises it.
+inline void blend_row(const TileGaussian& g, int y, int x0, int x1, float min_alpha,
+                      float* gaussian, float* alpha) {
+  const float dy = g.my - (float(y) + 0.5f);
+  const float row = -0.5f * g.C * dy * dy;
+  const float cross = g.B * dy;
+  for (int x = x0; x < x1; ++x) {
+    const float dx = g.mx - (float(x) + 0.5f);
+    const float power = (row - 0.5f * g.A * dx * dx) - cross * dx;
+    const float G = blend_exp(power);
+    const float a = std::min(kMaxAlpha, g.opacity * G);
+    const bool keep = (power <= 0.f) & (power >= g.power_min) & (a >= min_alpha);
+    gaussian[x - x0] = G;
+    alpha[x - x0] = keep ? a : -1.f;
+  }
 }
 
 // Pixel rectangle of tile t, and of a list entry clipped to it.
@@ -99,12 +130,13 @@ inline void blend_tile(const RasterState& s, int t, TileBlend& out, OnContributi
   for (uint32_t j = 0; j < count && active > 0; ++j) {
     const TileGaussian& e = list[j];
     const PixelRect r = clip(e, tile);
-    for (int y = r.y0; y < r.y1; ++y)
+    float gaussian[kTileSize], alphas[kTileSize];
+    for (int y = r.y0; y < r.y1; ++y) {
+      blend_row(e, y, r.x0, r.x1, s.min_alpha, gaussian, alphas);
       for (int x = r.x0; x < r.x1; ++x) {
         const int p = (y - tile.y0) * kTileSize + (x - tile.x0);
-        if (done[p]) continue;
-        float gaussian, alpha;
-        if (!blend_alpha(e, x + 0.5f, y + 0.5f, s.min_alpha, gaussian, alpha)) continue;
+        const float alpha = alphas[x - r.x0];
+        if (alpha < 0.f || done[p]) continue;
         const float next_T = out.T[p] * (1.f - alpha);
         if (next_T < kMinTransmittance) {
           done[p] = true;
@@ -115,6 +147,7 @@ inline void blend_tile(const RasterState& s, int t, TileBlend& out, OnContributi
         out.T[p] = next_T;
         out.last[p] = j + 1;
       }
+    }
   }
 }
 

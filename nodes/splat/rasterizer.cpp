@@ -182,34 +182,40 @@ void bin_gaussians(const GaussianModel& model, const ViewTransform& view,
       bucket[cursor[slot_tile[k]]++] = k;
     }
   s.tile_gaussians.resize(pairs);
+  struct SortKey {
+    float depth;
+    uint32_t gaussian, slot;
+  };
   tbb::parallel_for(tbb::blocked_range<int>(0, tiles, 4), [&](const tbb::blocked_range<int>& r) {
+    std::vector<SortKey> keys;
     for (int t = r.begin(); t != r.end(); ++t) {
-      uint32_t* begin = bucket.data() + s.tile_offsets[t];
-      uint32_t* end = bucket.data() + s.tile_offsets[t + 1];
+      keys.clear();
+      for (uint32_t k = s.tile_offsets[t]; k < s.tile_offsets[t + 1]; ++k) {
+        const uint32_t g = slot_gaussian[bucket[k]];
+        keys.push_back({s.projections[g].depth, g, bucket[k]});
+      }
       // Ties in depth broken by Gaussian index: the order never depends on scheduling.
-      std::sort(begin, end, [&](uint32_t a, uint32_t b) {
-        const uint32_t ga = slot_gaussian[a], gb = slot_gaussian[b];
-        const float da = s.projections[ga].depth, db = s.projections[gb].depth;
-        return da < db || (da == db && ga < gb);
+      std::sort(keys.begin(), keys.end(), [](const SortKey& a, const SortKey& b) {
+        return a.depth < b.depth || (a.depth == b.depth && a.gaussian < b.gaussian);
       });
-      for (uint32_t* k = begin; k != end; ++k) {
-        const uint32_t g = slot_gaussian[*k];
+      for (size_t i = 0; i < keys.size(); ++i) {
+        const uint32_t g = keys[i].gaussian;
         const ProjectedGaussian& p = s.projections[g];
         const float o = sigmoid(model.opacity_logits[g]);
         const BlendRect& rect = rects[g];
-        s.tile_gaussians[k - bucket.data()] = {p.mean2d.x(),
-                                               p.mean2d.y(),
-                                               p.conic[0],
-                                               p.conic[1],
-                                               p.conic[2],
-                                               o,
-                                               std::log(s.min_alpha / std::max(o, 1e-30f)),
-                                               int16_t(rect.x0),
-                                               int16_t(rect.y0),
-                                               int16_t(rect.x1),
-                                               int16_t(rect.y1),
-                                               g,
-                                               *k};
+        s.tile_gaussians[s.tile_offsets[t] + i] = {p.mean2d.x(),
+                                                   p.mean2d.y(),
+                                                   p.conic[0],
+                                                   p.conic[1],
+                                                   p.conic[2],
+                                                   o,
+                                                   std::log(s.min_alpha / std::max(o, 1e-30f)),
+                                                   int16_t(rect.x0),
+                                                   int16_t(rect.y0),
+                                                   int16_t(rect.x1),
+                                                   int16_t(rect.y1),
+                                                   g,
+                                                   keys[i].slot};
       }
     }
   });
@@ -463,15 +469,16 @@ void render_backward(const GaussianModel& model, const Camera& camera, const Pos
             const PixelRect rect = clip(e, tile);
             const float* v = &values[size_t(j) * C];
             std::fill(d.begin(), d.end(), 0.f);
-            for (int y = rect.y0; y < rect.y1; ++y)
+            float gaussians[kTileSize], alphas[kTileSize];
+            for (int y = rect.y0; y < rect.y1; ++y) {
+              blend_row(e, y, rect.x0, rect.x1, s.min_alpha, gaussians, alphas);
               for (int x = rect.x0; x < rect.x1; ++x) {
                 const int p = (y - tile.y0) * kTileSize + (x - tile.x0);
-                if (j >= last[p]) continue;
+                const float alpha = alphas[x - rect.x0], gaussian = gaussians[x - rect.x0];
+                if (alpha < 0.f || j >= last[p]) continue;
                 const float px = x + 0.5f, py = y + 0.5f;
-                float gaussian, alpha;
-                if (!blend_alpha(e, px, py, s.min_alpha, gaussian, alpha)) continue;
-                const float keep = 1.f - alpha;
-                T[p] /= keep;  // transmittance in front of entry j
+                const float inv_keep = 1.f / (1.f - alpha);
+                T[p] *= inv_keep;  // transmittance in front of entry j
                 const float w = alpha * T[p];
                 const float* gp = &g[size_t(p) * C];
                 float* Sp = &S[size_t(p) * C];
@@ -479,7 +486,7 @@ void render_backward(const GaussianModel& model, const Camera& camera, const Pos
                 float d_alpha = 0.f;
                 for (int c = 0; c < C; ++c) {
                   d[kSlotGeometry + c] += w * gp[c];
-                  d_alpha += gp[c] * (v[c] * T[p] - Sp[c] / keep);
+                  d_alpha += gp[c] * (v[c] * T[p] - Sp[c] * inv_keep);
                   Sp[c] += v[c] * w;
                 }
                 if (e.opacity * gaussian > kMaxAlpha) continue;  // clamped: alpha is constant
@@ -494,6 +501,7 @@ void render_backward(const GaussianModel& model, const Camera& camera, const Pos
                 d[4] -= 0.5f * d_power * dy * dy;
                 d[5] += d_alpha * gaussian;
               }
+            }
             std::copy(d.begin(), d.end(), &slot_grads[size_t(e.slot) * stride]);
           }
         }
