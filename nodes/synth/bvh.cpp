@@ -9,6 +9,8 @@ namespace gslift::synth {
 namespace {
 
 constexpr int kLeafSize = 2;
+// A primitive whose bounds exceed this fraction of the scene's diagonal stays out of the tree.
+constexpr float kLargeFraction = 0.5f;
 
 // Slab test of a ray against a box; inv_dir = 1 / dir component-wise (inf where dir is 0).
 bool ray_hits_box(const Eigen::AlignedBox3f& box, const Eigen::Vector3f& origin,
@@ -30,9 +32,13 @@ bool ray_hits_box(const Eigen::AlignedBox3f& box, const Eigen::Vector3f& origin,
 Bvh::Bvh(const std::vector<Primitive>& primitives) : primitives_(primitives) {
   boxes_.reserve(primitives.size());
   for (const auto& p : primitives) boxes_.push_back(bounds(p));
-  order_.resize(primitives.size());
-  std::iota(order_.begin(), order_.end(), 0);
-  if (!primitives.empty()) build(0, static_cast<int>(primitives.size()));
+  Eigen::AlignedBox3f scene;
+  for (const auto& b : boxes_) scene.extend(b);
+  for (int i = 0; i < static_cast<int>(primitives.size()); ++i) {
+    const bool large = boxes_[i].diagonal().norm() > kLargeFraction * scene.diagonal().norm();
+    (large ? large_ : order_).push_back(i);
+  }
+  if (!order_.empty()) build(0, static_cast<int>(order_.size()));
 }
 
 int Bvh::build(int begin, int end) {
@@ -51,6 +57,7 @@ int Bvh::build(int begin, int end) {
   }
   int axis = 0;
   centroids.sizes().maxCoeff(&axis);
+  nodes_[index].axis = axis;
   const int mid = (begin + end) / 2;
   // Ties broken by index so the tree (and the traversal order) does not depend on the sort.
   std::nth_element(order_.begin() + begin, order_.begin() + mid, order_.begin() + end,
@@ -68,6 +75,15 @@ template <bool kAnyHit>
 RayHit Bvh::traverse(const Eigen::Vector3f& origin, const Eigen::Vector3f& dir, float t_min,
                      float t_max) const {
   RayHit result;
+  for (int i : large_) {
+    if (kAnyHit && !primitives_[i].casts_shadow) continue;
+    Hit hit;
+    if (!intersect(primitives_[i], origin, dir, t_min, t_max, hit)) continue;
+    result.primitive = i;
+    result.hit = hit;
+    if (kAnyHit) return result;
+    t_max = hit.t;
+  }
   if (nodes_.empty()) return result;
   const Eigen::Vector3f inv_dir = dir.cwiseInverse();
   int stack[64];
@@ -78,6 +94,7 @@ RayHit Bvh::traverse(const Eigen::Vector3f& origin, const Eigen::Vector3f& dir, 
     if (!ray_hits_box(node.box, origin, inv_dir, t_min, t_max)) continue;
     if (node.count > 0) {
       for (int i = node.first; i < node.first + node.count; ++i) {
+        if (kAnyHit && !primitives_[order_[i]].casts_shadow) continue;
         Hit hit;
         if (!intersect(primitives_[order_[i]], origin, dir, t_min, t_max, hit)) continue;
         result.primitive = order_[i];
@@ -87,9 +104,11 @@ RayHit Bvh::traverse(const Eigen::Vector3f& origin, const Eigen::Vector3f& dir, 
       }
       continue;
     }
-    const int self = static_cast<int>(&node - nodes_.data());
-    stack[top++] = node.first;  // right child
-    stack[top++] = self + 1;    // left child, visited first
+    // Push the far child first so the near one is visited first and shrinks t_max early.
+    const int left = static_cast<int>(&node - nodes_.data()) + 1, right = node.first;
+    const bool right_is_near = dir[node.axis] < 0;
+    stack[top++] = right_is_near ? left : right;
+    stack[top++] = right_is_near ? right : left;
   }
   return result;
 }

@@ -10,10 +10,10 @@
 #include <nlohmann/json.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "nodes/ingest/coco_rle.hpp"
 #include "nodes/ingest/colmap_model.hpp"
 #include "nodes/scene/image_io.hpp"
 #include "nodes/synth/bvh.hpp"
-#include "nodes/synth/coco_rle.hpp"
 #include "nodes/synth/depth_prior_simulator.hpp"
 #include "nodes/synth/pose_noise.hpp"
 #include "nodes/synth/random_stream.hpp"
@@ -37,10 +37,13 @@ std::ostringstream classic_stream() {
   return s;
 }
 
-// A SAM-style mask record: COCO RLE segmentation plus the fields SAM's generator reports.
+// A SAM-style mask record: COCO RLE segmentation (compressed counts, as SAM's "coco_rle" output
+// mode writes them) plus the fields SAM's generator reports.
 nlohmann::json mask_record(const cv::Mat1b& mask, double predicted_iou, double stability) {
   const cv::Rect b = cv::boundingRect(mask);
-  return {{"segmentation", coco_rle(mask)},
+  const nlohmann::json rle = {{"size", {mask.rows, mask.cols}},
+                              {"counts", rle_counts_to_string(rle_encode(mask))}};
+  return {{"segmentation", rle},
           {"bbox", {b.x, b.y, b.width, b.height}},
           {"area", cv::countNonZero(mask)},
           {"predicted_iou", predicted_iou},

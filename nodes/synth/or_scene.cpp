@@ -42,6 +42,8 @@ class SceneBuilder {
     part_ = 0;
   }
   void begin_background() { instance_ = 0, class_ = 0, part_ = 0; }
+  // The next primitive is part of the room's convex shell (casts no shadow inside the room).
+  void shell() { shell_next_ = true; }
   void part(int p) { part_ = p; }
 
   void add(Shape shape, const Vec3& centre, const Vec3& half, const Material& m,
@@ -55,6 +57,8 @@ class SceneBuilder {
     p.instance = instance_;
     p.semantic = class_;
     p.part = part_;
+    p.casts_shadow = !shell_next_;
+    shell_next_ = false;
     scene_.primitives.push_back(p);
   }
   void box(const Vec3& c, const Vec3& half, const Material& m, float yaw = 0) {
@@ -78,18 +82,23 @@ class SceneBuilder {
  private:
   OrScene& scene_;
   int instance_ = 0, class_ = 0, part_ = 0;
+  bool shell_next_ = false;
 };
 
 void build_room(SceneBuilder& b) {
   b.begin_background();
   const float w = 0.1f;
+  b.shell();
   b.box(Vec3(0, 0, -w), Vec3(kRoomX, kRoomY, w), {Vec3(0.58f, 0.64f, 0.62f), Texture::Tiles});
+  b.shell();
   b.box(Vec3(0, 0, kRoomZ + w), Vec3(kRoomX, kRoomY, w), speckle(0.86f, 0.87f, 0.86f));
   const Material wall = speckle(0.72f, 0.80f, 0.78f);
-  b.box(Vec3(kRoomX + w, 0, kRoomZ / 2), Vec3(w, kRoomY, kRoomZ / 2), wall);
-  b.box(Vec3(-kRoomX - w, 0, kRoomZ / 2), Vec3(w, kRoomY, kRoomZ / 2), wall);
-  b.box(Vec3(0, kRoomY + w, kRoomZ / 2), Vec3(kRoomX, w, kRoomZ / 2), wall);
-  b.box(Vec3(0, -kRoomY - w, kRoomZ / 2), Vec3(kRoomX, w, kRoomZ / 2), wall);
+  for (float s : {-1.f, 1.f}) {
+    b.shell();
+    b.box(Vec3(s * (kRoomX + w), 0, kRoomZ / 2), Vec3(w, kRoomY, kRoomZ / 2), wall);
+    b.shell();
+    b.box(Vec3(0, s * (kRoomY + w), kRoomZ / 2), Vec3(kRoomX, w, kRoomZ / 2), wall);
+  }
   // Wall cabinets and a door: background structure that gives the walls some geometry.
   b.box(Vec3(-1.0f, kRoomY - 0.25f, 1.0f), Vec3(1.2f, 0.25f, 1.0f), speckle(0.80f, 0.80f, 0.78f));
   b.box(Vec3(2.2f, -kRoomY + 0.02f, 1.05f), Vec3(0.6f, 0.03f, 1.05f), flat(0.45f, 0.55f, 0.62f));
@@ -407,8 +416,8 @@ OrScene make_or_scene(const OrSceneOptions& o) {
     build_c_arm(b, -kRoomX + 0.8f, -side * (kRoomY - 0.8f), side > 0 ? 0.f : kPi);
   }
 
-  scene.lights = {{Vec3(-1.5f, -1.0f, 2.9f), 0.35f},
-                  {Vec3(1.5f, 1.2f, 2.9f), 0.35f},
+  scene.lights = {{Vec3(-1.5f, -1.0f, 2.6f), 0.35f},
+                  {Vec3(1.5f, 1.2f, 2.6f), 0.35f},
                   {lamp - Vec3(0, 0, 0.15f), 0.35f}};
   place_cameras(scene, o);
   return scene;

@@ -38,6 +38,9 @@ struct Primitive {
   int instance = 0;  // instance id, 0 = room (background)
   int semantic = 0;  // class id, 0 = background
   int part = 0;      // part of the instance (head, torso, ...), used by the SAM part simulation
+  // False for the room's shell: lights are inside the (convex) room, so floor, walls and ceiling
+  // can never block them, and shadow rays skip the shell.
+  bool casts_shadow = true;
 };
 
 struct Hit {

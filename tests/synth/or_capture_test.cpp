@@ -7,7 +7,9 @@
 #include <tbb/global_control.h>
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 
+#include "nodes/ingest/coco_rle.hpp"
 #include "nodes/ingest/colmap_model.hpp"
 #include "nodes/scene/image_io.hpp"
 #include "nodes/synth/or_capture.hpp"
@@ -113,8 +115,12 @@ TEST_CASE("the capture follows docs/capture_format.md and reads back exactly") {
   const auto autos = nlohmann::json::parse(auto_file);
   REQUIRE(autos.size() >= 5);
   for (const auto& m : autos) {
-    CHECK(m["segmentation"]["size"] == nlohmann::json({120, 160}));
-    CHECK(m["area"].get<int>() > 0);
+    // The RLE decodes (with ingest's reader) to a mask of the recorded area and box.
+    const cv::Mat1b mask = rle_decode_json(m["segmentation"], "sam_auto");
+    REQUIRE(mask.size() == cv::Size(160, 120));
+    CHECK(cv::countNonZero(mask) == m["area"].get<int>());
+    const cv::Rect b = cv::boundingRect(mask);
+    CHECK(m["bbox"] == nlohmann::json({b.x, b.y, b.width, b.height}));
     CHECK(m.contains("granularity"));
   }
 

@@ -3,7 +3,8 @@
 #include <cmath>
 #include <map>
 
-#include "nodes/synth/coco_rle.hpp"
+#include <nlohmann/json.hpp>
+
 #include "nodes/synth/depth_prior_simulator.hpp"
 #include "nodes/synth/mask_boundary_noise.hpp"
 #include "nodes/synth/or_scene.hpp"
@@ -256,20 +257,6 @@ TEST_CASE("pose noise moves the camera centre and rotation by the configured sig
   CHECK(std::sqrt(pos_sq / n / 3) == Approx(0.02).margin(0.001));
   const Pose same = perturb_pose(p, 0, 0, rng);
   CHECK(same.t.isApprox(p.t));
-}
-
-TEST_CASE("COCO RLE matches pycocotools on a hand-encoded mask") {
-  // 3x4 mask, column-major pixels: col0 = 0,1,1  col1 = 1,0,0  col2 = 0,0,0  col3 = 0,0,1.
-  cv::Mat1b m(3, 4, uchar(0));
-  m(1, 0) = m(2, 0) = m(0, 1) = m(2, 3) = 255;
-  // Runs: 1 zero, 3 ones, 7 zeros, 1 one -> counts [1, 3, 7, 1]; deltas from i > 2: 1, 3, 7,
-  // 1 - 3 = -2 -> chars '1', '3', '7', and -2 & 31 = 30 with bit 4 set, x >> 5 = -1 -> 30 + 48.
-  CHECK(coco_rle_counts(m) == std::string("137") + char(30 + 48));
-  const auto j = coco_rle(m);
-  CHECK(j["size"] == nlohmann::json({3, 4}));
-  // Long run: 40 = 0b01000 + 1 << 5: groups 8 | 0x20 -> 'X' (8 + 32 + 48 = 88), then 1 -> '1'.
-  cv::Mat1b zeros(5, 8, uchar(0));
-  CHECK(coco_rle_counts(zeros) == "X1");
 }
 
 TEST_CASE("boundary noise keeps the mask near its boundary with the configured amplitude") {
