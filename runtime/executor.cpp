@@ -316,7 +316,13 @@ RunResult execute(const Graph& graph, const Registry& registry, const RunOptions
   for (size_t i = 0; i < graph.nodes.size(); ++i)
     for (auto& [port, value] : run.outputs()[i])
       result.values[graph.nodes[i].id + "." + port] = value;
-  if (!options.out_dir.empty()) write_run_record(options.out_dir / "run.json", graph, result);
+  if (!options.out_dir.empty()) {
+    // A cancelled node stopped halfway: whatever it wrote is incomplete (exit_codes.hpp: "partial
+    // outputs removed"). A failed node's files stay, for debugging.
+    for (const auto& n : result.nodes)
+      if (n.status == NodeStatus::Cancelled) fs::remove_all(options.out_dir / n.id);
+    write_run_record(options.out_dir / "run.json", graph, result);
+  }
   return result;
 }
 

@@ -88,7 +88,8 @@ struct RunResult {
 
 // Runs `graph` (validated: every type registered, inputs wired, topological order). Never throws
 // for a node's failure: that is reported in the result. When options.out_dir is set, run.json is
-// written there at the end, also after a failure.
+// written there at the end, also after a failure, and the folders of cancelled nodes (stopped
+// halfway) are removed.
 RunResult execute(const Graph& graph, const Registry& registry, const RunOptions& options);
 
 // The one-node/inline-graph test harness: loads `yaml` with load_graph_text (named "<inline>" in

@@ -28,7 +28,9 @@ TEST_CASE("one type's page shows ports and params with defaults, ranges and choi
         "      a number\n"
         "params:\n"
         "  ms: int = 100 in [0, inf]\n"
-        "      milliseconds\n");
+        "      milliseconds\n"
+        "  write: bool = false\n"
+        "      write partial.txt into the node folder first\n");
   const std::string fail = node_type_text(*reg.find("debug.fail"));
   CHECK(fail.find("  kind: string = \"other\" one of {input, other}\n") != std::string::npos);
   CHECK(node_type_text(*reg.find("debug.random")).find("inputs:\n  (none)\n") != std::string::npos);

@@ -33,8 +33,10 @@ Registry debug_registry() {
                  "sleeps, polling cancellation",
                  {number("in", true)},
                  {number("out")},
-                 {int_param("ms", 100, "milliseconds", 0)}},
+                 {int_param("ms", 100, "milliseconds", 0),
+                  bool_param("write", false, "write partial.txt into the node folder first")}},
         [](NodeContext& ctx) {
+          if (ctx.param_bool("write")) std::ofstream(ctx.out_dir() / "partial.txt") << "half";
           const auto end =
               std::chrono::steady_clock::now() + std::chrono::milliseconds(ctx.param_int("ms"));
           while (std::chrono::steady_clock::now() < end) {

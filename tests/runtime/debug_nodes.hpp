@@ -24,8 +24,9 @@ GSLIFT_PORT_TYPE(test::Number, "Number");
 namespace gslift::test {
 
 // debug.constant  params value            -> out:Number = value
-// debug.sleep     params ms; in? in:Number -> out:Number = in (or 0); sleeps in 5 ms steps,
-//                 throwing Cancelled as soon as ctx.cancelled()
+// debug.sleep     params ms, write; in? in:Number -> out:Number = in (or 0); sleeps in 5 ms
+//                 steps, throwing Cancelled as soon as ctx.cancelled(); with write, first writes
+//                 <out_dir>/partial.txt
 // debug.fail      params kind (input|other), message; in? in:Number -> throws InputError or
 //                 std::runtime_error
 // debug.random    -> out:Number = first draw of std::mt19937_64(ctx.seed()) in [0,1); records

@@ -148,11 +148,13 @@ TEST_CASE("a node that does not set a declared output fails the run", "[executor
 
 TEST_CASE("an external cancellation interrupts the run", "[executor]") {
   const Registry reg = test::debug_registry();
-  const Graph g = graph_of({debug_node(reg, "s", "debug.sleep", {}, {{"ms", int64_t{5000}}}),
-                            debug_node(reg, "after", "debug.sleep", {{"in", {"s", "out"}}})});
+  const Graph g =
+      graph_of({debug_node(reg, "s", "debug.sleep", {}, {{"ms", int64_t{5000}}, {"write", true}}),
+                debug_node(reg, "after", "debug.sleep", {{"in", {"s", "out"}}})});
   std::atomic<bool> flag{false};
   RunOptions opt;
   opt.cancel = &flag;
+  opt.out_dir = test::scratch_dir("executor_interrupt");
   std::thread interrupter([&] {
     std::this_thread::sleep_for(std::chrono::milliseconds(100));
     flag = true;
@@ -165,6 +167,9 @@ TEST_CASE("an external cancellation interrupts the run", "[executor]") {
   CHECK(r.node("s")->status == NodeStatus::Cancelled);
   CHECK(r.node("s")->end_s < 2.0);
   CHECK(r.node("after")->status == NodeStatus::Pending);
+  // The cancelled node's half-written folder is gone; the run record is there.
+  CHECK_FALSE(std::filesystem::exists(opt.out_dir / "s"));
+  CHECK(std::filesystem::exists(opt.out_dir / "run.json"));
 
   // Already set before the start: nothing runs.
   const RunResult before = execute(g, reg, opt);
