@@ -80,6 +80,7 @@ std::vector<ViewFiles> read_nerf_transforms(const fs::path& json_file) {
   std::vector<ViewFiles> views;
   std::set<std::string> names;
   int missing = 0;
+  cv::Size probed;  // size of the first image, for files without w/h
   const json& frames = top["frames"];
   for (size_t i = 0; i < frames.size(); ++i) {
     const json& f = frames[i];
@@ -101,10 +102,14 @@ std::vector<ViewFiles> read_nerf_transforms(const fs::path& json_file) {
     Camera& c = v.camera;
     auto w = number(f, top, "w", where), h = number(f, top, "h", where);
     if (!w || !h) {
-      const cv::Mat probe = cv::imread(rgb->string(), cv::IMREAD_UNCHANGED);
-      if (probe.empty()) throw InputError(rgb->string() + ": not a readable image");
-      w = probe.cols;
-      h = probe.rows;
+      // Decoded once: frames share the size (each image is checked against it when loaded).
+      if (probed.empty()) {
+        const cv::Mat probe = cv::imread(rgb->string(), cv::IMREAD_UNCHANGED);
+        if (probe.empty()) throw InputError(rgb->string() + ": not a readable image");
+        probed = probe.size();
+      }
+      w = probed.width;
+      h = probed.height;
     }
     c.width = static_cast<int>(*w);
     c.height = static_cast<int>(*h);

@@ -1,6 +1,8 @@
 #include "nodes/ingest/view_files.hpp"
 
 #include <functional>
+#include <memory>
+#include <mutex>
 #include <string>
 
 #include <opencv2/calib3d.hpp>
@@ -15,34 +17,49 @@ namespace {
 
 using Decode = std::function<cv::Mat(const std::filesystem::path&)>;
 
-// The image an ideal pinhole with the same K would have seen (cv::undistort, with the
-// interpolation of the image's kind).
-cv::Mat undistorted(const cv::Mat& m, const Camera& camera, int interpolation) {
-  cv::Mat k, map_x, map_y, out;
-  cv::eigen2cv(camera.K(), k);
-  // OpenCV puts pixel centres at integer coordinates, gslift at +0.5 (camera.hpp).
-  k.at<double>(0, 2) -= 0.5;
-  k.at<double>(1, 2) -= 0.5;
-  cv::initUndistortRectifyMap(k, camera.distortion, cv::noArray(), k, m.size(), CV_32FC1, map_x,
-                              map_y);
-  cv::remap(m, out, map_x, map_y,
-            interpolation == cv::INTER_AREA ? cv::INTER_LINEAR : interpolation, cv::BORDER_CONSTANT,
-            cv::Scalar::all(0));
-  return out;
-}
+// Undistortion maps of one camera, computed on the first load and shared by later loads (and
+// threads): they cost about as much as decoding the image.
+class Undistorter {
+ public:
+  explicit Undistorter(const Camera& camera) : camera_(camera) {}
+
+  // The image an ideal pinhole with the same K would have seen.
+  cv::Mat apply(const cv::Mat& m, int interpolation) {
+    std::call_once(once_, [&] {
+      cv::Mat k;
+      cv::eigen2cv(camera_.K(), k);
+      // OpenCV puts pixel centres at integer coordinates, gslift at +0.5 (camera.hpp).
+      k.at<double>(0, 2) -= 0.5;
+      k.at<double>(1, 2) -= 0.5;
+      cv::initUndistortRectifyMap(k, camera_.distortion, cv::noArray(), k,
+                                  cv::Size(camera_.width, camera_.height), CV_32FC1, map_x_,
+                                  map_y_);
+    });
+    cv::Mat out;
+    cv::remap(m, out, map_x_, map_y_, interpolation, cv::BORDER_CONSTANT, cv::Scalar::all(0));
+    return out;
+  }
+
+ private:
+  Camera camera_;
+  std::once_flag once_;
+  cv::Mat map_x_, map_y_;
+};
 
 ImageSource checked_source(const std::filesystem::path& path, const Camera& camera, int downscale,
                            bool undistort, Decode decode, int interpolation) {
   if (path.empty()) return {};
   const Camera scaled = camera.scaled(1.0 / downscale);
-  const bool remap = undistort && !camera.distortion.empty();
+  std::shared_ptr<Undistorter> undistorter;
+  if (undistort && !camera.distortion.empty()) undistorter = std::make_shared<Undistorter>(camera);
   return ImageSource::on_disk(path, [=](const std::filesystem::path& p) {
     cv::Mat m = decode(p);
     if (m.cols != camera.width || m.rows != camera.height)
       throw InputError(p.string() + ": image is " + std::to_string(m.cols) + " x " +
                        std::to_string(m.rows) + ", but its camera is " +
                        std::to_string(camera.width) + " x " + std::to_string(camera.height));
-    if (remap) m = undistorted(m, camera, interpolation);
+    if (undistorter)
+      m = undistorter->apply(m, interpolation == cv::INTER_AREA ? cv::INTER_LINEAR : interpolation);
     if (downscale == 1) return m;
     cv::Mat out;
     cv::resize(m, out, cv::Size(scaled.width, scaled.height), 0, 0, interpolation);

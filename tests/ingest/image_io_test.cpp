@@ -58,6 +58,9 @@ TEST_CASE("depth: 16-bit PNG divided by scale, float TIFF as is") {
   CHECK(f.at<float>(0, 0) == 1.2345f);
   CHECK(f.at<float>(1, 0) == 70.f);
   CHECK(f.at<float>(1, 1) == 0.f);  // negative -> invalid
+
+  cv::imwrite((dir / "d.exr").string(), d);
+  CHECK(read_depth(dir / "d.exr", 1000).at<float>(0, 0) == 1.2345f);
 }
 
 TEST_CASE("label maps: 16-bit round trip, 8-bit accepted, colour and overflow rejected") {
