@@ -99,13 +99,13 @@ void write_picture(const fs::path& path) {
       cv::rectangle(boxes, p1, cv::Point(static_cast<int>(b.box.x2), static_cast<int>(b.box.y2)),
                     colour, 1, cv::LINE_AA);
       if (b.box.round == 0 || b.label_class != b.true_class) {
-        cv::putText(boxes, b.box.label, p1 + cv::Point(3, 14), cv::FONT_HERSHEY_SIMPLEX, 0.45,
+        cv::putText(boxes, b.box.label, p1 + cv::Point(3, 14), cv::FONT_HERSHEY_SIMPLEX, 0.55,
                     colour, 1, cv::LINE_AA);
       }
     }
   cv::Mat panel;
   cv::hconcat(std::vector<cv::Mat>{bgr, ids, boxes}, panel);
-  cv::resize(panel, panel, cv::Size(), 0.5, 0.5, cv::INTER_AREA);
+  cv::resize(panel, panel, cv::Size(), 0.75, 0.75, cv::INTER_AREA);
   write_atomically(path, [&](const fs::path& tmp) {
     if (!cv::imwrite(tmp.string(), panel, {cv::IMWRITE_PNG_COMPRESSION, 9})) {
       throw std::runtime_error("cannot write " + tmp.string());
