@@ -34,7 +34,7 @@ void finish(ColmapModel& m, const fs::path& images_file) {
   for (const auto& im : m.images) {
     if (!m.cameras.count(im.camera_id))
       throw InputError(images_file.string() + ": image '" + im.name + "' refers to camera " +
-                       std::to_string(im.camera_id) + ", which cameras lists not");
+                       std::to_string(im.camera_id) + ", which is not in the cameras file");
     if (!names.insert(im.name).second)
       throw InputError(images_file.string() + ": image name '" + im.name + "' appears twice");
   }

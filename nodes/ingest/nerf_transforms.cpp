@@ -130,6 +130,16 @@ std::vector<ViewFiles> read_nerf_transforms(const fs::path& json_file) {
     c.cy = number(f, top, "cy", where).value_or(0.5 * c.height);
     if (!(c.fx > 0 && c.fy > 0 && c.width > 0 && c.height > 0))
       throw InputError(where + ": focal lengths and image size must be positive");
+    // nerfstudio names its model; only the OpenCV radial-tangential one maps onto Camera.
+    const json& model_of = f.contains("camera_model") ? f : top;
+    if (model_of.contains("camera_model")) {
+      const std::string model = model_of["camera_model"].is_string()
+                                    ? model_of["camera_model"].get<std::string>()
+                                    : std::string("?");
+      if (model != "OPENCV" && model != "PINHOLE" && model != "SIMPLE_PINHOLE")
+        throw InputError(where + ": camera_model '" + model +
+                         "' is not supported (OPENCV, PINHOLE or SIMPLE_PINHOLE)");
+    }
     std::vector<double> d;
     for (const char* k : {"k1", "k2", "p1", "p2"})
       d.push_back(number(f, top, k, where).value_or(0));

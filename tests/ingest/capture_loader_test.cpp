@@ -145,6 +145,10 @@ TEST_CASE("NeRF transforms.json: intrinsics, per-frame overrides, missing images
   CHECK(c.views[1].camera.cx == 2.5);
   CHECK(c.views[1].camera.distortion.empty());
 
+  std::ofstream(dir / "transforms.json")
+      << R"({"camera_model": "OPENCV_FISHEYE", "fl_x": 3, "frames": [{"file_path": "imgs/a.png",)"
+      << R"( "transform_matrix": [[1,0,0,0],[0,1,0,0],[0,0,1,0],[0,0,0,1]]}]})";
+  CHECK_THROWS_WITH(load_capture(dir), Contains("transforms.json") && Contains("OPENCV_FISHEYE"));
   std::ofstream(dir / "transforms.json") << R"({"frames": [{"file_path": "imgs/a.png"}]})";
   CHECK_THROWS_WITH(load_capture(dir), Contains("transforms.json frame 0"));
   std::ofstream(dir / "transforms.json") << R"({"frames": [)";
