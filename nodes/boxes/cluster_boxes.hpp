@@ -23,14 +23,25 @@
 
 namespace gslift {
 
+// Defaults measured on the embedded OR (seeds 0-4, 5 views each, 5 simulated VLM rounds: 283
+// visible instances; a cluster is correct when its representative box came from a not yet
+// matched instance), recall / precision:
+//   preset   iou  min_support 1     min_support 2
+//   default  0.3  0.837 / 0.898     0.813 / 0.987
+//   default  0.5  0.975 / 0.890     0.951 / 0.996
+//   default  0.7  1.000 / 0.793     0.996 / 0.986
+//   hard     0.3  0.855 / 0.766     0.784 / 0.996
+//   hard     0.5  0.975 / 0.688     0.933 / 0.989
+//   hard     0.7  1.000 / 0.375     0.753 / 0.930
+// min_support 2 removes nearly all hallucinations for 2-4 points of recall; iou 0.5 is the most
+// robust across difficulty (0.7 splits jittery objects into duplicates on "hard", 0.3 merges
+// neighbours). Label accuracy of the voted labels: 0.99 (default), 0.92 (hard).
 struct BoxClusteringParams {
-  // Two boxes are the same object when IoU(seed, box) > iou. 0.5 [decision, METHODS.md]: VLM
-  // jitter of one object across rounds stays well above it, distinct adjacent objects below.
+  // Two boxes are the same object when IoU(seed, box) > iou.
   float iou = 0.5f;
   // Clusters supported by fewer distinct rounds are dropped as hallucinations. Clamped to the
   // number of rounds of the view, so single-round input (the "w/o clustering" ablation) keeps its
-  // boxes. Default 2 [decision]: drops one-round hallucinations; to be measured against 1 on the
-  // embedded OR.
+  // boxes.
   int min_support = 2;
 };
 
