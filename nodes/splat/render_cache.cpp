@@ -1,5 +1,6 @@
 #include "nodes/splat/render_cache.hpp"
 
+#include <algorithm>
 #include <limits>
 #include <string>
 
@@ -26,7 +27,7 @@ void visit_tile(const RasterState& s, int t, TileBlend& blend, Visit&& visit) {
 }
 
 // out_row[c] = sum_k w_k attributes[id_k][c]; channels a template constant where it is common, so
-// the channel loop vectorises.
+// the channel loop vectorises and the sums stay in registers.
 template <int kChannels>
 void product_rows(const RenderCache& cache, const float* attributes, int channels, float* out,
                   size_t begin, size_t end) {
@@ -34,13 +35,24 @@ void product_rows(const RenderCache& cache, const float* attributes, int channel
   const auto& off = cache.pixel_offsets();
   const uint32_t* ids = cache.ids().data();
   const float* w = cache.weights().data();
+  constexpr int kLocal = kChannels > 0 ? kChannels : 1;
   for (size_t p = begin; p < end; ++p) {
     float* o = out + p * C;
-    for (int c = 0; c < C; ++c) o[c] = 0.f;
-    for (uint32_t k = off[p]; k < off[p + 1]; ++k) {
-      const float* a = attributes + size_t(ids[k]) * C;
-      const float wk = w[k];
-      for (int c = 0; c < C; ++c) o[c] += wk * a[c];
+    if (kChannels > 0) {
+      float acc[kLocal] = {};
+      for (uint32_t k = off[p]; k < off[p + 1]; ++k) {
+        const float* a = attributes + size_t(ids[k]) * kLocal;
+        const float wk = w[k];
+        for (int c = 0; c < kLocal; ++c) acc[c] += wk * a[c];
+      }
+      std::copy_n(acc, kLocal, o);
+    } else {
+      std::fill_n(o, C, 0.f);
+      for (uint32_t k = off[p]; k < off[p + 1]; ++k) {
+        const float* a = attributes + size_t(ids[k]) * C;
+        const float wk = w[k];
+        for (int c = 0; c < C; ++c) o[c] += wk * a[c];
+      }
     }
   }
 }
@@ -134,17 +146,43 @@ std::vector<float> RenderCache::render(const std::vector<float>& attributes, int
 }
 
 void RenderCache::backward(const float* grad_out, int channels, float* grad_attributes) const {
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, gaussian_count(), 256),
-                    [&](const tbb::blocked_range<size_t>& r) {
-                      for (size_t g = r.begin(); g != r.end(); ++g) {
-                        float* d = grad_attributes + g * channels;
-                        for (uint32_t k = gaussian_offsets_[g]; k < gaussian_offsets_[g + 1]; ++k) {
-                          const float* go = grad_out + size_t(pixels_[k]) * channels;
-                          const float w = pixel_weights_[k];
-                          for (int c = 0; c < channels; ++c) d[c] += w * go[c];
-                        }
-                      }
-                    });
+  tbb::parallel_for(
+      tbb::blocked_range<size_t>(0, gaussian_count(), 256),
+      [&](const tbb::blocked_range<size_t>& r) {
+        switch (channels) {
+          case 16:
+            return transposed_rows<16>(grad_out, channels, grad_attributes, r.begin(), r.end());
+          case 32:
+            return transposed_rows<32>(grad_out, channels, grad_attributes, r.begin(), r.end());
+          default:
+            return transposed_rows<0>(grad_out, channels, grad_attributes, r.begin(), r.end());
+        }
+      });
+}
+
+template <int kChannels>
+void RenderCache::transposed_rows(const float* grad_out, int channels, float* grad_attributes,
+                                  size_t begin, size_t end) const {
+  const int C = kChannels > 0 ? kChannels : channels;
+  constexpr int kLocal = kChannels > 0 ? kChannels : 1;
+  for (size_t g = begin; g != end; ++g) {
+    float* d = grad_attributes + g * C;
+    if (kChannels > 0) {
+      float acc[kLocal] = {};
+      for (uint32_t k = gaussian_offsets_[g]; k < gaussian_offsets_[g + 1]; ++k) {
+        const float* go = grad_out + size_t(pixels_[k]) * kLocal;
+        const float w = pixel_weights_[k];
+        for (int c = 0; c < kLocal; ++c) acc[c] += w * go[c];
+      }
+      for (int c = 0; c < kLocal; ++c) d[c] += acc[c];
+    } else {
+      for (uint32_t k = gaussian_offsets_[g]; k < gaussian_offsets_[g + 1]; ++k) {
+        const float* go = grad_out + size_t(pixels_[k]) * C;
+        const float w = pixel_weights_[k];
+        for (int c = 0; c < C; ++c) d[c] += w * go[c];
+      }
+    }
+  }
 }
 
 }  // namespace gslift

@@ -41,6 +41,11 @@ class RenderCache {
   const std::vector<float>& weights() const { return weights_; }
 
  private:
+  // backward() for Gaussians [begin, end); kChannels > 0 fixes the channel count at compile time.
+  template <int kChannels>
+  void transposed_rows(const float* grad_out, int channels, float* grad_attributes, size_t begin,
+                       size_t end) const;
+
   int width_ = 0, height_ = 0;
   std::vector<uint32_t> pixel_offsets_;  // H x W + 1
   std::vector<uint32_t> ids_;

@@ -148,6 +148,23 @@ TEST_CASE("raster: gradients of each channel match central differences", "[splat
   SECTION("features") {
     check_gradients(scene, only(false, false, false, false, true), 7);
   }
+  SECTION("Gaussians beyond the Jacobian's frustum clamp (x/z, y/z > 1.3 tan(fov/2))") {
+    // Two wide Gaussians centred outside the image whose footprints still reach into it: the
+    // Jacobian uses the clamped x/z or y/z, whose derivative differs from the unclamped one.
+    test::RasterScene clamped = scene;
+    const double z = 3.0;
+    for (int i = 0; i < 2; ++i) {
+      const Eigen::Vector3d cam =
+          i == 0 ? Eigen::Vector3d(0.95 * z, 0.1, z) : Eigen::Vector3d(-0.2, -0.8 * z, z);
+      const Eigen::Vector3d world = clamped.pose.R.transpose() * (cam - clamped.pose.t);
+      for (int k = 0; k < 3; ++k) {
+        clamped.model.means[3 * i + k] = float(world[k]);
+        clamped.model.log_scales[3 * i + k] = std::log(k == 2 ? 0.3f : 0.9f);
+      }
+    }
+    RenderSettings s = only(true, true, true, true, true);
+    check_gradients(clamped, s, 9);
+  }
   SECTION("all channels in one pass") {
     RenderSettings s = only(true, true, true, true, true);
     s.normalize_depth = true;
