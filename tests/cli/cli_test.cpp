@@ -111,3 +111,15 @@ TEST_CASE("the demo graph runs on a real capture and records it", "[cli]") {
   CHECK(text.find("\"status\": \"ok\"") != std::string::npos);
   CHECK(text.find("\"type\": \"ingest.capture\"") != std::string::npos);
 }
+
+TEST_CASE("the demo graph runs with no data: the embedded operating room", "[cli]") {
+  const fs::path out = test::scratch_dir("cli_demo_embedded");
+  const auto r = run_command(kBinary + " run '" + GSLIFT_SOURCE_DIR + "/graphs/demo.yaml' --out '" +
+                             out.string() + "' --log-level warn");
+  INFO(r.output);
+  REQUIRE(r.code == exit_code::kOk);
+  std::ifstream in(out / "run.json");
+  const std::string text((std::istreambuf_iterator<char>(in)), {});
+  CHECK(text.find("\"input\": \"embedded:or\"") != std::string::npos);
+  CHECK(text.find("\"status\": \"ok\"") != std::string::npos);
+}
