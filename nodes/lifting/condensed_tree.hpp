@@ -38,7 +38,9 @@ struct FlatClusteringOptions {
   // born above it; 0 disables. Distances are in the metric's units.
   double cluster_selection_epsilon = 0.0;
   // Whether the root (all points) may be the one selected cluster; false gives >= 2 clusters or
-  // none.
+  // none. When the root is selected, only the points that stay until its densest level (lambda
+  // >= the largest lambda of its own rows, or >= 1 / epsilon when epsilon is set) are labelled,
+  // as in Python hdbscan (and scikit-learn); the others are noise.
   bool allow_single_cluster = false;
   // Campello et al.'s reference code: a point joins its cluster only if it left it after the
   // cluster was born (strictly larger lambda); the min_samples / min_cluster_size shifts of that

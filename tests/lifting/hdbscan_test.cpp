@@ -199,3 +199,22 @@ TEST_CASE("HDBSCAN results do not depend on the thread count (parallel paths exe
   CHECK(serial.labels == parallel.labels);
   CHECK(serial.probabilities == parallel.probabilities);
 }
+
+TEST_CASE("HDBSCAN allow_single_cluster: the root may be the one cluster") {
+  // min_samples 1: core distances 1, 1, 1, 1, 1.5, 45.5. Nothing ever splits into two groups of
+  // >= 3 points, so the only cluster is the root: none by default; with allow_single_cluster the
+  // root, holding (as Python hdbscan does) the points that stay until its densest level (lambda
+  // 1): 0..3, while 4.5 (leaves at lambda 2/3) and 50 (1/45.5) are noise.
+  const PointMatrix p = line({0, 1, 2, 3, 4.5, 50});
+  HdbscanParams params;
+  params.min_cluster_size = 3;
+  params.min_samples = 1;
+  const HdbscanResult none = hdbscan(p, params);
+  CHECK(none.clusters == 0);
+  CHECK(none.labels == std::vector<int>(6, -1));
+  params.allow_single_cluster = true;
+  const HdbscanResult single = hdbscan(p, params);
+  CHECK(single.clusters == 1);
+  CHECK(single.labels == std::vector<int>{0, 0, 0, 0, -1, -1});
+  CHECK(single.probabilities[0] == 1.0);
+}
