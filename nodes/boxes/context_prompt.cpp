@@ -30,11 +30,14 @@ EntityContext parse_entity(const std::string& source, const YAML::Node& entry,
                            std::set<std::string>& names) {
   if (!entry.IsMap()) throw InputError(where(source, entry) + ": a class must be a mapping");
   static const std::set<std::string> known{"name", "kind", "spatial", "behaviour", "appearance"};
+  std::set<std::string> seen;  // yaml-cpp keeps the last of duplicate keys silently
   for (const auto& kv : entry) {
     const std::string key = kv.first.as<std::string>();
     if (!known.count(key))
       throw InputError(where(source, kv.first) + ": unknown key '" + key +
                        "' (name, kind, spatial, behaviour, appearance)");
+    if (!seen.insert(key).second)
+      throw InputError(where(source, kv.first) + ": key '" + key + "' appears twice");
   }
   EntityContext e;
   e.name = text_field(source, entry, "name", "a class");

@@ -59,6 +59,10 @@ TEST_CASE("vocabulary errors name the file, line and what is missing") {
                                      "appearance: a}\n",
                                      "v.yaml"),
                     Catch::Contains("v.yaml:3:") && Catch::Contains("defined twice"));
+  CHECK_THROWS_WITH(parse_vocabulary("classes:\n  - name: a\n    kind: object\n    spatial: s\n"
+                                     "    spatial: t\n    appearance: a\n",
+                                     "v.yaml"),
+                    Catch::Contains("v.yaml:5:") && Catch::Contains("'spatial' appears twice"));
   CHECK_THROWS_AS(parse_vocabulary("nothing: here\n", "v.yaml"), InputError);
   CHECK_THROWS_AS(parse_vocabulary("classes: [\n", "v.yaml"), InputError);
   CHECK_THROWS_WITH(load_vocabulary("/nonexistent/or.yaml"),
