@@ -97,7 +97,8 @@ GaussianModel gaussians_from_points(const ColouredPoints& points, double voxel,
     double mean_d2 = 0;
     for (int k = 1; k < found; ++k) mean_d2 += dist2[k];
     mean_d2 = found > 1 ? mean_d2 / (found - 1) : 0;
-    const float log_scale = static_cast<float>(0.5 * std::log(std::max(mean_d2, 1e-7)));
+    const float log_scale = static_cast<float>(0.5 * std::log(std::max(mean_d2, 1e-7)) +
+                                               std::log(options.scale_factor));
     for (int k = 0; k < 3; ++k) {
       model.means[i * 3 + k] = static_cast<float>(p[k]);
       model.log_scales[i * 3 + k] = log_scale;

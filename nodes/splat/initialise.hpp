@@ -35,6 +35,11 @@ struct InitialiseOptions {
   double footprint_factor = 4.0;
   // Used for sparse points only (no footprint there): voxel edge in metres, 0 = no downsampling.
   double points_voxel = 0.0;
+  // Initial scale = scale_factor x the RMS distance to the 3 nearest neighbours (3DGS: 1).
+  // [decision] 0.5: at 1, every pixel of the embedded OR blends ~150 Gaussians at opacity 0.1
+  // (the rasterizer's cost); at 0.5 about a quarter as many, and the splats still overlap (their
+  // 3-sigma radius is 1.5 neighbour spacings). Optimisation grows them where needed.
+  double scale_factor = 0.5;
   float opacity = 0.1f;  // initial opacity (3DGS)
   int sh_degree = 0;
   int feature_dim = 0;
@@ -50,8 +55,9 @@ ColouredPoints backproject_depth(const Capture& capture, const std::vector<int>&
 ColouredPoints sparse_points(const Capture& capture);
 
 // Gaussians at the voxel-downsampled points: colour as SH DC ((rgb - 0.5) / C0), identity
-// rotation, isotropic scale = sqrt of the mean squared distance to the 3 nearest neighbours
-// (3DGS's distCUDA2, floored at 1e-7), opacity options.opacity. voxel <= 0 keeps every point.
+// rotation, isotropic scale = options.scale_factor x sqrt of the mean squared distance to the 3
+// nearest neighbours (3DGS's distCUDA2, floored at 1e-7), opacity options.opacity. voxel <= 0 keeps
+// every point.
 GaussianModel gaussians_from_points(const ColouredPoints& points, double voxel,
                                     const InitialiseOptions& options);
 

@@ -39,6 +39,7 @@ TEST_CASE("depth initialisation voxelises a plane at the pixel footprint") {
   // minus half a voxel, so bin(u) = floor(0.5 + 0.04 u / 0.148) (never on a boundary): u = 0..63
   // gives bins 0..17 (18) and v = 0..47 gives 0..13 (14): 252 Gaussians.
   options.footprint_factor = 3.7;
+  options.scale_factor = 1;
   const GaussianModel m = initialise_gaussians(capture, options);
   REQUIRE(m.size() == 252);
   std::vector<float> scales;
@@ -65,9 +66,10 @@ TEST_CASE("points initialisation takes scales from the 3 nearest neighbours") {
   }
   const GaussianModel m = initialise_gaussians(capture, InitialiseOptions{});
   REQUIRE(m.size() == 4);
-  // Each corner of the unit square: neighbours at 1, 1, sqrt(2): sqrt((1 + 1 + 2) / 3).
+  // Each corner of the unit square: neighbours at 1, 1, sqrt(2): sqrt((1 + 1 + 2) / 3), times
+  // the default scale factor 0.5.
   for (size_t i = 0; i < 4; ++i)
-    CHECK(std::exp(m.log_scales[i * 3 + 1]) == Approx(std::sqrt(4.0 / 3)));
+    CHECK(std::exp(m.log_scales[i * 3 + 1]) == Approx(0.5 * std::sqrt(4.0 / 3)));
   CHECK(m.sh[0] == Approx(0.5 / kSH0));
 
   Capture empty = plane_capture();
