@@ -61,9 +61,9 @@ Vec3 albedo_at(const Material& m, const Vec3& p) {
 }  // namespace
 
 Vec3 pixel_ray(const Camera& camera, const Pose& pose, int u, int v) {
-  const Eigen::Vector3d d_cam((u + 0.5 - camera.cx) / camera.fx, (v + 0.5 - camera.cy) / camera.fy,
-                              1.0);
-  return (pose.R.transpose() * d_cam).normalized().cast<float>();
+  const Vec3 d_cam(static_cast<float>((u + 0.5 - camera.cx) / camera.fx),
+                   static_cast<float>((v + 0.5 - camera.cy) / camera.fy), 1.f);
+  return (pose.R.transpose().cast<float>() * d_cam).normalized();
 }
 
 RenderedView render_view(const OrScene& scene, const Bvh& bvh, const Camera& camera,
@@ -78,16 +78,12 @@ RenderedView render_view(const OrScene& scene, const Bvh& bvh, const Camera& cam
   out.part = cv::Mat(h, w, CV_32SC1, cv::Scalar(0));
   const Vec3 origin = pose.centre().cast<float>();
   const Vec3 forward = pose.R.row(2).transpose().cast<float>();
-  const Eigen::Matrix3f cam_to_world = pose.R.transpose().cast<float>();
-  const float fx = static_cast<float>(camera.fx), fy = static_cast<float>(camera.fy);
-  const float cx = static_cast<float>(camera.cx), cy = static_cast<float>(camera.cy);
   constexpr float kFar = 100.f, kEpsilon = 1e-4f;
 
   tbb::parallel_for(tbb::blocked_range<int>(0, h), [&](const tbb::blocked_range<int>& rows) {
     for (int v = rows.begin(); v < rows.end(); ++v) {
       for (int u = 0; u < w; ++u) {
-        const Vec3 dir =
-            (cam_to_world * Vec3((u + 0.5f - cx) / fx, (v + 0.5f - cy) / fy, 1.f)).normalized();
+        const Vec3 dir = pixel_ray(camera, pose, u, v);
         const RayHit rh = bvh.closest(origin, dir, kEpsilon, kFar);
         if (rh.primitive < 0) continue;
         const Primitive& prim = scene.primitives[rh.primitive];
