@@ -14,13 +14,20 @@
 namespace gslift {
 namespace {
 
-// Squared norms summed in two interleaved lanes, (x0^2 + x2^2 + ...) + (x1^2 + x3^2 + ...), the
-// order of NumPy's SSE2 einsum that scikit-learn's row_norms uses.
+// Squared norms in the order of NumPy's SSE2 einsum, which scikit-learn's row_norms uses: two
+// lanes (even and odd coordinates); blocks of 8 coordinates are accumulated last pair first, the
+// rest pair by pair; the result is lane 0 + lane 1.
 std::vector<double> squared_norms(const PointMatrix& points) {
+  const int64_t d = points.cols();
   std::vector<double> norms(points.rows());
   for (int64_t i = 0; i < points.rows(); ++i) {
+    const double* x = points.row(i).data();
     double lane[2] = {0, 0};
-    for (int64_t k = 0; k < points.cols(); ++k) lane[k % 2] += points(i, k) * points(i, k);
+    int64_t k = 0;
+    for (; k + 8 <= d; k += 8)
+      for (int pair = 3; pair >= 0; --pair)
+        for (int l = 0; l < 2; ++l) lane[l] += x[k + 2 * pair + l] * x[k + 2 * pair + l];
+    for (; k < d; ++k) lane[k % 2] += x[k] * x[k];
     norms[i] = lane[0] + lane[1];
   }
   return norms;
