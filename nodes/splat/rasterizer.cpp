@@ -414,6 +414,94 @@ class PixelGrads {
 // Per (Gaussian, tile) slot: dL/d mean2d (2), conic (3), opacity (1), then the channel values.
 constexpr int kSlotGeometry = 6;
 
+// Per-worker buffers of backward_tile.
+struct BackwardScratch {
+  explicit BackwardScratch(int channels)
+      : d(channels),
+        g(size_t(kTileSize) * kTileSize * channels),
+        S(size_t(kTileSize) * kTileSize * channels) {}
+  std::vector<float> values, d, g, S;
+};
+
+// Backward pass of tile t, back to front (3DGS backward), Gaussian by Gaussian in reverse depth
+// order over each one's pixels: every pixel still sees its contributions back to front. Each list
+// entry's gradient goes to its own slot, so no two tiles write the same memory. kChannels > 0
+// fixes the channel count at compile time.
+template <int kChannels>
+void backward_tile(const RasterState& s, int t, const PixelGrads& pixel_grads, float* slot_grads,
+                   BackwardScratch& scratch) {
+  const int C = kChannels > 0 ? kChannels : s.channels;
+  const int stride = kSlotGeometry + C;
+  constexpr int kPixels = kTileSize * kTileSize;
+  std::vector<float>& values = scratch.values;
+  float* d = scratch.d.data();
+  float* g = scratch.g.data();
+  float* S = scratch.S.data();
+  float T[kPixels];
+  uint32_t last[kPixels];
+  const TileGaussian* list = s.tile_gaussians.data() + s.tile_offsets[t];
+  const uint32_t count = s.tile_offsets[t + 1] - s.tile_offsets[t];
+  if (count == 0) return;
+  gather_values(s, list, count, values);
+  const PixelRect tile = tile_pixels(s, t);
+  for (int y = tile.y0; y < tile.y1; ++y)
+    for (int x = tile.x0; x < tile.x1; ++x) {
+      const int p = (y - tile.y0) * kTileSize + (x - tile.x0);
+      const size_t pix = size_t(y) * s.width + x;
+      last[p] = s.contributors[pix];
+      if (last[p] > 0 && !pixel_grads.at(pix, &g[size_t(p) * C])) last[p] = 0;
+      T[p] = s.final_transmittance[pix];
+      // S: what the entries behind the current one (and the background) add to each
+      // channel.
+      for (int c = 0; c < C; ++c) S[size_t(p) * C + c] = s.background[c] * T[p];
+    }
+  for (uint32_t j = count; j-- > 0;) {
+    const TileGaussian& e = list[j];
+    const PixelRect rect = clip(e, tile);
+    const float* v = &values[size_t(j) * C];
+    std::fill(d, d + C, 0.f);
+    // dL/d mean2d, conic, opacity of entry j, kept in registers.
+    float d_mx = 0.f, d_my = 0.f, d_A = 0.f, d_B = 0.f, d_C = 0.f, d_o = 0.f;
+    float gaussians[kTileSize], alphas[kTileSize];
+    for (int y = rect.y0; y < rect.y1; ++y) {
+      blend_row(e, y, rect.x0, rect.x1, s.min_alpha, gaussians, alphas);
+      for (int x = rect.x0; x < rect.x1; ++x) {
+        const int p = (y - tile.y0) * kTileSize + (x - tile.x0);
+        const float alpha = alphas[x - rect.x0], gaussian = gaussians[x - rect.x0];
+        if (alpha < 0.f || j >= last[p]) continue;
+        const float px = x + 0.5f, py = y + 0.5f;
+        const float inv_keep = 1.f / (1.f - alpha);
+        T[p] *= inv_keep;  // transmittance in front of entry j
+        const float w = alpha * T[p];
+        const float* gp = &g[size_t(p) * C];
+        float* Sp = &S[size_t(p) * C];
+        // C = sum_i v_i alpha_i T_i + T_N bg: dC/dalpha_j = v_j T_j - S_j / (1 - alpha_j).
+        float d_alpha = 0.f;
+        for (int c = 0; c < C; ++c) {
+          d[c] += w * gp[c];
+          d_alpha += gp[c] * (v[c] * T[p] - Sp[c] * inv_keep);
+          Sp[c] += v[c] * w;
+        }
+        if (e.opacity * gaussian > kMaxAlpha) continue;  // clamped: alpha is constant
+        // alpha = o exp(power), power = -0.5 (A dx^2 + C dy^2) - B dx dy, d = mean2d -
+        // pixel.
+        const float d_power = d_alpha * alpha;
+        const float dx = e.mx - px, dy = e.my - py;
+        d_mx -= d_power * (e.A * dx + e.B * dy);
+        d_my -= d_power * (e.C * dy + e.B * dx);
+        d_A -= 0.5f * d_power * dx * dx;
+        d_B -= d_power * dx * dy;
+        d_C -= 0.5f * d_power * dy * dy;
+        d_o += d_alpha * gaussian;
+      }
+    }
+    float* slot = &slot_grads[size_t(e.slot) * stride];
+    const float geometry[kSlotGeometry] = {d_mx, d_my, d_A, d_B, d_C, d_o};
+    std::copy_n(geometry, kSlotGeometry, slot);
+    std::copy_n(d, C, slot + kSlotGeometry);
+  }
+}
+
 }  // namespace
 
 void render_backward(const GaussianModel& model, const Camera& camera, const Pose& pose,
@@ -435,77 +523,34 @@ void render_backward(const GaussianModel& model, const Camera& camera, const Pos
   const PixelGrads pixel_grads(s, settings, forward, grads);
   const ViewTransform view(camera, pose);
 
-  // Pass 1, per tile, back to front (3DGS backward), Gaussian by Gaussian in reverse depth order
-  // over each one's pixels: every pixel still sees its contributions back to front. Each entry's
-  // gradient goes to its own slot, so no two tiles write the same memory.
+  // Pass 1, per tile, back to front (3DGS backward): see backward_tile.
   const int stride = kSlotGeometry + s.channels;
-  const int C = s.channels;
   std::vector<float> slot_grads(size_t(s.slot_offsets[n]) * stride, 0.f);
-  tbb::parallel_for(
-      tbb::blocked_range<int>(0, s.tile_count()), [&](const tbb::blocked_range<int>& r) {
-        constexpr int kPixels = kTileSize * kTileSize;
-        std::vector<float> values, d(stride), g(size_t(kPixels) * C), S(size_t(kPixels) * C);
-        float T[kPixels];
-        uint32_t last[kPixels];
-        for (int t = r.begin(); t != r.end(); ++t) {
-          const TileGaussian* list = s.tile_gaussians.data() + s.tile_offsets[t];
-          const uint32_t count = s.tile_offsets[t + 1] - s.tile_offsets[t];
-          if (count == 0) continue;
-          gather_values(s, list, count, values);
-          const PixelRect tile = tile_pixels(s, t);
-          for (int y = tile.y0; y < tile.y1; ++y)
-            for (int x = tile.x0; x < tile.x1; ++x) {
-              const int p = (y - tile.y0) * kTileSize + (x - tile.x0);
-              const size_t pix = size_t(y) * s.width + x;
-              last[p] = s.contributors[pix];
-              if (last[p] > 0 && !pixel_grads.at(pix, &g[size_t(p) * C])) last[p] = 0;
-              T[p] = s.final_transmittance[pix];
-              // S: what the entries behind the current one (and the background) add to each
-              // channel.
-              for (int c = 0; c < C; ++c) S[size_t(p) * C + c] = s.background[c] * T[p];
-            }
-          for (uint32_t j = count; j-- > 0;) {
-            const TileGaussian& e = list[j];
-            const PixelRect rect = clip(e, tile);
-            const float* v = &values[size_t(j) * C];
-            std::fill(d.begin(), d.end(), 0.f);
-            float gaussians[kTileSize], alphas[kTileSize];
-            for (int y = rect.y0; y < rect.y1; ++y) {
-              blend_row(e, y, rect.x0, rect.x1, s.min_alpha, gaussians, alphas);
-              for (int x = rect.x0; x < rect.x1; ++x) {
-                const int p = (y - tile.y0) * kTileSize + (x - tile.x0);
-                const float alpha = alphas[x - rect.x0], gaussian = gaussians[x - rect.x0];
-                if (alpha < 0.f || j >= last[p]) continue;
-                const float px = x + 0.5f, py = y + 0.5f;
-                const float inv_keep = 1.f / (1.f - alpha);
-                T[p] *= inv_keep;  // transmittance in front of entry j
-                const float w = alpha * T[p];
-                const float* gp = &g[size_t(p) * C];
-                float* Sp = &S[size_t(p) * C];
-                // C = sum_i v_i alpha_i T_i + T_N bg: dC/dalpha_j = v_j T_j - S_j / (1 - alpha_j).
-                float d_alpha = 0.f;
-                for (int c = 0; c < C; ++c) {
-                  d[kSlotGeometry + c] += w * gp[c];
-                  d_alpha += gp[c] * (v[c] * T[p] - Sp[c] * inv_keep);
-                  Sp[c] += v[c] * w;
-                }
-                if (e.opacity * gaussian > kMaxAlpha) continue;  // clamped: alpha is constant
-                // alpha = o exp(power), power = -0.5 (A dx^2 + C dy^2) - B dx dy, d = mean2d -
-                // pixel.
-                const float d_power = d_alpha * alpha;
-                const float dx = e.mx - px, dy = e.my - py;
-                d[0] -= d_power * (e.A * dx + e.B * dy);
-                d[1] -= d_power * (e.C * dy + e.B * dx);
-                d[2] -= 0.5f * d_power * dx * dx;
-                d[3] -= d_power * dx * dy;
-                d[4] -= 0.5f * d_power * dy * dy;
-                d[5] += d_alpha * gaussian;
-              }
-            }
-            std::copy(d.begin(), d.end(), &slot_grads[size_t(e.slot) * stride]);
-          }
-        }
-      });
+  tbb::parallel_for(tbb::blocked_range<int>(0, s.tile_count()),
+                    [&](const tbb::blocked_range<int>& r) {
+                      BackwardScratch scratch(s.channels);
+                      for (int t = r.begin(); t != r.end(); ++t) {
+                        // The common channel counts get loops of fixed length (rgb; rgb + depth +
+                        // normal (+ alpha); 16 features).
+                        switch (s.channels) {
+                          case 3:
+                            backward_tile<3>(s, t, pixel_grads, slot_grads.data(), scratch);
+                            break;
+                          case 7:
+                            backward_tile<7>(s, t, pixel_grads, slot_grads.data(), scratch);
+                            break;
+                          case 8:
+                            backward_tile<8>(s, t, pixel_grads, slot_grads.data(), scratch);
+                            break;
+                          case 16:
+                            backward_tile<16>(s, t, pixel_grads, slot_grads.data(), scratch);
+                            break;
+                          default:
+                            backward_tile<0>(s, t, pixel_grads, slot_grads.data(), scratch);
+                            break;
+                        }
+                      }
+                    });
 
   // Pass 2, per Gaussian: sum its slots in tile order, then chain through colour and projection.
   tbb::parallel_for(
