@@ -159,3 +159,41 @@ TEST_CASE("every class appears in the scene and every view sees the table") {
     }
   }
 }
+
+namespace {
+
+// Mean centre of an instance's primitives, in the floor plane.
+Eigen::Vector2f floor_position(const OrScene& scene, int class_id) {
+  Eigen::Vector2f sum = Eigen::Vector2f::Zero();
+  int n = 0;
+  for (const Primitive& p : scene.primitives) {
+    if (p.semantic != class_id) continue;
+    sum += p.centre.head<2>();
+    ++n;
+  }
+  return sum / std::max(n, 1);
+}
+
+}  // namespace
+
+TEST_CASE("the phase moves the surgeons and the C-arm; the seed changes the layout") {
+  for (uint64_t seed = 0; seed < 6; ++seed) {
+    const OrScene prep = small_scene(seed, OrPhase::Preparation);
+    const OrScene surgery = small_scene(seed, OrPhase::Surgery);
+    const Eigen::Vector2f table = surgery.look_at.head<2>();
+    for (int role : {kHeadSurgeon, kAssistantSurgeon}) {
+      // Standing at the table while operating, a step back while preparing.
+      const float d_surgery = (floor_position(surgery, role) - table).norm();
+      const float d_prep = (floor_position(prep, role) - table).norm();
+      CHECK(d_surgery < 1.0f);
+      CHECK(d_prep > d_surgery + 0.2f);
+    }
+    CHECK((floor_position(surgery, kCArm) - table).norm() <
+          (floor_position(prep, kCArm) - table).norm());
+    // The anaesthetist works at the head end (+x) of the table, next to the machine.
+    CHECK(floor_position(surgery, kAnaesthetist).x() > table.x() + 1.0f);
+    const OrScene other = small_scene(seed + 100, OrPhase::Surgery);
+    CHECK((floor_position(other, kHeadSurgeon) - floor_position(surgery, kHeadSurgeon)).norm() >
+          1e-3f);
+  }
+}
