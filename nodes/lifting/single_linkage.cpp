@@ -44,7 +44,10 @@ class Distance {
   explicit Distance(const PointMatrix& points) : points_(points), norms_(squared_norms(points)) {}
 
   // Row a, column b of the (slightly asymmetric) distance matrix.
-  double operator()(int64_t a, int64_t b) const {
+  double operator()(int64_t a, int64_t b) const { return std::sqrt(squared(a, b)); }
+
+  // Its square, before the square root (monotone, so order statistics can skip the root).
+  double squared(int64_t a, int64_t b) const {
     if (a == b) return 0.0;
     const double* pa = points_.row(a).data();
     const double* pb = points_.row(b).data();
@@ -53,7 +56,7 @@ class Distance {
     double squared = -2 * dot;
     squared += norms_[a];
     squared += norms_[b];
-    return std::sqrt(std::max(squared, 0.0));
+    return std::max(squared, 0.0);
   }
 
  private:
@@ -82,16 +85,28 @@ std::vector<double> core_distances(const PointMatrix& points, int k) {
   if (k < 1 || k >= n) throw std::invalid_argument("core_distances: k must be in [1, n - 1]");
   std::vector<double> core(n);
   const Distance distance(points);
-  tbb::parallel_for(tbb::blocked_range<int64_t>(0, n, 64),
-                    [&](const tbb::blocked_range<int64_t>& r) {
-                      std::vector<double> row(n);
-                      for (int64_t i = r.begin(); i != r.end(); ++i) {
-                        // Column i of the distance matrix, as np.partition(D, k, axis=0) reads it.
-                        for (int64_t j = 0; j < n; ++j) row[j] = distance(j, i);
-                        std::nth_element(row.begin(), row.begin() + k, row.end());
-                        core[i] = row[k];
-                      }
-                    });
+  tbb::parallel_for(
+      tbb::blocked_range<int64_t>(0, n, 64), [&](const tbb::blocked_range<int64_t>& r) {
+        // The k + 1 smallest squared entries of column i (column i of the distance matrix is what
+        // np.partition(D, k, axis=0) reads), kept sorted; most entries fail the first comparison,
+        // which makes this several times faster than nth_element over the whole column. The square
+        // root is monotone, so the root of the k-th smallest square is the k-th smallest distance.
+        std::vector<double> smallest(k + 1);
+        for (int64_t i = r.begin(); i != r.end(); ++i) {
+          std::fill(smallest.begin(), smallest.end(), std::numeric_limits<double>::infinity());
+          for (int64_t j = 0; j < n; ++j) {
+            const double d = distance.squared(j, i);
+            if (!(d < smallest[k])) continue;
+            int pos = k;
+            while (pos > 0 && smallest[pos - 1] > d) {
+              smallest[pos] = smallest[pos - 1];
+              --pos;
+            }
+            smallest[pos] = d;
+          }
+          core[i] = std::sqrt(smallest[k]);
+        }
+      });
   return core;
 }
 
