@@ -276,7 +276,7 @@ void print_command_help(const Command& c) {
   std::printf("%s\n%s", c.help, kExitCodes);
 }
 
-void print_global_help() {
+void print_global_help(const std::vector<ExtraCommand>& extra) {
   std::printf(
       "gslift %s: posed views of a room -> 3D Gaussian Splatting scene, segmented and "
       "queryable.\n\n"
@@ -284,6 +284,7 @@ void print_global_help() {
       "commands:\n",
       gslift_version());
   for (const auto& c : commands()) std::printf("  %-10s %s\n", c.name, c.summary);
+  for (const auto& c : extra) std::printf("  %-10s %s\n", c.name.c_str(), c.summary.c_str());
   std::printf(
       "\nglobal options:\n  -h, --help     this help\n  --version      print the version\n\n%s",
       kExitCodes);
@@ -402,14 +403,15 @@ int cmd_batch(int argc, char** argv, const Registry& registry) {
   return summary.count(CaptureStatus::Failed) ? exit_code::kBatchPartial : exit_code::kOk;
 }
 
-int dispatch(int argc, char** argv, const Registry& registry) {
+int dispatch(int argc, char** argv, const Registry& registry,
+             const std::vector<ExtraCommand>& extra) {
   if (argc < 2) {
-    print_global_help();
+    print_global_help(extra);
     return exit_code::kUsage;
   }
   const std::string first = argv[1];
   if (first == "--help" || first == "-h" || first == "help") {
-    print_global_help();
+    print_global_help(extra);
     return exit_code::kOk;
   }
   if (first == "--version") {
@@ -418,17 +420,21 @@ int dispatch(int argc, char** argv, const Registry& registry) {
   }
   for (const auto& c : commands())
     if (first == c.name) return c.fn(argc, argv, registry);
+  for (const auto& c : extra)
+    if (first == c.name) return c.run(argc - 1, argv + 1);
   std::vector<std::string> names;
   for (const auto& c : commands()) names.push_back(c.name);
+  for (const auto& c : extra) names.push_back(c.name);
   const std::string hint = suggest(first, names, true);
   throw UsageError("unknown command '" + first + "' (" + hint + ")");
 }
 
 }  // namespace
 
-int cli_main(int argc, char** argv, const Registry& registry) {
+int cli_main(int argc, char** argv, const Registry& registry,
+             const std::vector<ExtraCommand>& extra) {
   try {
-    return dispatch(argc, argv, registry);
+    return dispatch(argc, argv, registry, extra);
   } catch (const UsageError& e) {
     std::fprintf(stderr, "gslift: %s\nsee 'gslift --help'\n", e.what());
     return exit_code::kUsage;

@@ -1,8 +1,11 @@
 #include "nodes/builtin.hpp"
+#include "nodes/synth/synth_command.hpp"
 #include "runtime/cli.hpp"
 
 int main(int argc, char** argv) {
   gslift::Registry registry;
   gslift::register_builtin_nodes(registry);
-  return gslift::cli_main(argc, argv, registry);
+  const std::vector<gslift::ExtraCommand> extra = {
+      {"synth", "write an embedded operating-room capture to a folder", gslift::synth_main}};
+  return gslift::cli_main(argc, argv, registry, extra);
 }
