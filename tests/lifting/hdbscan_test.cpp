@@ -218,3 +218,17 @@ TEST_CASE("HDBSCAN allow_single_cluster: the root may be the one cluster") {
   CHECK(single.labels == std::vector<int>{0, 0, 0, 0, -1, -1});
   CHECK(single.probabilities[0] == 1.0);
 }
+
+TEST_CASE("HDBSCAN excess of mass with cluster_selection_epsilon merges young clusters upwards") {
+  // A = {0, 0.1} and B = {0.3, 0.4} split at distance 0.2 (lambda 5) from AB, born at 4.6
+  // (lambda 0.217): stability(AB) = 4 (5 - 0.217) = 19.1 < stability(A) + stability(B) =
+  // 2 * 2 (10 - 5) = 20, so excess of mass keeps A and B. With epsilon 0.25, A and B (born at
+  // distance 0.2 < 0.25) are replaced by their ancestor AB (born at 4.6 > 0.25).
+  const PointMatrix p = line({0, 0.1, 0.3, 0.4, 5, 5.1});
+  HdbscanParams params;
+  params.min_cluster_size = 2;
+  params.min_samples = 1;
+  CHECK(same_partition(hdbscan(p, params).labels, {0, 0, 1, 1, 2, 2}));
+  params.cluster_selection_epsilon = 0.25;
+  CHECK(same_partition(hdbscan(p, params).labels, {0, 0, 0, 0, 1, 1}));
+}
