@@ -16,6 +16,7 @@
 
 #include "nodes/lifting/hdbscan.hpp"
 #include "nodes/scene/masks.hpp"
+#include "runtime/value.hpp"
 
 namespace gslift {
 
@@ -61,6 +62,8 @@ struct LiftedInstances {
   // Eq. 5: one row per instance, the mean feature of its members (noise excluded).
   Eigen::MatrixXf prototypes;
 };
+
+GSLIFT_PORT_TYPE(LiftedInstances, "LiftedInstances");
 
 // views[i] goes with masks.views[i]. Throws std::invalid_argument when the counts differ, a mask
 // does not match its feature map's size, or there are no mask pixels at all.
