@@ -477,10 +477,20 @@ void backward_tile(const RasterState& s, int t, const PixelGrads& pixel_grads, f
         float* Sp = &S[size_t(p) * C];
         // C = sum_i v_i alpha_i T_i + T_N bg: dC/dalpha_j = v_j T_j - S_j / (1 - alpha_j).
         float d_alpha = 0.f;
-        for (int c = 0; c < C; ++c) {
-          d[c] += w * gp[c];
-          d_alpha += gp[c] * (v[c] * T[p] - Sp[c] * inv_keep);
-          Sp[c] += v[c] * w;
+        if constexpr (kChannels > 0) {
+          // Fixed-size Eigen packets vectorise along the channels.
+          using Vector = Eigen::Matrix<float, kChannels, 1>;
+          const Eigen::Map<const Vector> gv(gp), vv(v);
+          Eigen::Map<Vector> Sv(Sp), dv(d);
+          dv.noalias() += w * gv;
+          d_alpha = gv.dot(vv * T[p] - Sv * inv_keep);
+          Sv.noalias() += w * vv;
+        } else {
+          for (int c = 0; c < C; ++c) {
+            d[c] += w * gp[c];
+            d_alpha += gp[c] * (v[c] * T[p] - Sp[c] * inv_keep);
+            Sp[c] += v[c] * w;
+          }
         }
         if (e.opacity * gaussian > kMaxAlpha) continue;  // clamped: alpha is constant
         // alpha = o exp(power), power = -0.5 (A dx^2 + C dy^2) - B dx dy, d = mean2d -
