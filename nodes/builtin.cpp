@@ -1,10 +1,13 @@
 #include "nodes/builtin.hpp"
 
 #include "nodes/boxes/register.hpp"
+#include "nodes/eval/register.hpp"
+#include "nodes/inference/register.hpp"
 #include "nodes/ingest/register.hpp"
 #include "nodes/lifting/register.hpp"
 #include "nodes/splat/register.hpp"
 #include "nodes/synth/register.hpp"
+#include "nodes/text/register.hpp"
 
 namespace gslift {
 
@@ -14,6 +17,9 @@ void register_builtin_nodes(Registry& registry) {
   register_splat_nodes(registry);
   register_boxes_nodes(registry);
   register_lifting_nodes(registry);
+  register_text_nodes(registry);
+  register_inference_nodes(registry);
+  register_eval_nodes(registry);
 }
 
 }  // namespace gslift

@@ -1,0 +1,108 @@
+#include "nodes/eval/langor_eval.hpp"
+
+#include <algorithm>
+#include <cstdio>
+#include <sstream>
+
+#include "runtime/node.hpp"
+
+namespace gslift {
+namespace {
+
+std::string fixed2(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof(buf), "%.2f", v);  // locale-independent for the "C" locale we run in
+  return buf;
+}
+
+struct Row {
+  std::string name;
+  std::string queries;
+  double iou, loc, loc_box, acc;
+};
+
+std::vector<Row> table_rows(const LangorSummary& s) {
+  std::vector<Row> rows;
+  double loc = 0, loc_box = 0;
+  for (const auto& c : s.classes) {
+    rows.push_back({c.label, std::to_string(c.queries), c.iou, c.loc_acc, c.loc_acc_box, c.acc});
+    loc += c.loc_acc;
+    loc_box += c.loc_acc_box;
+  }
+  const double k = s.classes.empty() ? 1.0 : static_cast<double>(s.classes.size());
+  rows.push_back({"mean over classes", std::to_string(s.classes.size()), s.miou_class, loc / k,
+                  loc_box / k, s.macc});
+  rows.push_back(
+      {"mean over queries", std::to_string(s.queries), s.miou, s.mlocacc, s.mlocacc_box, s.macc});
+  return rows;
+}
+
+}  // namespace
+
+std::vector<QueryScore> score_langor(const TextQueryResults& predictions, const Capture& capture,
+                                     const LangorEvalOptions& options) {
+  std::vector<QueryScore> scores;
+  int evaluated_views = 0;
+  for (int vi : capture.test_views()) {
+    const View& view = capture.views[vi];
+    if (!view.gt_semantic.present()) continue;
+    const cv::Mat semantic = view.gt_semantic.load();
+    ++evaluated_views;
+    const auto answers = std::find_if(predictions.views.begin(), predictions.views.end(),
+                                      [&](const auto& a) { return a.view == view.name; });
+    for (const auto& [class_id, name] : capture.classes) {
+      if (class_id == 0) continue;
+      cv::Mat1b gt;
+      cv::compare(semantic, class_id, gt, cv::CMP_EQ);
+      if (cv::countNonZero(gt) < options.min_gt_pixels) continue;
+      if (answers == predictions.views.end())
+        throw InputError("eval.langor: no predictions for the held-out view '" + view.name +
+                         "' (run the text query with views: test or all)");
+      const auto q = std::find(predictions.queries.begin(), predictions.queries.end(), name);
+      if (q == predictions.queries.end())
+        throw InputError("eval.langor: no query '" + name +
+                         "' among the predictions (the query "
+                         "set must be the capture's class names)");
+      const size_t qi = static_cast<size_t>(q - predictions.queries.begin());
+      const cv::Mat1b& pred = answers->masks[qi];
+      const cv::Mat1f& rel = answers->relevancy[qi];
+      if (pred.size() != gt.size() || rel.size() != gt.size())
+        throw InputError("eval.langor: predictions for view '" + view.name + "' are " +
+                         std::to_string(pred.cols) + "x" + std::to_string(pred.rows) +
+                         " but its ground truth is " + std::to_string(gt.cols) + "x" +
+                         std::to_string(gt.rows));
+      QueryScore s;
+      s.view = view.name;
+      s.label = name;
+      s.counts = compare_masks(pred, gt);
+      s.localised = localised_in_mask(rel, gt);
+      s.localised_box = localised_in_box(rel, gt, options.loc_box);
+      scores.push_back(std::move(s));
+    }
+  }
+  if (evaluated_views == 0)
+    throw InputError("eval.langor: the capture '" + capture.name +
+                     "' has no held-out view with a ground-truth semantic map");
+  return scores;
+}
+
+std::string langor_table_csv(const LangorSummary& s) {
+  std::ostringstream out;
+  out << "class,queries,iou,loc_acc,loc_acc_box,acc\n";
+  for (const Row& r : table_rows(s))
+    out << '"' << r.name << "\"," << r.queries << ',' << fixed2(r.iou) << ',' << fixed2(r.loc)
+        << ',' << fixed2(r.loc_box) << ',' << fixed2(r.acc) << '\n';
+  return out.str();
+}
+
+std::string langor_table_markdown(const LangorSummary& s) {
+  std::ostringstream out;
+  out << "| class | queries | IoU | LocAcc | LocAcc (box) | Acc "
+         "|\n|---|---:|---:|---:|---:|---:|\n";
+  for (const Row& r : table_rows(s))
+    out << "| " << r.name << " | " << r.queries << " | " << fixed2(r.iou) << " | " << fixed2(r.loc)
+        << " | " << fixed2(r.loc_box) << " | " << fixed2(r.acc) << " |\n";
+  return out.str();
+}
+
+}  // namespace gslift

@@ -1,0 +1,31 @@
+// eval.langor's protocol (METHODS §1.4) over a capture with ground truth: for every held-out view
+// and every class present in its semantic map (at least min_gt_pixels pixels [decision]: a sliver
+// at the image border is not an annotated object), the query is the class name; the prediction is
+// the text query's mask and relevancy map for that (view, query).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "nodes/eval/langor_metrics.hpp"
+#include "nodes/inference/text_query.hpp"
+#include "nodes/scene/capture.hpp"
+
+namespace gslift {
+
+struct LangorEvalOptions {
+  int min_gt_pixels = 100;  // a class counts as present in a view from this many pixels on
+  int loc_box = 30;         // LangSplat's box filter width for mLocAcc_box
+};
+
+// Scores every (held-out view, present class). Throws InputError when the capture has no
+// held-out view with ground truth, or when the predictions lack a needed view or class query.
+std::vector<QueryScore> score_langor(const TextQueryResults& predictions, const Capture& capture,
+                                     const LangorEvalOptions& options);
+
+// The metrics table: one row per class, then the mean row ("mean": per-class means for IoU,
+// LocAcc and Acc; and "all queries": the per-query means the papers report as mIoU/mLocAcc).
+std::string langor_table_csv(const LangorSummary& s);
+std::string langor_table_markdown(const LangorSummary& s);
+
+}  // namespace gslift

@@ -1,0 +1,133 @@
+#include "nodes/inference/text_query.hpp"
+
+#include <algorithm>
+
+#include "nodes/splat/rasterizer.hpp"
+#include "runtime/node.hpp"
+
+namespace gslift {
+namespace {
+
+RenderOutput weights_pass(const GaussianModel& model, const Camera& camera, const Pose& pose) {
+  RenderSettings settings;
+  settings.rgb = false;  // only the blend weights are kept
+  return render(model, camera, pose, settings);
+}
+
+Eigen::MatrixXf encode_rows(const TextEncoder& encoder, const std::vector<std::string>& texts) {
+  Eigen::MatrixXf m(static_cast<Eigen::Index>(texts.size()), encoder.dim());
+  for (size_t i = 0; i < texts.size(); ++i) m.row(i) = encoder.encode(texts[i]).transpose();
+  return m;
+}
+
+}  // namespace
+
+QueryView::QueryView(const GaussianModel& model, const Camera& camera, const Pose& pose)
+    : cache_(weights_pass(model, camera, pose)) {}
+
+cv::Mat1f QueryView::render(const std::vector<float>& per_gaussian) const {
+  if (per_gaussian.size() != cache_.gaussian_count())
+    throw InputError("text query: " + std::to_string(per_gaussian.size()) +
+                     " per-Gaussian values for a model of " +
+                     std::to_string(cache_.gaussian_count()) + " Gaussians");
+  cv::Mat1f out(cache_.height(), cache_.width());
+  cache_.render(per_gaussian.data(), 1, out.ptr<float>());
+  return out;
+}
+
+cv::Mat1b QueryView::mask(const std::vector<float>& indicator, float threshold) const {
+  cv::Mat1b m;
+  cv::compare(render(indicator), threshold, m, cv::CMP_GE);
+  return m;
+}
+
+std::vector<float> gaussian_values(const std::vector<int32_t>& instance_ids,
+                                   const Eigen::VectorXf& per_instance) {
+  std::vector<float> v(instance_ids.size(), 0.f);
+  for (size_t g = 0; g < instance_ids.size(); ++g) {
+    const int32_t id = instance_ids[g];
+    if (id >= 0 && id < per_instance.size()) v[g] = per_instance[id];
+  }
+  return v;
+}
+
+std::vector<float> selection_indicator(const std::vector<int32_t>& instance_ids, int instance_count,
+                                       const std::vector<int>& instances) {
+  Eigen::VectorXf chosen = Eigen::VectorXf::Zero(instance_count);
+  for (int k : instances) chosen[k] = 1.f;
+  return gaussian_values(instance_ids, chosen);
+}
+
+void select_instances(const InstanceSet& instances, const TextEncoder& encoder,
+                      const TextQueryOptions& options, TextQueryResults& results) {
+  if (instances.size() > 0 && instances.semantics.rows() != instances.size())
+    throw InputError("text query: " + std::to_string(instances.semantics.rows()) +
+                     " semantics rows for " + std::to_string(instances.size()) + " instances");
+  if (instances.semantics.rows() > 0 && instances.semantics.cols() != encoder.dim())
+    throw InputError("text query: instance semantics are " +
+                     std::to_string(instances.semantics.cols()) + "-d but the encoder '" +
+                     encoder.name() + "' gives " + std::to_string(encoder.dim()) +
+                     "-d embeddings (labels and queries must share one encoder)");
+  const Eigen::MatrixXf semantics =
+      instances.semantics.rows() > 0 ? instances.semantics : Eigen::MatrixXf(0, encoder.dim());
+  const Eigen::MatrixXf negatives = encode_rows(encoder, options.negatives);
+  const size_t q_count = results.queries.size();
+  results.relevancy.clear();
+  for (const auto& q : results.queries)
+    results.relevancy.push_back(
+        instance_relevancy(semantics, encoder.encode(q), negatives, options.softmax_scale));
+  if (options.selection == "relevancy") {
+    results.instances.clear();
+    for (const auto& r : results.relevancy)
+      results.instances.push_back(relevancy_selection(r, options.relevancy_threshold));
+    return;
+  }
+  // Closed set over the queries followed by the extra vocabulary entries that are not queries.
+  std::vector<std::string> vocabulary = results.queries;
+  for (const auto& v : options.vocabulary)
+    if (std::find(vocabulary.begin(), vocabulary.end(), v) == vocabulary.end())
+      vocabulary.push_back(v);
+  auto selected = closed_set_selection(semantics, encode_rows(encoder, vocabulary), negatives,
+                                       options.softmax_scale);
+  selected.resize(q_count);
+  results.instances = std::move(selected);
+}
+
+TextQueryResults answer_text_queries(const GaussianModel& model, const InstanceSet& instances,
+                                     const TextEncoder& encoder, const Capture& capture,
+                                     const std::vector<int>& view_indices,
+                                     const std::vector<std::string>& queries,
+                                     const TextQueryOptions& options) {
+  if (model.instance_ids.size() != model.size())
+    throw InputError("text query: the model has " + std::to_string(model.instance_ids.size()) +
+                     " instance ids for " + std::to_string(model.size()) +
+                     " Gaussians (segment it first, e.g. association.instance_mask_gaussian)");
+  for (int32_t id : model.instance_ids)
+    if (id < -1 || id >= instances.size())
+      throw InputError("text query: Gaussian instance id " + std::to_string(id) +
+                       " is outside the " + std::to_string(instances.size()) + " instances");
+  TextQueryResults results;
+  results.queries = queries;
+  select_instances(instances, encoder, options, results);
+
+  std::vector<std::vector<float>> indicators, relevancies;
+  for (size_t q = 0; q < queries.size(); ++q) {
+    indicators.push_back(
+        selection_indicator(model.instance_ids, instances.size(), results.instances[q]));
+    relevancies.push_back(gaussian_values(model.instance_ids, results.relevancy[q]));
+  }
+  for (int vi : view_indices) {
+    const View& view = capture.views.at(static_cast<size_t>(vi));
+    const QueryView qv(model, view.camera, view.pose);
+    TextQueryResults::ViewAnswers answers;
+    answers.view = view.name;
+    for (size_t q = 0; q < queries.size(); ++q) {
+      answers.masks.push_back(qv.mask(indicators[q], options.mask_threshold));
+      answers.relevancy.push_back(qv.render(relevancies[q]));
+    }
+    results.views.push_back(std::move(answers));
+  }
+  return results;
+}
+
+}  // namespace gslift

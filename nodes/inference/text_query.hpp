@@ -1,0 +1,89 @@
+// Answering text queries on a segmented Gaussian scene (LangOR §1.3 "Retrieval"): query ->
+// embedding -> instances (instance_retrieval.hpp) -> their Gaussians (instance_ids) -> a mask
+// rendered in any view, plus a per-pixel relevancy map.
+//
+// Rendering uses the render cache (nodes/splat/render_cache.hpp): the blend weights w_i of each
+// view are recorded once, then any per-Gaussian scalar a_i renders as sum_i w_i a_i in one sparse
+// product. With a_i = 1 for the selected Gaussians this is the accumulated alpha of the selection
+// alone, thresholded at 0.5 [decision] into the mask; with a_i = the relevancy of Gaussian i's
+// instance (0 when unassigned) it is the Gaussian-weighted blend of instance relevancies.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include <opencv2/core.hpp>
+
+#include "nodes/inference/instance_retrieval.hpp"
+#include "nodes/scene/capture.hpp"
+#include "nodes/scene/gaussian_model.hpp"
+#include "nodes/scene/instances.hpp"
+#include "nodes/splat/render_cache.hpp"
+#include "nodes/text/text_encoder.hpp"
+#include "runtime/value.hpp"
+
+namespace gslift {
+
+// One view prepared for queries: the render cache of the model seen from it.
+class QueryView {
+ public:
+  QueryView(const GaussianModel& model, const Camera& camera, const Pose& pose);
+
+  // sum_i w_i a_i per pixel; `per_gaussian` has one value per Gaussian of the model.
+  cv::Mat1f render(const std::vector<float>& per_gaussian) const;
+  // Pixels where the selected Gaussians' accumulated alpha reaches `threshold`: 255 inside.
+  cv::Mat1b mask(const std::vector<float>& indicator, float threshold) const;
+
+ private:
+  RenderCache cache_;
+};
+
+// Per Gaussian: value[instance_ids[g]], 0 where the id is -1 or out of range.
+std::vector<float> gaussian_values(const std::vector<int32_t>& instance_ids,
+                                   const Eigen::VectorXf& per_instance);
+// Per Gaussian: 1 when its instance is one of `instances`, else 0.
+std::vector<float> selection_indicator(const std::vector<int32_t>& instance_ids, int instance_count,
+                                       const std::vector<int>& instances);
+
+struct TextQueryOptions {
+  // closed_set: argmax over the vocabulary of queries (instance_retrieval.hpp);
+  // relevancy: every instance whose relevancy exceeds relevancy_threshold.
+  std::string selection = "closed_set";
+  float relevancy_threshold = 0.5f;
+  float mask_threshold = 0.5f;  // accumulated alpha of the selection that makes a pixel "in"
+  float softmax_scale = 10.f;   // LangSplat's temperature in the relevancy softmax
+  std::vector<std::string> negatives = canonical_negatives();
+  // Extra closed-set vocabulary entries that compete with the queries (e.g. every class name).
+  std::vector<std::string> vocabulary;
+};
+
+// What text queries answered, per query and per view: everything eval.langor needs.
+struct TextQueryResults {
+  std::vector<std::string> queries;
+  std::vector<std::vector<int>> instances;  // per query: the selected instances
+  std::vector<Eigen::VectorXf> relevancy;   // per query: relevancy of every instance
+  struct ViewAnswers {
+    std::string view;                  // view name in the capture
+    std::vector<cv::Mat1b> masks;      // per query, 255 = selected
+    std::vector<cv::Mat1f> relevancy;  // per query, per-pixel relevancy in [0, 1]
+  };
+  std::vector<ViewAnswers> views;
+};
+
+GSLIFT_PORT_TYPE(TextQueryResults, "TextQueryResults");
+
+// Selection only (no rendering): instances and their relevancies for every query. Throws
+// InputError when the instances' semantics do not match the encoder's width.
+void select_instances(const InstanceSet& instances, const TextEncoder& encoder,
+                      const TextQueryOptions& options, TextQueryResults& results);
+
+// Answers `queries` in the views `view_indices` of `capture`. The model must carry instance_ids
+// (one per Gaussian, ids < instances.size() or -1); throws InputError otherwise.
+TextQueryResults answer_text_queries(const GaussianModel& model, const InstanceSet& instances,
+                                     const TextEncoder& encoder, const Capture& capture,
+                                     const std::vector<int>& view_indices,
+                                     const std::vector<std::string>& queries,
+                                     const TextQueryOptions& options);
+
+}  // namespace gslift
