@@ -1,5 +1,6 @@
 #include "nodes/boxes/register.hpp"
 
+#include "nodes/boxes/box_masks.hpp"
 #include "nodes/boxes/cluster_boxes.hpp"
 #include "nodes/boxes/context_prompt.hpp"
 
@@ -44,11 +45,43 @@ void add_prompt(Registry& registry) {
   });
 }
 
+void add_to_masks(Registry& registry) {
+  const BoxMaskOptions d;
+  NodeSpec spec{
+      "boxes.to_masks",
+      "clustered boxes -> one instance mask each: SAM box-prompt masks, GrabCut fallback",
+      {{"clusters", "BoxSet", "representative boxes of every view (boxes.cluster)"},
+       {"capture", "Capture", "views with RGB, optional depth prior and SAM box masks"}},
+      {{"masks", "MaskSet", "one mask per clustered box, label and box_index of its box"}},
+      {string_param("source", d.source,
+                    "sam: the capture's SAM mask of the box (missing = bad input); grabcut: "
+                    "GrabCut on RGB and depth; auto: sam where present, else grabcut",
+                    {"sam", "grabcut", "auto"}),
+       int_param("grabcut_iterations", d.grabcut_iterations, "GrabCut iterations (paper: 5)", 1,
+                 100),
+       float_param("context", d.context,
+                   "GrabCut crop: the box grown by this fraction of its size on each side", 0, 10),
+       bool_param("use_depth", d.use_depth, "also run GrabCut on the depth prior, OR-ed")}};
+  registry.add(std::move(spec), [](NodeContext& ctx) {
+    BoxMaskOptions o;
+    o.source = ctx.param_string("source");
+    o.grabcut_iterations = static_cast<int>(ctx.param_int("grabcut_iterations"));
+    o.context = static_cast<float>(ctx.param_float("context"));
+    o.use_depth = ctx.param_bool("use_depth");
+    BoxMaskResult r = box_masks(*ctx.input<BoxSet>("clusters"), *ctx.input<Capture>("capture"), o);
+    ctx.record("from_sam", r.from_sam);
+    ctx.record("from_grabcut", r.from_grabcut);
+    ctx.record("from_box", r.from_box);
+    ctx.output("masks", std::move(r.masks));
+  });
+}
+
 }  // namespace
 
 void register_boxes_nodes(Registry& registry) {
   add_cluster(registry);
   add_prompt(registry);
+  add_to_masks(registry);
 }
 
 }  // namespace gslift

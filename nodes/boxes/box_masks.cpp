@@ -1,0 +1,152 @@
+#include "nodes/boxes/box_masks.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <map>
+#include <string>
+#include <vector>
+
+#include <tbb/parallel_for.h>
+#include <opencv2/imgproc.hpp>
+
+#include "nodes/ingest/capture_annotations.hpp"
+#include "runtime/node.hpp"
+
+namespace gslift {
+namespace {
+
+// The box as whole pixels (pixel-corner convention: pixel u is covered when x1 < u + 1, u < x2),
+// clipped to the image.
+cv::Rect box_pixels(const Box& box, const cv::Size& size) {
+  const int x1 = static_cast<int>(std::floor(box.x1)), y1 = static_cast<int>(std::floor(box.y1));
+  const int x2 = static_cast<int>(std::ceil(box.x2)), y2 = static_cast<int>(std::ceil(box.y2));
+  return cv::Rect(x1, y1, x2 - x1, y2 - y1) & cv::Rect(0, 0, size.width, size.height);
+}
+
+// Depth as the 8-bit, three-channel image GrabCut needs: valid depths mapped linearly from
+// [min, max] of the crop to [1, 255], invalid 0. Empty when the crop has no depth contrast.
+cv::Mat depth_image(const cv::Mat& depth) {
+  double lo = 0, hi = 0;
+  const cv::Mat valid = depth > 0;
+  if (cv::countNonZero(valid) == 0) return {};
+  cv::minMaxLoc(depth, &lo, &hi, nullptr, nullptr, valid);
+  if (hi <= lo) return {};
+  cv::Mat gray;
+  depth.convertTo(gray, CV_8U, 254.0 / (hi - lo), 1.0 - 254.0 * lo / (hi - lo));
+  gray.setTo(0, ~valid);
+  cv::Mat three;
+  cv::cvtColor(gray, three, cv::COLOR_GRAY2BGR);
+  return three;
+}
+
+// GrabCut foreground (definite or probable) of `image` initialised with `rect`.
+cv::Mat1b grabcut_foreground(const cv::Mat& image, const cv::Rect& rect, int iterations) {
+  cv::Mat labels, background, foreground;
+  // GrabCut's k-means draws from the thread's OpenCV RNG: a fixed state keeps the result
+  // independent of scheduling.
+  cv::theRNG().state = 0x9e3779b97f4a7c15ULL;
+  cv::grabCut(image, labels, rect, background, foreground, iterations, cv::GC_INIT_WITH_RECT);
+  return (labels == cv::GC_FGD) | (labels == cv::GC_PR_FGD);
+}
+
+}  // namespace
+
+GrabCutMask grabcut_box_mask(const cv::Mat& rgb, const cv::Mat& depth, const Box& box,
+                             const BoxMaskOptions& options) {
+  const cv::Size size = rgb.size();
+  const cv::Rect rect = box_pixels(box, size);
+  GrabCutMask result;
+  result.pixels = cv::Mat1b::zeros(size);
+  result.pixels(rect).setTo(255);
+  // GrabCut needs background samples outside the rectangle and a rectangle to segment.
+  const int grow_x = std::max(8, static_cast<int>(std::lround(options.context * rect.width)));
+  const int grow_y = std::max(8, static_cast<int>(std::lround(options.context * rect.height)));
+  const cv::Rect crop = cv::Rect(rect.x - grow_x, rect.y - grow_y, rect.width + 2 * grow_x,
+                                 rect.height + 2 * grow_y) &
+                        cv::Rect(0, 0, size.width, size.height);
+  if (rect.width < 2 || rect.height < 2 || crop == rect) return result;
+  const cv::Rect inner(rect.x - crop.x, rect.y - crop.y, rect.width, rect.height);
+
+  cv::Mat1b found = grabcut_foreground(rgb(crop), inner, options.grabcut_iterations);
+  if (options.use_depth && !depth.empty()) {
+    const cv::Mat image = depth_image(depth(crop));
+    if (!image.empty()) found |= grabcut_foreground(image, inner, options.grabcut_iterations);
+  }
+  if (cv::countNonZero(found) == 0) return result;
+  result.pixels.setTo(0);
+  found.copyTo(result.pixels(crop));
+  result.found = true;
+  return result;
+}
+
+BoxMaskResult box_masks(const BoxSet& clusters, const Capture& capture,
+                        const BoxMaskOptions& options) {
+  const std::string& source = options.source;
+  if (source != "sam" && source != "grabcut" && source != "auto")
+    throw InputError("boxes.to_masks: source '" + source + "' is not sam, grabcut or auto");
+  for (const ViewBoxes& vb : clusters.views)
+    if (capture.find_view(vb.view) < 0)
+      throw InputError("boxes.to_masks: boxes name view '" + vb.view + "' that the capture '" +
+                       capture.name + "' lacks");
+
+  // SAM masks of the representatives, by (view, box index). In-memory captures have no folder
+  // and hence no SAM masks.
+  std::vector<std::map<int, Mask>> sam(clusters.views.size());
+  if (source != "grabcut" && !capture.root.empty()) {
+    MaskSet loaded = load_sam_box_masks(capture, clusters);
+    for (size_t v = 0; v < loaded.views.size(); ++v)
+      for (Mask& m : loaded.views[v].masks) sam[v].emplace(m.box_index, std::move(m));
+  }
+
+  BoxMaskResult result;
+  result.masks.views.resize(clusters.views.size());
+  std::atomic<int> from_sam{0}, from_grabcut{0}, from_box{0};
+  tbb::parallel_for(size_t(0), clusters.views.size(), [&](size_t v) {
+    const ViewBoxes& vb = clusters.views[v];
+    const View& view = capture.views[capture.find_view(vb.view)];
+    ViewMasks& out = result.masks.views[v];
+    out.view = vb.view;
+    out.masks.resize(vb.boxes.size());
+    bool needs_grabcut = false;
+    for (size_t b = 0; b < vb.boxes.size(); ++b) {
+      if (sam[v].count(static_cast<int>(b))) continue;
+      if (source == "sam")
+        throw InputError("boxes.to_masks: capture '" + capture.name + "' has no SAM mask for box " +
+                         std::to_string(b) + " of view '" + vb.view + "' (round " +
+                         std::to_string(vb.boxes[b].round) + ", entry " +
+                         std::to_string(vb.boxes[b].source_index) +
+                         " of sam_box/); source=auto falls back to GrabCut");
+      needs_grabcut = true;
+    }
+    cv::Mat rgb, depth;
+    if (needs_grabcut) {
+      rgb = view.rgb.load();
+      if (rgb.empty())
+        throw InputError("boxes.to_masks: view '" + vb.view + "' has no RGB image for GrabCut");
+      if (options.use_depth) depth = view.depth.load();
+    }
+    tbb::parallel_for(size_t(0), vb.boxes.size(), [&](size_t b) {
+      const Box& box = vb.boxes[b];
+      Mask& mask = out.masks[b];
+      auto it = sam[v].find(static_cast<int>(b));
+      if (it != sam[v].end()) {
+        mask = it->second;
+        ++from_sam;
+      } else {
+        GrabCutMask g = grabcut_box_mask(rgb, depth, box, options);
+        mask.pixels = g.pixels;
+        mask.score = box.score;
+        ++(g.found ? from_grabcut : from_box);
+      }
+      mask.label = box.label;
+      mask.box_index = static_cast<int>(b);
+    });
+  });
+  result.from_sam = from_sam;
+  result.from_grabcut = from_grabcut;
+  result.from_box = from_box;
+  return result;
+}
+
+}  // namespace gslift

@@ -1,0 +1,58 @@
+// LangOR §3.1 (METHODS §1.1, §4): one instance mask per clustered representative box.
+//
+// source = sam: the capture's SAM mask prompted with the representative box itself (VLM round
+// and source_index -> sam_box/<stem>/round_<k>.json entry, read by nodes/ingest's loader).
+// source = grabcut: OpenCV GrabCut initialised with the box rectangle, on RGB and, when the view
+// has a depth prior, on the depth rendered as an 8-bit image; the two foregrounds are OR-ed and an
+// empty result keeps the box itself as the mask (paper 002, METHODS §4).
+// source = auto: sam for the boxes whose mask the capture has, grabcut for the others.
+#pragma once
+
+#include <string>
+
+#include <opencv2/core.hpp>
+
+#include "nodes/scene/boxes.hpp"
+#include "nodes/scene/capture.hpp"
+#include "nodes/scene/masks.hpp"
+
+namespace gslift {
+
+struct BoxMaskOptions {
+  std::string source = "auto";  // sam | grabcut | auto
+  int grabcut_iterations = 5;   // paper 002: 5
+  // [decision] GrabCut runs on the box grown by this fraction of its width/height on each side
+  // (at least 8 pixels), not on the whole image: the colour models of the background then
+  // describe the object's surroundings, and a 640x480 view costs a crop instead of the image.
+  float context = 0.5f;
+  bool use_depth = true;  // also run GrabCut on the depth prior when the view has one
+};
+
+struct GrabCutMask {
+  cv::Mat1b pixels;    // image size, 255 inside
+  bool found = false;  // false: GrabCut found no foreground and pixels is the box rectangle
+};
+
+// GrabCut of one box. rgb: CV_8UC3; depth: CV_32FC1 metres (0 = invalid) of the same size, or
+// empty. The depth crop is mapped linearly from its valid range to 1..255 (invalid pixels 0) and
+// replicated to three channels. OpenCV's RNG is reseeded before each call, so the result does not
+// depend on which thread runs it or what it ran before.
+GrabCutMask grabcut_box_mask(const cv::Mat& rgb, const cv::Mat& depth, const Box& box,
+                             const BoxMaskOptions& options);
+
+struct BoxMaskResult {
+  // One ViewMasks per ViewBoxes of the clusters (same order), one Mask per box in box order:
+  // label = the box's label, box_index = its index in the ViewBoxes, score = the SAM score or the
+  // box's score.
+  MaskSet masks;
+  int from_sam = 0, from_grabcut = 0, from_box = 0;  // how each mask was made
+};
+
+// Masks for every clustered box of every view, training and held-out. Parallel over views and,
+// within a view, over boxes (one view's images in memory per running view). Throws InputError
+// when a view is unknown to the capture, when source = sam and a box has no SAM mask, or when
+// the source is not one of sam | grabcut | auto.
+BoxMaskResult box_masks(const BoxSet& clusters, const Capture& capture,
+                        const BoxMaskOptions& options);
+
+}  // namespace gslift
