@@ -1,5 +1,6 @@
 #include "nodes/builtin.hpp"
 
+#include "nodes/association/register.hpp"
 #include "nodes/boxes/register.hpp"
 #include "nodes/eval/register.hpp"
 #include "nodes/inference/register.hpp"
@@ -18,6 +19,7 @@ void register_builtin_nodes(Registry& registry) {
   register_boxes_nodes(registry);
   register_lifting_nodes(registry);
   register_text_nodes(registry);
+  register_association_nodes(registry);
   register_inference_nodes(registry);
   register_eval_nodes(registry);
 }

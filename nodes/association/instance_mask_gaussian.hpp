@@ -1,0 +1,67 @@
+// LangOR §1.3 "Matching" and "Instance semantics": ties the lifted 3D instances (prototypes f_S,
+// Eq. 5) back to the 2D masks and forward to the Gaussians.
+//   1. every pixel of every training mask gets an instance: a pixel that CVP lifting sampled keeps
+//      its HDBSCAN cluster (a sampled noise pixel does not vote), every other ("unsampled") pixel
+//      takes the prototype with maximal cos(F(p), f_S);
+//   2. each mask takes the most frequent instance among its pixels (ties: the lower instance id);
+//   3. each Gaussian takes the prototype with maximal cos(f_g, f_S), see AssociationParams for the
+//      Gaussians left unassigned;
+//   4. each instance's semantics come from the labels of its masks (instance_semantics.hpp).
+// An instance that no mask chose gets the label "" and a zero embedding: it keeps its Gaussians
+// (they are still one object) but text queries must skip it, since nothing says what it is.
+// Parallel (TBB) over masks and over Gaussians, each writing only its own result, so the output
+// does not depend on the thread count.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "nodes/lifting/cvp_lifting.hpp"
+#include "nodes/scene/gaussian_model.hpp"
+#include "nodes/scene/instances.hpp"
+#include "nodes/scene/masks.hpp"
+#include "nodes/text/text_encoder.hpp"
+
+namespace gslift {
+
+struct AssociationParams {
+  // [decision] A Gaussian whose blend weights summed over all training pixels stay below this
+  // (in pixels) is left -1: its feature received (almost) no gradient in feature training, so its
+  // most similar prototype is chance. 0.01 = a hundredth of a pixel over all training views.
+  float min_contribution = 0.01f;
+  // [decision] A Gaussian joins its most similar instance only when cos(f_g, f_S) reaches this;
+  // otherwise it stays -1 (background: walls, floor, anything no mask covered). Eq. 3 pulls
+  // in-mask features to cos 1 with their mask's centroid and pushes the rest to cos <= 0, so 0.5
+  // is the midpoint between the two hinge targets. -1 assigns every Gaussian with a feature.
+  float min_similarity = 0.5f;
+};
+
+// For each view of `masks`, for each of its masks: the instance it matches (steps 1-2), -1 when
+// none of its pixels votes. maps[i] goes with masks.views[i]; `lifted` must come from these maps
+// and masks (its samples index them). Throws InputError when sizes or indices disagree.
+std::vector<std::vector<int>> match_masks(const std::vector<FeatureMap>& maps, const MaskSet& masks,
+                                          const LiftedInstances& lifted);
+
+// Step 3. contribution: per Gaussian summed blend weight over the training views (empty = every
+// Gaussian counts as seen). Gaussians with a zero feature stay -1 (cosine undefined). Throws
+// InputError when the prototypes' width differs from the model's feature_dim.
+std::vector<int32_t> match_gaussians(const GaussianModel& model,
+                                     const std::vector<float>& contribution,
+                                     const Eigen::MatrixXf& prototypes,
+                                     const AssociationParams& params);
+
+struct InstanceAssociation {
+  InstanceSet instances;                   // mask_instance indexed like the `masks` given
+  std::vector<int32_t> gaussian_instance;  // per Gaussian, -1 unassigned
+};
+
+// Steps 1-4 together.
+InstanceAssociation associate_instances(const std::vector<FeatureMap>& maps, const MaskSet& masks,
+                                        const LiftedInstances& lifted, const GaussianModel& model,
+                                        const std::vector<float>& contribution,
+                                        const TextEncoder& encoder,
+                                        const AssociationParams& params);
+
+}  // namespace gslift

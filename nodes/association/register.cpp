@@ -1,0 +1,110 @@
+#include "nodes/association/register.hpp"
+
+#include <memory>
+
+#include <nlohmann/json.hpp>
+
+#include "nodes/association/instance_mask_gaussian.hpp"
+#include "nodes/lifting/feature_maps.hpp"
+#include "runtime/atomic_file.hpp"
+
+namespace gslift {
+namespace {
+
+// instances.json: per instance its label, how many training masks and Gaussians it got, so a
+// run's association can be inspected without loading the model.
+std::string instances_json(const InstanceSet& set, const std::vector<int32_t>& gaussian_instance) {
+  std::vector<int> masks(set.size(), 0), gaussians(set.size(), 0);
+  for (const auto& view : set.mask_instance)
+    for (const int k : view)
+      if (k >= 0) ++masks[k];
+  for (const int32_t k : gaussian_instance)
+    if (k >= 0) ++gaussians[k];
+  nlohmann::json out = nlohmann::json::array();
+  for (int k = 0; k < set.size(); ++k)
+    out.push_back({{"instance", k},
+                   {"label", set.labels[k]},
+                   {"masks", masks[k]},
+                   {"gaussians", gaussians[k]}});
+  return out.dump(2) + "\n";
+}
+
+}  // namespace
+
+void register_association_nodes(Registry& registry) {
+  const AssociationParams d;
+  NodeSpec spec{
+      "association.instance_mask_gaussian",
+      "LangOR 3.3 matching: training-mask pixels and masks to lifted instances, Gaussians to "
+      "their most similar prototype, instance semantics from the masks' labels",
+      {{"model", PortTypeName<GaussianModel>::value, "Gaussians with trained instance features"},
+       {"capture", PortTypeName<Capture>::value, "the posed views (training views are used)"},
+       {"masks", PortTypeName<MaskSet>::value,
+        "the masks the instances were lifted from; those of held-out views are not matched"},
+       {"instances", PortTypeName<LiftedInstances>::value, "lifting.cvp / lifting.mask_level"},
+       {"encoder", PortTypeName<TextEncoder>::value, "encodes the masks' labels"}},
+      {{"model", PortTypeName<GaussianModel>::value,
+        "the input model with instance_ids (-1: background or unseen Gaussian)"},
+       {"instances", PortTypeName<InstanceSet>::value,
+        "prototypes, labels (\"\" = no mask, keep out of retrieval), text embeddings; "
+        "mask_instance indexed like the input masks (-1 for held-out views)"}},
+      {float_param("min_similarity", d.min_similarity,
+                   "a Gaussian joins its most similar instance only at this cosine or above "
+                   "(0.5: midway between Eq. 3's hinge targets 1 and 0); -1 = always",
+                   -1, 1),
+       float_param("min_contribution", d.min_contribution,
+                   "Gaussians whose blend weight summed over the training pixels is below this "
+                   "stay unassigned (their features were never trained)",
+                   0)}};
+  registry.add(std::move(spec), [](NodeContext& ctx) {
+    const auto model = ctx.input<GaussianModel>("model");
+    const auto capture = ctx.input<Capture>("capture");
+    const auto masks = ctx.input<MaskSet>("masks");
+    const auto lifted = ctx.input<LiftedInstances>("instances");
+    const auto encoder = ctx.input<TextEncoder>("encoder");
+    AssociationParams p;
+    p.min_similarity = static_cast<float>(ctx.param_float("min_similarity"));
+    p.min_contribution = static_cast<float>(ctx.param_float("min_contribution"));
+
+    const TrainingFeatureMaps views =
+        render_training_feature_maps(*model, *capture, *masks, /*with_contribution=*/true);
+    ctx.check_cancelled();
+    InstanceAssociation a = associate_instances(views.maps, views.masks, *lifted, *model,
+                                                views.contribution, *encoder, p);
+
+    // Back to the input MaskSet's indexing: held-out views' masks were not matched.
+    std::vector<std::vector<int>> mask_instance(masks->views.size());
+    for (size_t v = 0; v < masks->views.size(); ++v)
+      mask_instance[v].assign(masks->views[v].masks.size(), -1);
+    int matched = 0, training_masks = 0;
+    for (size_t i = 0; i < views.mask_views.size(); ++i) {
+      mask_instance[views.mask_views[i]] = a.instances.mask_instance[i];
+      for (const int k : a.instances.mask_instance[i]) {
+        matched += k >= 0;
+        ++training_masks;
+      }
+    }
+    a.instances.mask_instance = std::move(mask_instance);
+
+    int labelled = 0, assigned = 0;
+    for (const auto& label : a.instances.labels) labelled += !label.empty();
+    for (const int32_t k : a.gaussian_instance) assigned += k >= 0;
+    ctx.record("instances", static_cast<double>(a.instances.size()));
+    ctx.record("labelled_instances", static_cast<double>(labelled));
+    ctx.record("training_masks", static_cast<double>(training_masks));
+    ctx.record("matched_masks", static_cast<double>(matched));
+    ctx.record("assigned_gaussian_fraction",
+               model->size() ? static_cast<double>(assigned) / model->size() : 0.0);
+    const auto dir = ctx.out_dir();
+    if (!dir.empty())
+      write_file_atomically(dir / "instances.json",
+                            instances_json(a.instances, a.gaussian_instance));
+
+    GaussianModel out = *model;
+    out.instance_ids = std::move(a.gaussian_instance);
+    ctx.output("model", std::move(out));
+    ctx.output("instances", std::move(a.instances));
+  });
+}
+
+}  // namespace gslift
