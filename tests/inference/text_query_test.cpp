@@ -1,0 +1,64 @@
+// Rendering selections through the render cache, checked against the rasterizer's own alpha.
+#include "nodes/inference/text_query.hpp"
+
+#include "nodes/splat/rasterizer.hpp"
+#include "nodes/text/hashing_text_encoder.hpp"
+#include "runtime/node.hpp"
+#include "tests/inference/query_scene.hpp"
+#include "tests/test_support.hpp"
+
+using namespace gslift;
+
+TEST_CASE("a selection renders as the accumulated alpha of its Gaussians") {
+  const GaussianModel model = test::two_blobs();
+  const Camera cam = test::query_camera();
+  const QueryView view(model, cam, Pose{});
+  RenderSettings alpha_only;
+  alpha_only.rgb = false;
+  alpha_only.alpha = true;
+  const RenderOutput full = render(model, cam, Pose{}, alpha_only);
+
+  const cv::Mat1f all = view.render({1.f, 1.f});
+  for (int y = 0; y < cam.height; ++y)
+    for (int x = 0; x < cam.width; ++x)
+      REQUIRE(all(y, x) == Approx(full.alpha[size_t(y) * cam.width + x]).margin(1e-6));
+
+  // Left blob alone: its centre pixel is ~0.98 opaque, the right blob's centre is untouched.
+  const cv::Mat1f left = view.render(selection_indicator(model.instance_ids, 2, {0}));
+  CHECK(left(24, 17) > 0.9f);
+  CHECK(left(24, 47) == 0.f);
+  const cv::Mat1b mask = view.mask(selection_indicator(model.instance_ids, 2, {0}), 0.5f);
+  CHECK(mask(24, 17) == 255);
+  CHECK(mask(24, 47) == 0);
+  CHECK(mask(24, 32) == 0);  // between the blobs
+  // Relevancy blend: instance relevancies 0.25 and 0.75 weight the alpha.
+  Eigen::VectorXf rel(2);
+  rel << 0.25f, 0.75f;
+  const cv::Mat1f blend = view.render(gaussian_values(model.instance_ids, rel));
+  CHECK(blend(24, 17) == Approx(0.25f * all(24, 17)));
+  CHECK(blend(24, 47) == Approx(0.75f * all(24, 47)));
+  CHECK_THROWS_AS(view.render({1.f}), InputError);
+}
+
+TEST_CASE("unassigned Gaussians and out-of-range ids") {
+  Eigen::VectorXf v(2);
+  v << 3.f, 5.f;
+  CHECK(gaussian_values({1, -1, 0}, v) == std::vector<float>{5.f, 0.f, 3.f});
+  CHECK(selection_indicator({1, -1, 0}, 2, {1}) == std::vector<float>{1.f, 0.f, 0.f});
+
+  GaussianModel model = test::two_blobs();
+  model.instance_ids = {0, 2};  // only two instances below
+  InstanceSet instances;
+  instances.prototypes = Eigen::MatrixXf::Zero(2, 1);
+  const HashingTextEncoder enc(32);
+  instances.semantics.resize(2, 32);
+  instances.semantics.row(0) = enc.encode("patient").transpose();
+  instances.semantics.row(1) = enc.encode("monitor").transpose();
+  Capture capture;
+  CHECK_THROWS_AS(answer_text_queries(model, instances, enc, capture, {}, {"patient"}, {}),
+                  InputError);
+  model.instance_ids = {0, 1};
+  const HashingTextEncoder wider(64);
+  CHECK_THROWS_AS(answer_text_queries(model, instances, wider, capture, {}, {"patient"}, {}),
+                  InputError);
+}
