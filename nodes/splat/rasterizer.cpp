@@ -230,6 +230,23 @@ void gather_values(const RasterState& s, const TileGaussian* list, uint32_t coun
                 &out[size_t(j) * s.channels]);
 }
 
+// Blends tile t: acc (pixels x channels) += w * values of each contribution. kChannels > 0 fixes
+// the channel count at compile time so the sum vectorises along the channels.
+template <int kChannels>
+void forward_tile(const RasterState& s, int t, const float* values, float* acc, TileBlend& blend) {
+  const int C = kChannels > 0 ? kChannels : s.channels;
+  blend_tile(s, t, blend, [&](int p, uint32_t j, float w) {
+    const float* v = values + size_t(j) * C;
+    float* a = acc + size_t(p) * C;
+    if constexpr (kChannels > 0) {
+      using Vector = Eigen::Matrix<float, kChannels, 1>;
+      Eigen::Map<Vector>{a}.noalias() += w * Eigen::Map<const Vector>{v};
+    } else {
+      for (int c = 0; c < C; ++c) a[c] += w * v[c];
+    }
+  });
+}
+
 constexpr float kMinAlphaForDepth = 1e-6f;  // normalised depth is 0 below this accumulated alpha
 
 }  // namespace
@@ -305,11 +322,24 @@ RenderOutput render(const GaussianModel& model, const Camera& camera, const Pose
           const TileGaussian* list = s.tile_gaussians.data() + s.tile_offsets[t];
           gather_values(s, list, s.tile_offsets[t + 1] - s.tile_offsets[t], values);
           std::fill(acc.begin(), acc.end(), 0.f);
-          blend_tile(s, t, blend, [&](int p, uint32_t j, float w) {
-            const float* v = &values[size_t(j) * s.channels];
-            float* a = &acc[size_t(p) * s.channels];
-            for (int c = 0; c < s.channels; ++c) a[c] += w * v[c];
-          });
+          // The common channel counts get fixed-size loops (see backward_tile).
+          switch (s.channels) {
+            case 3:
+              forward_tile<3>(s, t, values.data(), acc.data(), blend);
+              break;
+            case 7:
+              forward_tile<7>(s, t, values.data(), acc.data(), blend);
+              break;
+            case 8:
+              forward_tile<8>(s, t, values.data(), acc.data(), blend);
+              break;
+            case 16:
+              forward_tile<16>(s, t, values.data(), acc.data(), blend);
+              break;
+            default:
+              forward_tile<0>(s, t, values.data(), acc.data(), blend);
+              break;
+          }
           const PixelRect tile = tile_pixels(s, t);
           for (int y = tile.y0; y < tile.y1; ++y)
             for (int x = tile.x0; x < tile.x1; ++x) {
