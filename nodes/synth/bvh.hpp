@@ -1,5 +1,5 @@
-// Bounding-volume hierarchy over the scene's primitives: median split on the longest centroid
-// axis, flattened into a depth-first array so traversal is a tight loop with a small stack and
+// Bounding-volume hierarchy over the scene's primitives: surface-area-heuristic splits,
+// flattened into a depth-first array so traversal is a tight loop with a small stack and
 // visits the near child first. Primitives as large as the scene (floor, walls, ceiling) would
 // make every node span the whole room, so they are kept out of the tree and tested directly.
 #pragma once
