@@ -9,6 +9,7 @@
 // downscaled 4x with every 8th image held out; its background is NOT masked (the photos are
 // trained as they are). Writes splat_recon.json and splat_recon.svg into --out (default
 // bench/results).
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -49,11 +50,14 @@ nlohmann::json run_case(const Case& c) {
   std::cerr << "[splat_recon] " << c.name << ": loading " << c.path << "\n";
   const Capture capture = load_capture(c.path, c.load);
   const View& first = capture.views.at(capture.train_views().at(0));
+  const auto start = std::chrono::steady_clock::now();
   const ReconstructResult r =
-      reconstruct(capture, c.options, [&](int step, int total, double loss) {
-        if ((step + 1) % 100 == 0)
-          std::cerr << "[splat_recon] " << c.name << " step " << step + 1 << "/" << total
-                    << " loss " << loss << "\n";
+      reconstruct(capture, c.options, [&](int step, int total, double loss, size_t gaussians) {
+        if ((step + 1) % 25 != 0) return;
+        const double t =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        std::cerr << "[splat_recon] " << c.name << " step " << step + 1 << "/" << total << " loss "
+                  << loss << " gaussians " << gaussians << " at " << t << " s\n";
       });
   const bench::StepFlops flops = bench::estimate_step_flops(r.model, first);
   const double per_step = r.seconds / std::max(r.iterations_run, 1);

@@ -198,7 +198,7 @@ ReconstructResult reconstruct(const Capture& capture, const ReconstructOptions& 
       }
     }
     result.iterations_run = step + 1;
-    if (callback) callback(step, options.iterations, loss.total);
+    if (callback) callback(step, options.iterations, loss.total, model.size());
 
     const int w = options.plateau_window;
     if (w > 0 && step + 1 >= 2 * w && (step + 1) % w == 0) {

@@ -69,9 +69,9 @@ struct ReconstructResult {
   double train_psnr = 0, test_psnr = 0;
 };
 
-// Called after every step with (step index, total steps, current total loss). It may throw (e.g.
-// gslift::Cancelled) to abort the reconstruction.
-using ReconstructCallback = std::function<void(int step, int total, double loss)>;
+// Called after every step with (step index, total steps, current total loss, Gaussian count). It
+// may throw (e.g. gslift::Cancelled) to abort the reconstruction.
+using ReconstructCallback = std::function<void(int step, int total, double loss, size_t gaussians)>;
 
 // 3DGS's cameras_extent: 1.1 x the largest distance of a training camera centre from their
 // centroid (1 when there is a single camera).

@@ -80,7 +80,7 @@ void add_reconstruct(Registry& registry) {
     o.plateau_window = static_cast<int>(ctx.param_int("plateau_window"));
     o.plateau_tolerance = ctx.param_float("plateau_tolerance");
     o.seed = ctx.seed();
-    ReconstructResult r = reconstruct(*capture, o, [&](int step, int total, double) {
+    ReconstructResult r = reconstruct(*capture, o, [&](int step, int total, double, size_t) {
       ctx.check_cancelled();
       ctx.progress(static_cast<double>(step + 1) / total, "optimising");
     });

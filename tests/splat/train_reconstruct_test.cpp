@@ -28,10 +28,11 @@ ReconstructOptions tiny_options() {
 TEST_CASE("a tiny reconstruction reaches a PSNR floor and lowers its loss") {
   const Capture capture = rendered_capture();
   int calls = 0, last_total = 0;
-  const ReconstructResult r = reconstruct(capture, tiny_options(), [&](int, int total, double) {
-    ++calls;
-    last_total = total;
-  });
+  const ReconstructResult r =
+      reconstruct(capture, tiny_options(), [&](int, int total, double, size_t) {
+        ++calls;
+        last_total = total;
+      });
   CHECK(calls == 300);
   CHECK(last_total == 300);
   CHECK(r.iterations_run == 300);
