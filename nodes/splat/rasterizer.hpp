@@ -52,7 +52,8 @@ struct RenderOutput {
   std::vector<float> normal;    // H x W x 3, WORLD space, not normalised (a blend of unit vectors)
   std::vector<float> alpha;     // H x W
   std::vector<float> features;  // H x W x feature_dim
-  // Screen-space radius in pixels per Gaussian (N), 0 = culled or off-screen. For densification
+  // Screen-space radius in pixels per Gaussian (N), ceil(3 sqrt(lambda_max)) of the 2D covariance;
+  // 0 = not drawn: culled, off-screen, or too faint to reach min_alpha anywhere. For densification
   // ("prune Gaussians larger than r pixels") and visibility statistics.
   std::vector<int32_t> radii;
   std::shared_ptr<const RasterState> state;  // needed by render_backward
