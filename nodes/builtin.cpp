@@ -3,6 +3,7 @@
 #include "nodes/association/register.hpp"
 #include "nodes/boxes/register.hpp"
 #include "nodes/eval/register.hpp"
+#include "nodes/features/register.hpp"
 #include "nodes/inference/register.hpp"
 #include "nodes/ingest/register.hpp"
 #include "nodes/lifting/register.hpp"
@@ -22,6 +23,7 @@ void register_builtin_nodes(Registry& registry) {
   register_association_nodes(registry);
   register_inference_nodes(registry);
   register_eval_nodes(registry);
+  register_features_nodes(registry);
 }
 
 }  // namespace gslift
