@@ -1,0 +1,145 @@
+#include "nodes/features/contrastive_features.hpp"
+
+#include <cmath>
+#include <vector>
+
+#include <tbb/global_control.h>
+#include <Eigen/Core>
+
+#include "runtime/node.hpp"
+#include "tests/test_support.hpp"
+
+using namespace gslift;
+
+namespace {
+
+// Two groups of 20 Gaussians side by side at depth 3, seen by two 64x48 cameras; group 0 left
+// (x in [-1.2, -0.3]), group 1 right (x in [0.3, 1.2]). Opacity 0.5 and scales below the spacing
+// keep every Gaussian visible: a hidden one gets no gradient and keeps its random feature.
+struct TwoGroups {
+  GaussianModel model;
+  Capture capture;
+  MaskSet masks;
+  std::vector<int> group;
+};
+
+TwoGroups two_groups() {
+  TwoGroups s;
+  const int per_group = 20;
+  s.model.resize(2 * per_group);
+  for (int i = 0; i < 2 * per_group; ++i) {
+    const int g = i / per_group, k = i % per_group;
+    const float x = (g == 0 ? -1.2f : 0.3f) + 0.9f * (k % 5) / 4.f;
+    const float y = -0.6f + 1.2f * (k / 5) / 3.f;
+    s.model.means[3 * i + 0] = x;
+    s.model.means[3 * i + 1] = y;
+    s.model.means[3 * i + 2] = 3.f;
+    for (int c = 0; c < 3; ++c) s.model.log_scales[3 * i + c] = std::log(0.12f);
+    s.model.opacity_logits[i] = 0.f;
+    s.group.push_back(g);
+  }
+  for (int v = 0; v < 2; ++v) {
+    View view;
+    view.name = "v" + std::to_string(v);
+    view.camera.width = 64;
+    view.camera.height = 48;
+    view.camera.fx = view.camera.fy = 60;
+    view.camera.cx = 32;
+    view.camera.cy = 24;
+    view.pose.t = Eigen::Vector3d(0.1 * v, 0.05 * v, 0);
+    s.capture.views.push_back(view);
+    // u = 32 + 20 (x + t_x): the groups project left and right of the centre column.
+    ViewMasks vm;
+    vm.view = view.name;
+    for (int g = 0; g < 2; ++g) {
+      Mask m;
+      m.pixels = cv::Mat1b::zeros(48, 64);
+      m.pixels(cv::Rect(g == 0 ? 6 : 36, 10, 22, 28)).setTo(255);
+      vm.masks.push_back(m);
+    }
+    s.masks.views.push_back(vm);
+  }
+  // A held-out view with a mask that contradicts the others: it must be ignored.
+  View test = s.capture.views[0];
+  test.name = "test";
+  test.held_out = true;
+  s.capture.views.push_back(test);
+  ViewMasks bogus;
+  bogus.view = "test";
+  Mask all;
+  all.pixels = cv::Mat1b(48, 64, uchar(255));
+  bogus.masks.push_back(all);
+  s.masks.views.push_back(bogus);
+  return s;
+}
+
+double cosine(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
+  return a.dot(b) / (a.norm() * b.norm());
+}
+
+}  // namespace
+
+TEST_CASE("contrastive features separate two groups seen through their masks", "[features]") {
+  TwoGroups s = two_groups();
+  ContrastiveOptions o;
+  o.iterations = 300;
+  o.dim = 8;
+  o.pixels_per_iteration = 64;
+  o.seed = 3;
+  const ContrastiveResult r = train_contrastive_features(s.model, s.capture, s.masks, o);
+  REQUIRE(r.model.feature_dim == 8);
+  REQUIRE(r.model.features.size() == s.model.size() * 8);
+  CHECK(r.masks == 4);  // the held-out view's mask is not trained on
+  CHECK(r.loss_end < 0.5 * r.loss_start);
+  CHECK(r.model.means == s.model.means);  // geometry frozen
+
+  auto feature = [&](int i) {
+    return Eigen::Map<const Eigen::VectorXf>(r.model.features.data() + 8 * i, 8)
+        .cast<double>()
+        .eval();
+  };
+  Eigen::VectorXd mean[2] = {Eigen::VectorXd::Zero(8), Eigen::VectorXd::Zero(8)};
+  for (size_t i = 0; i < s.model.size(); ++i) mean[s.group[i]] += feature(int(i));
+  CHECK(cosine(mean[0], mean[1]) < 0.2);
+  for (int g = 0; g < 2; ++g) {
+    double within = 0;
+    int count = 0;
+    for (size_t i = 0; i < s.model.size(); ++i)
+      if (s.group[i] == g) {
+        within += cosine(feature(int(i)), mean[g]);
+        ++count;
+      }
+    CHECK(within / count > 0.8);
+  }
+}
+
+TEST_CASE("contrastive features do not depend on the thread count", "[features]") {
+  TwoGroups s = two_groups();
+  ContrastiveOptions o;
+  o.iterations = 10;
+  o.dim = 4;
+  o.pixels_per_iteration = 32;
+  std::vector<float> single;
+  {
+    tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
+    single = train_contrastive_features(s.model, s.capture, s.masks, o).model.features;
+  }
+  CHECK(train_contrastive_features(s.model, s.capture, s.masks, o).model.features == single);
+  o.seed = 1;
+  CHECK(train_contrastive_features(s.model, s.capture, s.masks, o).model.features != single);
+}
+
+TEST_CASE("contrastive features reject bad masks", "[features]") {
+  TwoGroups s = two_groups();
+  ContrastiveOptions o;
+  o.iterations = 1;
+  MaskSet unknown = s.masks;
+  unknown.views[0].view = "nowhere";
+  CHECK_THROWS_WITH(train_contrastive_features(s.model, s.capture, unknown, o),
+                    Catch::Contains("nowhere"));
+  MaskSet wrong = s.masks;
+  wrong.views[1].masks[0].pixels = cv::Mat1b::zeros(10, 10);
+  CHECK_THROWS_AS(train_contrastive_features(s.model, s.capture, wrong, o), InputError);
+  MaskSet empty;
+  CHECK_THROWS_AS(train_contrastive_features(s.model, s.capture, empty, o), InputError);
+}
