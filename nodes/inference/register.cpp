@@ -58,10 +58,9 @@ void register_inference_nodes(Registry& registry) {
        {"encoder", PortTypeName<TextEncoder>::value, "the encoder that embedded the semantics"},
        {"capture", PortTypeName<Capture>::value, "the views to render the answers in"}},
       {{"predictions", PortTypeName<TextQueryResults>::value,
-        "per query the selected instances; per view and query a mask and a relevancy map"},
-       {"model", PortTypeName<GaussianModel>::value,
-        "the input model with class_ids = 1 + index of the query that selected each Gaussian; "
-        "also written as segmented.ply"}},
+        "per query the selected instances; per view and query a mask and a relevancy map "
+        "(files: query_files.hpp; segmented.ply: the model with class_ids = 1 + index of the "
+        "query that selected each Gaussian)"}},
       {queries, string_param("views", "test", "views to answer in", {"test", "train", "all"}),
        string_param("selection", d.selection,
                     "closed_set: argmax over the query vocabulary (plus the capture's class "
@@ -96,8 +95,6 @@ void register_inference_nodes(Registry& registry) {
     const std::vector<int> views = select_views(*capture, ctx.param_string("views"));
     TextQueryResults results =
         answer_text_queries(*model, *instances, *encoder, *capture, views, queries, o);
-    GaussianModel segmented = *model;
-    segmented.class_ids = query_class_ids(segmented, results);
     ctx.record("queries", static_cast<double>(queries.size()));
     ctx.record("views", static_cast<double>(views.size()));
     size_t answered = 0;
@@ -106,10 +103,11 @@ void register_inference_nodes(Registry& registry) {
     const auto dir = ctx.out_dir();
     if (!dir.empty()) {
       write_query_files(results, *capture, dir);
+      GaussianModel segmented = *model;
+      segmented.class_ids = query_class_ids(segmented, results);
       write_ply(segmented, dir / "segmented.ply");
     }
     ctx.output("predictions", std::move(results));
-    ctx.output("model", std::move(segmented));
   });
 }
 

@@ -6,6 +6,7 @@
 #include "nodes/eval/register.hpp"
 #include "nodes/inference/register.hpp"
 #include "nodes/inference/text_query.hpp"
+#include "nodes/splat/ply_io.hpp"
 #include "nodes/text/hashing_text_encoder.hpp"
 #include "nodes/text/register.hpp"
 #include "runtime/executor.hpp"
@@ -96,8 +97,9 @@ TEST_CASE("text query and eval nodes score a perfectly segmented scene 100") {
   REQUIRE(pred->views.size() == 1);  // views: test
   CHECK(pred->views[0].view == "cam_01");
   CHECK(pred->instances == std::vector<std::vector<int>>{{0}, {1}});
-  const auto seg = r.values.at("query.model").get<GaussianModel>();
-  CHECK(seg->class_ids == std::vector<int32_t>{1, 2});
+  const GaussianModel seg = read_ply(out / "query/segmented.ply");
+  CHECK(seg.instance_ids == std::vector<int32_t>{0, 1});
+  CHECK(seg.class_ids == std::vector<int32_t>{1, 2});
   for (const char* f : {"query/cam_01__patient_mask.png", "query/cam_01__monitor_relevancy.png",
                         "query/cam_01__monitor_overlay.png", "query/segmented.ply",
                         "query/queries.json", "eval/metrics.csv", "eval/metrics.md"})
