@@ -1,7 +1,7 @@
 #include "nodes/inference/instance_retrieval.hpp"
 
+#include <algorithm>
 #include <cmath>
-#include <limits>
 
 namespace gslift {
 namespace {

@@ -1,5 +1,6 @@
 #include "nodes/inference/query_files.hpp"
 
+#include <algorithm>
 #include <cctype>
 #include <cmath>
 

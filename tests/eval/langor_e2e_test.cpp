@@ -1,6 +1,7 @@
 // graphs/langor.yaml end to end on a small embedded operating room (320x240, shortened training),
-// through the library as `gslift run` does. The floor is the measured score with a margin (see
-// docs/langor.md); it catches a broken stage, not a small regression.
+// through the library as `gslift run` does. Measured (seed 0, 2026-11-22): mIoU 50.8, mLocAcc
+// 81.8, mAcc 63.5 over 11 queries, about 60 s on 2 busy cores. The floors keep a 15-20 point
+// margin: they catch a broken stage, not a small regression.
 #include "nodes/builtin.hpp"
 #include "runtime/executor.hpp"
 #include "tests/test_support.hpp"
@@ -27,7 +28,9 @@ TEST_CASE("langor graph on a small embedded OR reaches its accuracy floor") {
   const double macc = std::get<double>(records.at("mAcc"));
   WARN("mIoU " << miou << " mLocAcc " << locacc << " mAcc " << macc);
   CHECK(std::get<double>(records.at("queries")) >= 5);
-  CHECK(miou >= 0);  // floor set from the measured run
+  CHECK(miou >= 35);
+  CHECK(locacc >= 60);
+  CHECK(macc >= 45);
   CHECK(std::filesystem::exists(options.out_dir / "query/segmented.ply"));
   CHECK(std::filesystem::exists(options.out_dir / "eval/metrics.csv"));
 }
