@@ -1,0 +1,275 @@
+// bench_langor: accuracy, stability, speed and memory of LangOR on the embedded operating room.
+//
+//   bench_langor [--seeds N] [--variants langor,no_geometry,...] [--out DIR] [--set NODE.P=V]...
+//
+// Accuracy: runs graphs/langor.yaml and each ablation (graphs/ablations/*.yaml) with the gslift
+// executable on embedded:or?seed=S for S = 0..N-1 (default 5; default difficulty), one child
+// process per run so that each run's peak memory (wait4 ru_maxrss) is its own; reads mIoU,
+// mLocAcc, mAcc from the run's run.json. Query speed: runs the full graph once in this process
+// (seed 0) and times text queries (instance selection + one mask of the held-out view) on its
+// segmented scene. Writes langor.json, langor.csv and langor.svg into --out (default
+// bench/results).
+#include <spawn.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "nodes/builtin.hpp"
+#include "nodes/inference/text_query.hpp"
+#include "runtime/atomic_file.hpp"
+#include "runtime/executor.hpp"
+
+extern char** environ;
+
+using namespace gslift;
+namespace fs = std::filesystem;
+
+namespace {
+
+const char* kMetrics[] = {"mIoU", "mLocAcc", "mAcc", "mLocAcc_box", "mIoU_class"};
+
+fs::path variant_graph(const std::string& v) {
+  const fs::path src(GSLIFT_SOURCE_DIR);
+  return v == "langor" ? src / "graphs/langor.yaml" : src / "graphs/ablations" / (v + ".yaml");
+}
+
+struct RunStats {
+  bool ok = false;
+  std::map<std::string, double> metrics;
+  double wall_s = 0;
+  double peak_mb = 0;
+};
+
+// One child `gslift run`; its own peak RSS comes from wait4.
+RunStats run_child(const std::string& variant, int seed, const std::vector<std::string>& sets,
+                   const fs::path& scratch) {
+  const fs::path out = scratch / (variant + "_seed" + std::to_string(seed));
+  fs::remove_all(out);
+  std::vector<std::string> args = {GSLIFT_BINARY,
+                                   "run",
+                                   variant_graph(variant).string(),
+                                   "--input",
+                                   "embedded:or?seed=" + std::to_string(seed),
+                                   "--out",
+                                   out.string(),
+                                   "--log-level",
+                                   "warn"};
+  for (const auto& s : sets) {
+    args.push_back("--set");
+    args.push_back(s);
+  }
+  std::vector<char*> argv;
+  for (auto& a : args) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  RunStats r;
+  const auto start = std::chrono::steady_clock::now();
+  pid_t pid = 0;
+  if (posix_spawn(&pid, argv[0], nullptr, nullptr, argv.data(), environ) != 0) {
+    std::cerr << "[langor] cannot start " << argv[0] << "\n";
+    return r;
+  }
+  int status = 0;
+  rusage usage{};
+  wait4(pid, &status, 0, &usage);
+  r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  r.peak_mb = usage.ru_maxrss / 1024.0;
+  std::ifstream in(out / "run.json");
+  if (!in) return r;
+  const nlohmann::json run = nlohmann::json::parse(in);
+  r.ok = run["run"]["status"] == "ok";
+  for (const auto& node : run["nodes"])
+    if (node["id"] == "eval")
+      for (const char* m : kMetrics)
+        if (node["records"].contains(m)) r.metrics[m] = node["records"][m].get<double>();
+  if (r.ok) r.wall_s = run["run"]["total_s"].get<double>();  // the pipeline without process start
+  return r;
+}
+
+std::pair<double, double> mean_std(const std::vector<double>& v) {
+  if (v.empty()) return {NAN, NAN};
+  double m = 0;
+  for (double x : v) m += x;
+  m /= static_cast<double>(v.size());
+  double s = 0;
+  for (double x : v) s += (x - m) * (x - m);
+  return {m, v.size() > 1 ? std::sqrt(s / static_cast<double>(v.size() - 1)) : 0.0};
+}
+
+// Median time of a query (selection + one mask) over every class query on the held-out view.
+nlohmann::json query_timing(const std::vector<std::string>& sets) {
+  Registry registry;
+  register_builtin_nodes(registry);
+  LoadOptions load;
+  load.vars["input"] = "embedded:or?seed=0";
+  load.sets = sets;
+  const LoadResult g = load_graph(variant_graph("langor"), registry, load);
+  if (!g.ok()) return {{"error", "graph did not load"}};
+  const RunResult run = execute(*g.graph, registry, {});
+  if (!run.ok()) return {{"error", run.error->str()}};
+  const auto model = run.values.at("assoc.model").get<GaussianModel>();
+  const auto instances = run.values.at("assoc.instances").get<InstanceSet>();
+  const auto encoder = run.values.at("text.encoder").get<TextEncoder>();
+  const auto capture = run.values.at("capture.capture").get<Capture>();
+  const View& view = capture->views.at(capture->test_views().at(0));
+  const auto cache_start = std::chrono::steady_clock::now();
+  const QueryView qv(*model, view.camera, view.pose);
+  const double cache_ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - cache_start)
+          .count();
+  TextQueryOptions options;
+  for (const auto& [id, name] : capture->classes)
+    if (id != 0) options.vocabulary.push_back(name);
+  std::vector<double> ms;
+  for (int rep = 0; rep < 5; ++rep)
+    for (const auto& q : options.vocabulary) {
+      const auto t0 = std::chrono::steady_clock::now();
+      TextQueryResults r;
+      r.queries = {q};
+      select_instances(*instances, *encoder, options, r);
+      const cv::Mat1b mask =
+          qv.mask(selection_indicator(model->instance_ids, instances->size(), r.instances[0]),
+                  options.mask_threshold);
+      ms.push_back(
+          std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+    }
+  std::sort(ms.begin(), ms.end());
+  return {{"view", view.name},
+          {"width", view.camera.width},
+          {"height", view.camera.height},
+          {"gaussians", model->size()},
+          {"render_cache_build_ms", cache_ms},
+          {"query_median_ms", ms[ms.size() / 2]},
+          {"query_max_ms", ms.back()},
+          {"queries_timed", ms.size()}};
+}
+
+std::string svg_chart(const nlohmann::json& variants) {
+  const int bar = 18, group = 3 * bar + 24, left = 60, top = 30, height = 220;
+  const int width = left + group * static_cast<int>(variants.size()) + 20;
+  const char* colours[] = {"#4477aa", "#228833", "#ee6677"};
+  const char* names[] = {"mIoU", "mLocAcc", "mAcc"};
+  std::ostringstream s;
+  s << "<svg xmlns='http://www.w3.org/2000/svg' width='" << width << "' height='"
+    << top + height + 70 << "' font-family='sans-serif' font-size='11'>\n";
+  for (int v = 0; v <= 100; v += 25) {
+    const double y = top + height - height * v / 100.0;
+    s << "<line x1='" << left << "' x2='" << width - 10 << "' y1='" << y << "' y2='" << y
+      << "' stroke='#ddd'/><text x='" << left - 6 << "' y='" << y + 4 << "' text-anchor='end'>" << v
+      << "</text>\n";
+  }
+  int i = 0;
+  for (const auto& v : variants) {
+    const int x0 = left + 12 + group * i++;
+    for (int m = 0; m < 3; ++m) {
+      const double mean = v[names[m]]["mean"].is_number() ? v[names[m]]["mean"].get<double>() : 0;
+      const double sd = v[names[m]]["std"].is_number() ? v[names[m]]["std"].get<double>() : 0;
+      const double h = height * std::clamp(mean, 0.0, 100.0) / 100.0;
+      const int x = x0 + m * bar;
+      s << "<rect x='" << x << "' y='" << top + height - h << "' width='" << bar - 2 << "' height='"
+        << h << "' fill='" << colours[m] << "'/>\n";
+      const double y1 = top + height - height * std::clamp(mean + sd, 0.0, 100.0) / 100.0;
+      const double y2 = top + height - height * std::clamp(mean - sd, 0.0, 100.0) / 100.0;
+      s << "<line x1='" << x + bar / 2 - 1 << "' x2='" << x + bar / 2 - 1 << "' y1='" << y1
+        << "' y2='" << y2 << "' stroke='black'/>\n";
+    }
+    s << "<text x='" << x0 + bar * 3 / 2 << "' y='" << top + height + 16
+      << "' text-anchor='middle'>" << v["variant"].get<std::string>() << "</text>\n";
+  }
+  for (int m = 0; m < 3; ++m)
+    s << "<rect x='" << left + 100 * m << "' y='" << top + height + 34
+      << "' width='10' height='10' fill='" << colours[m] << "'/><text x='" << left + 100 * m + 14
+      << "' y='" << top + height + 43 << "'>" << names[m] << "</text>\n";
+  s << "<text x='" << left << "' y='18'>LangOR on the embedded OR: mean and std over seeds "
+    << "(percent)</text>\n</svg>\n";
+  return s.str();
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  int seeds = 5;
+  std::vector<std::string> variants = {"langor", "no_geometry", "mask_level", "sigma_07",
+                                       "single_round"};
+  std::vector<std::string> sets;
+  fs::path out = fs::path(GSLIFT_SOURCE_DIR) / "bench/results";
+  bool timing = true;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    const bool has_value = i + 1 < argc;
+    if (a == "--seeds" && has_value) {
+      seeds = std::stoi(argv[++i]);
+    } else if (a == "--variants" && has_value) {
+      variants.clear();
+      std::stringstream list(argv[++i]);
+      for (std::string v; std::getline(list, v, ',');) variants.push_back(v);
+    } else if (a == "--set" && has_value) {
+      sets.push_back(argv[++i]);
+    } else if (a == "--out" && has_value) {
+      out = argv[++i];
+    } else if (a == "--no-timing") {
+      timing = false;
+    } else {
+      std::cerr << "usage: bench_langor [--seeds N] [--variants a,b] [--set NODE.P=V]... "
+                   "[--out DIR] [--no-timing]\n";
+      return 2;
+    }
+  }
+  const fs::path scratch = fs::temp_directory_path() / "gslift_bench_langor";
+  nlohmann::json results = nlohmann::json::array();
+  std::ostringstream csv;
+  csv << "variant,seed,ok,mIoU,mLocAcc,mAcc,mLocAcc_box,mIoU_class,wall_s,peak_mb\n";
+  for (const auto& variant : variants) {
+    std::map<std::string, std::vector<double>> series;
+    nlohmann::json runs = nlohmann::json::array();
+    for (int seed = 0; seed < seeds; ++seed) {
+      const RunStats r = run_child(variant, seed, sets, scratch);
+      std::cerr << "[langor] " << variant << " seed " << seed << (r.ok ? " ok" : " FAILED")
+                << " mIoU " << (r.metrics.count("mIoU") ? r.metrics.at("mIoU") : NAN) << " in "
+                << r.wall_s << " s, " << r.peak_mb << " MB\n";
+      csv << variant << ',' << seed << ',' << r.ok;
+      for (const char* m : kMetrics)
+        csv << ',' << (r.metrics.count(m) ? std::to_string(r.metrics.at(m)) : "");
+      csv << ',' << r.wall_s << ',' << r.peak_mb << '\n';
+      nlohmann::json run = {
+          {"seed", seed}, {"ok", r.ok}, {"wall_s", r.wall_s}, {"peak_mb", r.peak_mb}};
+      for (const auto& [k, v] : r.metrics) run[k] = v;
+      runs.push_back(run);
+      if (!r.ok) continue;
+      for (const auto& [k, v] : r.metrics) series[k].push_back(v);
+      series["wall_s"].push_back(r.wall_s);
+      series["peak_mb"].push_back(r.peak_mb);
+    }
+    nlohmann::json entry = {
+        {"variant", variant}, {"graph", variant_graph(variant).filename()}, {"runs", runs}};
+    for (const char* k :
+         {"mIoU", "mLocAcc", "mAcc", "mLocAcc_box", "mIoU_class", "wall_s", "peak_mb"}) {
+      const auto [m, s] = mean_std(series[k]);
+      entry[k] = {{"mean", std::isnan(m) ? nlohmann::json() : nlohmann::json(m)},
+                  {"std", std::isnan(s) ? nlohmann::json() : nlohmann::json(s)}};
+    }
+    results.push_back(entry);
+  }
+  nlohmann::json doc = {
+      {"benchmark", "langor"}, {"capture", "embedded:or?seed=S (default difficulty)"},
+      {"seeds", seeds},        {"hardware_threads", std::thread::hardware_concurrency()},
+      {"sets", sets},          {"variants", results}};
+  if (timing) doc["query_timing"] = query_timing(sets);
+  fs::create_directories(out);
+  write_file_atomically(out / "langor.json", doc.dump(2) + "\n");
+  write_file_atomically(out / "langor.csv", csv.str());
+  write_file_atomically(out / "langor.svg", svg_chart(results));
+  std::printf("wrote %s/langor.{json,csv,svg}\n", out.string().c_str());
+  return 0;
+}
