@@ -72,6 +72,9 @@ void register_inference_nodes(Registry& registry) {
        float_param("mask_threshold", d.mask_threshold,
                    "accumulated alpha of the selected Gaussians that puts a pixel in the mask", 0,
                    1),
+       bool_param("normalise_relevancy", d.normalise_relevancy,
+                  "relevancy map = weighted mean of instance relevancies (divided by the "
+                  "accumulated alpha) instead of the weighted sum"),
        float_param("softmax_scale", d.softmax_scale,
                    "temperature of the relevancy softmax "
                    "(LangSplat: 10)",
@@ -86,6 +89,7 @@ void register_inference_nodes(Registry& registry) {
     o.relevancy_threshold = static_cast<float>(ctx.param_float("relevancy_threshold"));
     o.mask_threshold = static_cast<float>(ctx.param_float("mask_threshold"));
     o.softmax_scale = static_cast<float>(ctx.param_float("softmax_scale"));
+    o.normalise_relevancy = ctx.param_bool("normalise_relevancy");
     o.vocabulary = class_names(*capture);
     std::vector<std::string> queries = ctx.param_strings("queries");
     if (queries.empty()) queries = o.vocabulary;

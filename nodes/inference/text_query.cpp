@@ -121,9 +121,14 @@ TextQueryResults answer_text_queries(const GaussianModel& model, const InstanceS
     const QueryView qv(model, view.camera, view.pose);
     TextQueryResults::ViewAnswers answers;
     answers.view = view.name;
+    cv::Mat1f alpha;
+    if (options.normalise_relevancy)
+      alpha = cv::max(qv.render(std::vector<float>(model.size(), 1.f)), 1e-6f);
     for (size_t q = 0; q < queries.size(); ++q) {
       answers.masks.push_back(qv.mask(indicators[q], options.mask_threshold));
-      answers.relevancy.push_back(qv.render(relevancies[q]));
+      cv::Mat1f relevancy = qv.render(relevancies[q]);
+      if (options.normalise_relevancy) relevancy /= alpha;
+      answers.relevancy.push_back(relevancy);
     }
     results.views.push_back(std::move(answers));
   }

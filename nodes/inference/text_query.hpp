@@ -53,6 +53,10 @@ struct TextQueryOptions {
   float relevancy_threshold = 0.5f;
   float mask_threshold = 0.5f;  // accumulated alpha of the selection that makes a pixel "in"
   float softmax_scale = 10.f;   // LangSplat's temperature in the relevancy softmax
+  // Relevancy map as the weighted mean sum_i w_i r_i / sum_i w_i instead of the weighted sum
+  // [decision, measured in docs/langor.md]: the mean removes the pixel's coverage (alpha < 1 at
+  // silhouettes, sparse Gaussians) from the ranking, so the argmax follows relevancy alone.
+  bool normalise_relevancy = false;
   std::vector<std::string> negatives = canonical_negatives();
   // Extra closed-set vocabulary entries that compete with the queries (e.g. every class name).
   std::vector<std::string> vocabulary;

@@ -62,3 +62,33 @@ TEST_CASE("unassigned Gaussians and out-of-range ids") {
   CHECK_THROWS_AS(answer_text_queries(model, instances, wider, capture, {}, {"patient"}, {}),
                   InputError);
 }
+
+TEST_CASE("normalised relevancy maps divide the blend by the accumulated alpha") {
+  const GaussianModel model = test::two_blobs();
+  const HashingTextEncoder enc(64);
+  InstanceSet instances;
+  instances.prototypes = Eigen::MatrixXf::Zero(2, 1);
+  instances.semantics.resize(2, 64);
+  instances.semantics.row(0) = enc.encode("patient").transpose();
+  instances.semantics.row(1) = enc.encode("monitor").transpose();
+  Capture capture;
+  View view;
+  view.name = "v";
+  view.camera = test::query_camera();
+  capture.views.push_back(view);
+  TextQueryOptions o;
+  o.vocabulary = {"patient", "monitor"};  // monitor competes, so it does not answer "patient"
+  const TextQueryResults sum =
+      answer_text_queries(model, instances, enc, capture, {0}, {"patient"}, o);
+  o.normalise_relevancy = true;
+  const TextQueryResults mean =
+      answer_text_queries(model, instances, enc, capture, {0}, {"patient"}, o);
+  REQUIRE(sum.instances[0] == std::vector<int>{0});
+  const float r0 = sum.relevancy[0][0];
+  CHECK(r0 > 0.99f);
+  // One Gaussian per pixel: the mean is the instance's relevancy, the sum is scaled by alpha.
+  CHECK(mean.views[0].relevancy[0](24, 17) == Approx(r0));
+  CHECK(mean.views[0].relevancy[0](20, 15) == Approx(r0));
+  CHECK(sum.views[0].relevancy[0](20, 15) < 0.9f * r0);
+  CHECK(sum.views[0].masks[0](24, 17) == 255);
+}
