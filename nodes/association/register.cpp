@@ -11,20 +11,23 @@
 namespace gslift {
 namespace {
 
-// instances.json: per instance its label, how many training masks and Gaussians it got, so a
-// run's association can be inspected without loading the model.
-std::string instances_json(const InstanceSet& set, const std::vector<int32_t>& gaussian_instance) {
-  std::vector<int> masks(set.size(), 0), gaussians(set.size(), 0);
-  for (const auto& view : set.mask_instance)
-    for (const int k : view)
-      if (k >= 0) ++masks[k];
+// instances.json: per instance its label, the labels of the masks that chose it (in view order)
+// and how many Gaussians it got, so a run's association can be inspected without the model.
+std::string instances_json(const InstanceSet& set, const MaskSet& masks,
+                           const std::vector<int32_t>& gaussian_instance) {
+  std::vector<std::vector<std::string>> mask_labels(set.size());
+  std::vector<int> gaussians(set.size(), 0);
+  for (size_t v = 0; v < masks.views.size(); ++v)
+    for (size_t m = 0; m < masks.views[v].masks.size(); ++m)
+      if (set.mask_instance[v][m] >= 0)
+        mask_labels[set.mask_instance[v][m]].push_back(masks.views[v].masks[m].label);
   for (const int32_t k : gaussian_instance)
     if (k >= 0) ++gaussians[k];
   nlohmann::json out = nlohmann::json::array();
   for (int k = 0; k < set.size(); ++k)
     out.push_back({{"instance", k},
                    {"label", set.labels[k]},
-                   {"masks", masks[k]},
+                   {"mask_labels", mask_labels[k]},
                    {"gaussians", gaussians[k]}});
   return out.dump(2) + "\n";
 }
@@ -98,7 +101,7 @@ void register_association_nodes(Registry& registry) {
     const auto dir = ctx.out_dir();
     if (!dir.empty())
       write_file_atomically(dir / "instances.json",
-                            instances_json(a.instances, a.gaussian_instance));
+                            instances_json(a.instances, *masks, a.gaussian_instance));
 
     GaussianModel out = *model;
     out.instance_ids = std::move(a.gaussian_instance);

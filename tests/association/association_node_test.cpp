@@ -168,7 +168,8 @@ TEST_CASE("lifting.cvp then association on a tiny rendered scene") {
   const nlohmann::json instances = nlohmann::json::parse(file);
   REQUIRE(instances.size() == 2);
   for (const auto& entry : instances) {
-    CHECK(entry.at("masks") == 2);
+    const std::string label = entry.at("label");
+    CHECK(entry.at("mask_labels") == std::vector<std::string>{label, label});
     CHECK(entry.at("gaussians") == kObjectGaussians);
   }
 }
