@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <chrono>
-#include <memory>
 #include <random>
 #include <string>
 #include <vector>
@@ -19,10 +18,41 @@
 namespace gslift {
 namespace {
 
+// The per-pixel rows of one view's RenderCache without the contributions below min_weight, and
+// without the cache's per-Gaussian transpose: only sampled pixels are ever rendered or
+// back-propagated, so the transpose is never needed, and dropping it and the faint tail of each
+// blend list cuts the memory several times (measured in contrastive_features.hpp).
+struct PixelRows {
+  std::vector<uint32_t> offsets;  // pixels + 1
+  std::vector<uint32_t> ids;
+  std::vector<float> weights;
+
+  PixelRows(const RenderCache& cache, float min_weight) {
+    const auto& off = cache.pixel_offsets();
+    const auto& all_ids = cache.ids();
+    const auto& all_w = cache.weights();
+    offsets.reserve(off.size());
+    offsets.push_back(0);
+    for (size_t p = 0; p + 1 < off.size(); ++p) {
+      for (uint32_t e = off[p]; e < off[p + 1]; ++e)
+        if (all_w[e] >= min_weight) {
+          ids.push_back(all_ids[e]);
+          weights.push_back(all_w[e]);
+        }
+      offsets.push_back(static_cast<uint32_t>(ids.size()));
+    }
+    ids.shrink_to_fit();
+    weights.shrink_to_fit();
+  }
+  size_t bytes() const {
+    return sizeof(uint32_t) * (offsets.size() + ids.size()) + sizeof(float) * weights.size();
+  }
+};
+
 // One mask of one training view: the pixels inside it (row-major indices) and the mask itself,
 // for the outside test.
 struct TrainingMask {
-  int cache = 0;  // index into the caches
+  int rows = 0;  // index into view_rows
   cv::Mat1b pixels;
   std::vector<uint32_t> inside;
 };
@@ -37,18 +67,18 @@ struct MaskStep {
 void validate(const GaussianModel& model, const ContrastiveOptions& o) {
   if (model.size() == 0) throw InputError("features.contrastive: the model has no Gaussians");
   if (o.iterations < 1 || o.dim < 1 || o.pixels_per_iteration < 1 || !(o.lr > 0) ||
-      !(o.lambda >= 0) || !(o.init_std > 0))
+      !(o.lambda >= 0) || !(o.init_std > 0) || !(o.min_weight >= 0))
     throw InputError(
         "features.contrastive: iterations, dim, pixels_per_iteration, lr and init_std must be "
-        "positive and lambda non-negative");
+        "positive, lambda and min_weight non-negative");
 }
 
 // Renders the features of `pixels` from the cached blend weights (LangOR Eq. 1).
-void render_pixels(const RenderCache& cache, const std::vector<float>& features, int dim,
+void render_pixels(const PixelRows& rows, const std::vector<float>& features, int dim,
                    const std::vector<uint32_t>& pixels, float* out) {
-  const auto& off = cache.pixel_offsets();
-  const auto& ids = cache.ids();
-  const auto& w = cache.weights();
+  const auto& off = rows.offsets;
+  const auto& ids = rows.ids;
+  const auto& w = rows.weights;
   for (size_t k = 0; k < pixels.size(); ++k) {
     float* o = out + k * dim;
     std::fill(o, o + dim, 0.f);
@@ -61,11 +91,11 @@ void render_pixels(const RenderCache& cache, const std::vector<float>& features,
 
 // Adds W^T grad of the sampled pixels to grad_features (the transposed product, restricted to
 // the samples).
-void backward_pixels(const RenderCache& cache, const std::vector<uint32_t>& pixels,
-                     const float* grad, int dim, std::vector<float>& grad_features) {
-  const auto& off = cache.pixel_offsets();
-  const auto& ids = cache.ids();
-  const auto& w = cache.weights();
+void backward_pixels(const PixelRows& rows, const std::vector<uint32_t>& pixels, const float* grad,
+                     int dim, std::vector<float>& grad_features) {
+  const auto& off = rows.offsets;
+  const auto& ids = rows.ids;
+  const auto& w = rows.weights;
   for (size_t k = 0; k < pixels.size(); ++k) {
     const float* g = grad + k * dim;
     for (uint32_t e = off[pixels[k]]; e < off[pixels[k] + 1]; ++e) {
@@ -105,8 +135,8 @@ ContrastiveResult train_contrastive_features(const GaussianModel& model, const C
   validate(model, o);
   const int dim = o.dim;
 
-  // Render caches of the training views that have masks, and their non-empty masks.
-  std::vector<std::unique_ptr<RenderCache>> caches;
+  // Render view_rows of the training views that have masks, and their non-empty masks.
+  std::vector<PixelRows> view_rows;
   std::vector<TrainingMask> training;
   RenderSettings weights_only;
   weights_only.rgb = false;
@@ -118,7 +148,7 @@ ContrastiveResult train_contrastive_features(const GaussianModel& model, const C
                        "' that the capture '" + capture.name + "' lacks");
     const View& view = capture.views[vi];
     if (view.held_out) continue;
-    const int cache_index = static_cast<int>(caches.size());
+    const int rows_index = static_cast<int>(view_rows.size());
     for (size_t k = 0; k < vm.masks.size(); ++k) {
       const cv::Mat1b& px = vm.masks[k].pixels;
       if (px.cols != view.camera.width || px.rows != view.camera.height)
@@ -127,15 +157,15 @@ ContrastiveResult train_contrastive_features(const GaussianModel& model, const C
             std::to_string(px.cols) + "x" + std::to_string(px.rows) + ", the view is " +
             std::to_string(view.camera.width) + "x" + std::to_string(view.camera.height));
       TrainingMask m;
-      m.cache = cache_index;
+      m.rows = rows_index;
       m.pixels = px.isContinuous() ? px : px.clone();
       for (size_t p = 0; p < m.pixels.total(); ++p)
         if (m.pixels.data[p]) m.inside.push_back(static_cast<uint32_t>(p));
       if (!m.inside.empty()) training.push_back(std::move(m));
     }
-    if (!training.empty() && training.back().cache == cache_index)
-      caches.push_back(
-          std::make_unique<RenderCache>(render(model, view.camera, view.pose, weights_only)));
+    if (!training.empty() && training.back().rows == rows_index)
+      view_rows.emplace_back(RenderCache(render(model, view.camera, view.pose, weights_only)),
+                             static_cast<float>(o.min_weight));
   }
   if (training.empty())
     throw InputError("features.contrastive: no training view of capture '" + capture.name +
@@ -143,7 +173,7 @@ ContrastiveResult train_contrastive_features(const GaussianModel& model, const C
 
   ContrastiveResult result;
   result.masks = static_cast<int>(training.size());
-  for (const auto& c : caches) result.cache_bytes += c->bytes();
+  for (const auto& c : view_rows) result.cache_bytes += c.bytes();
 
   const size_t n = model.size();
   std::vector<float> features(n * dim);
@@ -167,7 +197,7 @@ ContrastiveResult train_contrastive_features(const GaussianModel& model, const C
       const int n_out = sample_pixels(m, o.pixels_per_iteration, rng, s.pixels);
       const int n_in = o.pixels_per_iteration;
       std::vector<float> rendered(s.pixels.size() * dim);
-      render_pixels(*caches[m.cache], features, dim, s.pixels, rendered.data());
+      render_pixels(view_rows[m.rows], features, dim, s.pixels, rendered.data());
       s.grad.resize(rendered.size());
       s.loss =
           mask_contrastive_loss(rendered.data(), n_in, rendered.data() + size_t(n_in) * dim, n_out,
@@ -178,7 +208,8 @@ ContrastiveResult train_contrastive_features(const GaussianModel& model, const C
     std::fill(grad.begin(), grad.end(), 0.f);
     for (size_t k = 0; k < training.size(); ++k) {
       loss += steps[k].loss;
-      backward_pixels(*caches[training[k].cache], steps[k].pixels, steps[k].grad.data(), dim, grad);
+      backward_pixels(view_rows[training[k].rows], steps[k].pixels, steps[k].grad.data(), dim,
+                      grad);
     }
     loss /= training.size();
     if (it == 0) result.loss_start = loss;

@@ -25,7 +25,9 @@ void add_contrastive(Registry& registry) {
        int_param("pixels_per_iteration", d.pixels_per_iteration,
                  "pixels sampled inside each mask per step, and as many outside", 1, 1e6),
        float_param("init_std", d.init_std, "standard deviation of the random initial features",
-                   1e-9, 100)}};
+                   1e-9, 100),
+       float_param("min_weight", d.min_weight,
+                   "blend weights below this are dropped from the stored rows (memory)", 0, 1)}};
   registry.add(std::move(spec), [](NodeContext& ctx) {
     ContrastiveOptions o;
     o.iterations = static_cast<int>(ctx.param_int("iterations"));
@@ -34,6 +36,7 @@ void add_contrastive(Registry& registry) {
     o.lr = ctx.param_float("lr");
     o.pixels_per_iteration = static_cast<int>(ctx.param_int("pixels_per_iteration"));
     o.init_std = ctx.param_float("init_std");
+    o.min_weight = ctx.param_float("min_weight");
     o.seed = ctx.seed();
     ContrastiveResult r = train_contrastive_features(
         *ctx.input<GaussianModel>("model"), *ctx.input<Capture>("capture"),

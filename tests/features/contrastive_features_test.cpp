@@ -6,6 +6,8 @@
 #include <tbb/global_control.h>
 #include <Eigen/Core>
 
+#include "nodes/splat/rasterizer.hpp"
+#include "nodes/splat/render_cache.hpp"
 #include "runtime/node.hpp"
 #include "tests/test_support.hpp"
 
@@ -142,4 +144,28 @@ TEST_CASE("contrastive features reject bad masks", "[features]") {
   CHECK_THROWS_AS(train_contrastive_features(s.model, s.capture, wrong, o), InputError);
   MaskSet empty;
   CHECK_THROWS_AS(train_contrastive_features(s.model, s.capture, empty, o), InputError);
+}
+
+TEST_CASE("contrastive features keep the cached rows above min_weight", "[features]") {
+  TwoGroups s = two_groups();
+  ContrastiveOptions o;
+  o.iterations = 1;
+  // Expected with min_weight 0: every (pixel, Gaussian) pair of the two training views, as
+  // offsets (one per pixel + 1), ids and weights.
+  RenderSettings weights_only;
+  weights_only.rgb = false;
+  weights_only.alpha = true;
+  size_t all = 0, above = 0;
+  for (int v = 0; v < 2; ++v) {
+    const View& view = s.capture.views[v];
+    const RenderCache cache(render(s.model, view.camera, view.pose, weights_only));
+    all += 4 * (cache.pixel_offsets().size() + 2 * cache.entries());
+    above += 4 * cache.pixel_offsets().size();
+    for (float w : cache.weights()) above += w >= 0.2f ? 8 : 0;
+  }
+  o.min_weight = 0;
+  CHECK(train_contrastive_features(s.model, s.capture, s.masks, o).cache_bytes == all);
+  o.min_weight = 0.2;
+  CHECK(train_contrastive_features(s.model, s.capture, s.masks, o).cache_bytes == above);
+  CHECK(above < all);
 }
