@@ -6,6 +6,13 @@
 // has a depth prior, on the depth rendered as an 8-bit image; the two foregrounds are OR-ed and an
 // empty result keeps the box itself as the mask (paper 002, METHODS §4).
 // source = auto: sam for the boxes whose mask the capture has, grabcut for the others.
+//
+// Measured on the default embedded OR capture (53 clustered boxes over 5 views at 640x480; mean
+// IoU with the ground-truth instance filling most of each box): SAM masks 0.813, GrabCut on RGB
+// 0.591 (3.0 s), GrabCut on RGB or depth 0.584 (6.9 s), the box itself 0.389. The depth pass is
+// kept on by default as the paper does it, but on this capture it costs twice the time for no
+// gain: use_depth=false is the cheaper
+// choice there.
 #pragma once
 
 #include <string>
