@@ -11,8 +11,7 @@
 // IoU with the ground-truth instance filling most of each box): SAM masks 0.813, GrabCut on RGB
 // 0.591 (3.0 s), GrabCut on RGB or depth 0.584 (6.9 s), the box itself 0.389. The depth pass is
 // kept on by default as the paper does it, but on this capture it costs twice the time for no
-// gain: use_depth=false is the cheaper
-// choice there.
+// gain: use_depth=false is the cheaper choice there.
 #pragma once
 
 #include <string>
