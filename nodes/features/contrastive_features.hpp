@@ -28,7 +28,8 @@
 //   1e-2     0.011 / 0.947   0.010 / 0.946
 // A faster rate fits the training masks better and separates held-out pixels worse (the masks'
 // own errors are learnt too): the default is 1e-3, and 128 pixels per mask, as more cost time
-// for nothing (seconds roughly proportional to the pixels).
+// for nothing (seconds roughly proportional to the pixels). At the defaults: 6.9 s (load average
+// about 6), 189 MB of rows, loss per mask 0.83 -> 0.035.
 //
 // Deterministic for a fixed seed at any thread count: the pixels of (iteration, mask) come from
 // an RNG seeded by (seed, iteration, mask index), never a thread id, and the per-mask gradients
