@@ -157,7 +157,8 @@ nlohmann::json query_timing(const std::vector<std::string>& sets) {
 
 std::string svg_chart(const nlohmann::json& variants) {
   const int bar = 18, group = 3 * bar + 24, left = 60, top = 30, height = 220;
-  const int width = left + group * static_cast<int>(variants.size()) + 20;
+  // At least wide enough for the legend and the title.
+  const int width = std::max(420, left + group * static_cast<int>(variants.size()) + 20);
   const char* colours[] = {"#4477aa", "#228833", "#ee6677"};
   const char* names[] = {"mIoU", "mLocAcc", "mAcc"};
   std::ostringstream s;
