@@ -1,6 +1,7 @@
 // bench_langor: accuracy, stability, speed and memory of LangOR on the embedded operating room.
 //
 //   bench_langor [--seeds N] [--variants langor,no_geometry,...] [--out DIR] [--set NODE.P=V]...
+//                [--capture "&width=320&height=240"] [--no-timing]
 //
 // Accuracy: runs graphs/langor.yaml and each ablation (graphs/ablations/*.yaml) with the gslift
 // executable on embedded:or?seed=S for S = 0..N-1 (default 5; default difficulty), one child
@@ -53,15 +54,15 @@ struct RunStats {
 };
 
 // One child `gslift run`; its own peak RSS comes from wait4.
-RunStats run_child(const std::string& variant, int seed, const std::vector<std::string>& sets,
-                   const fs::path& scratch) {
+RunStats run_child(const std::string& variant, int seed, const std::string& capture_settings,
+                   const std::vector<std::string>& sets, const fs::path& scratch) {
   const fs::path out = scratch / (variant + "_seed" + std::to_string(seed));
   fs::remove_all(out);
   std::vector<std::string> args = {GSLIFT_BINARY,
                                    "run",
                                    variant_graph(variant).string(),
                                    "--input",
-                                   "embedded:or?seed=" + std::to_string(seed),
+                                   "embedded:or?seed=" + std::to_string(seed) + capture_settings,
                                    "--out",
                                    out.string(),
                                    "--log-level",
@@ -206,6 +207,7 @@ int main(int argc, char** argv) {
   std::vector<std::string> sets;
   fs::path out = fs::path(GSLIFT_SOURCE_DIR) / "bench/results";
   bool timing = true;
+  std::string capture_settings;  // appended to embedded:or?seed=S, e.g. "&width=320&height=240"
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     const bool has_value = i + 1 < argc;
@@ -219,11 +221,13 @@ int main(int argc, char** argv) {
       sets.push_back(argv[++i]);
     } else if (a == "--out" && has_value) {
       out = argv[++i];
+    } else if (a == "--capture" && has_value) {
+      capture_settings = argv[++i];
     } else if (a == "--no-timing") {
       timing = false;
     } else {
       std::cerr << "usage: bench_langor [--seeds N] [--variants a,b] [--set NODE.P=V]... "
-                   "[--out DIR] [--no-timing]\n";
+                   "[--out DIR] [--capture SETTINGS] [--no-timing]\n";
       return 2;
     }
   }
@@ -235,7 +239,7 @@ int main(int argc, char** argv) {
     std::map<std::string, std::vector<double>> series;
     nlohmann::json runs = nlohmann::json::array();
     for (int seed = 0; seed < seeds; ++seed) {
-      const RunStats r = run_child(variant, seed, sets, scratch);
+      const RunStats r = run_child(variant, seed, capture_settings, sets, scratch);
       std::cerr << "[langor] " << variant << " seed " << seed << (r.ok ? " ok" : " FAILED")
                 << " mIoU " << (r.metrics.count("mIoU") ? r.metrics.at("mIoU") : NAN) << " in "
                 << r.wall_s << " s, " << r.peak_mb << " MB\n";
