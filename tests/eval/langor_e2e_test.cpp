@@ -1,7 +1,8 @@
 // graphs/langor.yaml end to end on a small embedded operating room (320x240, shortened training),
-// through the library as `gslift run` does. Measured (seed 0, 2026-11-22): mIoU 50.8, mLocAcc
-// 81.8, mAcc 63.5 over 11 queries, about 60 s on 2 busy cores. The floors keep a 15-20 point
-// margin: they catch a broken stage, not a small regression.
+// through the library as `gslift run` does. Measured at seed 0: mIoU 50.8, mLocAcc 81.8, mAcc
+// 63.5 (08:40 UTC 2026-11-22), then 43.3 / 72.7 / 49.9 after upstream stages changed defaults
+// (09:05); about 12 s on a quiet 2-core machine. The floors keep a margin of 13 points or more
+// below the lower measurement: they catch a broken stage, not a small regression.
 #include "nodes/builtin.hpp"
 #include "runtime/executor.hpp"
 #include "tests/test_support.hpp"
@@ -28,9 +29,9 @@ TEST_CASE("langor graph on a small embedded OR reaches its accuracy floor") {
   const double macc = std::get<double>(records.at("mAcc"));
   WARN("mIoU " << miou << " mLocAcc " << locacc << " mAcc " << macc);
   CHECK(std::get<double>(records.at("queries")) >= 5);
-  CHECK(miou >= 35);
-  CHECK(locacc >= 60);
-  CHECK(macc >= 45);
+  CHECK(miou >= 30);
+  CHECK(locacc >= 50);
+  CHECK(macc >= 35);
   CHECK(std::filesystem::exists(options.out_dir / "query/segmented.ply"));
   CHECK(std::filesystem::exists(options.out_dir / "eval/metrics.csv"));
 }
