@@ -22,7 +22,7 @@ struct Diagnostic {
   std::string code;     // stable kind, e.g. "unknown-type", "cycle", "type-mismatch"
   std::string message;  // what is wrong, naming node/port/param
   std::string hint;     // e.g. "did you mean 'boxes.cluster'?"; may be empty
-  // "file:line:col: error: message (hint)"
+  // "file:line:col: error[code]: message (hint)" (warning[code] for warnings)
   std::string str() const;
 };
 
