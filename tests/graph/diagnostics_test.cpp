@@ -14,8 +14,7 @@ using gslift::test::with_code;
 namespace {
 
 LoadResult load(const std::string& yaml, const LoadOptions& options = {}) {
-  static const gslift::test::FakeCatalog catalog;
-  return load_graph_text(yaml, "test.yaml", catalog, options);
+  return gslift::test::load_test_yaml(yaml, options);
 }
 
 // The only diagnostic with `code`, which must exist.

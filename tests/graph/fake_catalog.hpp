@@ -104,4 +104,10 @@ inline std::string position(const std::string& text, const std::string& needle, 
   return name + ":" + std::to_string(line) + ":" + std::to_string(column + 1);
 }
 
+// Loads inline YAML (named "test.yaml" in diagnostics) against the fake catalogue.
+inline LoadResult load_test_yaml(const std::string& yaml, const LoadOptions& options = {}) {
+  static const FakeCatalog catalog;
+  return load_graph_text(yaml, "test.yaml", catalog, options);
+}
+
 }  // namespace gslift::test

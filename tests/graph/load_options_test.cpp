@@ -11,8 +11,7 @@ using gslift::test::with_code;
 namespace {
 
 LoadResult load(const std::string& yaml, const LoadOptions& options = {}) {
-  static const gslift::test::FakeCatalog catalog;
-  return load_graph_text(yaml, "test.yaml", catalog, options);
+  return gslift::test::load_test_yaml(yaml, options);
 }
 
 const std::string kSumGraph =
