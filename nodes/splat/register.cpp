@@ -108,6 +108,23 @@ void add_reconstruct(Registry& registry) {
   });
 }
 
+// A model saved by an earlier run (recon/model.ply) or by the reference 3DGS code, so that the
+// stages after reconstruction can be rerun or swapped without training again.
+void add_load(Registry& registry) {
+  NodeSpec spec{"splat.load",
+                "reads a Gaussian model from an INRIA-layout PLY (e.g. an earlier run's "
+                "recon/model.ply)",
+                {},
+                {model_port("the Gaussians of the file, features and ids included")},
+                {required_string_param("path", "the PLY file")}};
+  registry.add(std::move(spec), [](NodeContext& ctx) {
+    GaussianModel model = read_ply(ctx.param_string("path"));
+    ctx.record("gaussians", static_cast<double>(model.size()));
+    ctx.record("feature_dim", model.feature_dim);
+    ctx.output("model", std::move(model));
+  });
+}
+
 void add_render(Registry& registry) {
   ParamSpec channels;
   channels.name = "channels";
@@ -150,6 +167,7 @@ void add_render(Registry& registry) {
 
 void register_splat_nodes(Registry& registry) {
   add_reconstruct(registry);
+  add_load(registry);
   add_render(registry);
 }
 

@@ -56,3 +56,38 @@ nodes:
       CHECK(std::filesystem::exists(options.out_dir / "render" /
                                     ("cam_" + std::to_string(v) + "_" + c + ".png")));
 }
+
+TEST_CASE("splat.load reads a model written by splat.reconstruct, and names a missing file") {
+  const Registry registry = registry_with_tiny_capture();
+  RunOptions options;
+  options.out_dir = test::scratch_dir("train_nodes_load");
+  GaussianModel saved = test::ground_truth_scene();
+  saved.feature_dim = 3;
+  saved.features.assign(saved.size() * 3, 0.25f);
+  const auto path = options.out_dir / "saved.ply";
+  write_ply(saved, path);
+  const RunResult run = run_graph_text(R"(
+graph: load
+nodes:
+  capture: {type: test.tiny_capture}
+  model:   {type: splat.load, params: {path: ")" +
+                                           path.string() + R"("}}
+  render:  {type: splat.render, in: {model: model.model, capture: capture.capture},
+            params: {channels: [rgb, features], views: test}}
+)",
+                                       registry, options);
+  INFO((run.error ? run.error->str() : std::string()));
+  REQUIRE(run.ok());
+  CHECK(std::get<double>(run.node("model")->records.at("gaussians")) ==
+        static_cast<double>(saved.size()));
+  CHECK(std::get<double>(run.node("model")->records.at("feature_dim")) == 3);
+
+  const RunResult missing = run_graph_text(R"(
+graph: missing
+nodes:
+  model: {type: splat.load, params: {path: /nonexistent/model.ply}}
+)",
+                                           registry, options);
+  REQUIRE_FALSE(missing.ok());
+  CHECK_THAT(missing.error->str(), Catch::Contains("/nonexistent/model.ply"));
+}
