@@ -38,7 +38,8 @@ std::vector<double> squared_norms(const PointMatrix& points) {
 // rounding decides which of two mathematically equal distances is smaller, so computing it the
 // same way (same operations, same order) is what makes tied data (iris, digits) partition exactly
 // as the reference. The price is cancellation for points far from the origin relative to their
-// spread (relative error ~ 1e-16 |a|^2 / d^2): centre such data first.
+// spread (relative error ~ 1e-16 |a|^2 / d^2): centre such data first. The file is compiled
+// with -ffp-contract=off (CMakeLists.txt): numpy never fuses a multiply and an add.
 class Distance {
  public:
   explicit Distance(const PointMatrix& points) : points_(points), norms_(squared_norms(points)) {}
