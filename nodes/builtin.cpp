@@ -10,6 +10,7 @@
 #include "nodes/splat/register.hpp"
 #include "nodes/synth/register.hpp"
 #include "nodes/text/register.hpp"
+#include "nodes/vlm/register.hpp"
 
 namespace gslift {
 
@@ -24,6 +25,7 @@ void register_builtin_nodes(Registry& registry) {
   register_inference_nodes(registry);
   register_eval_nodes(registry);
   register_features_nodes(registry);
+  register_vlm_nodes(registry);
 }
 
 }  // namespace gslift

@@ -1,0 +1,81 @@
+#include "nodes/vlm/http_post.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <mutex>
+#include <thread>
+
+#include <curl/curl.h>
+
+namespace gslift {
+namespace {
+
+size_t append_body(char* data, size_t size, size_t count, void* out) {
+  static_cast<std::string*>(out)->append(data, size * count);
+  return size * count;
+}
+
+}  // namespace
+
+HttpResult http_post_json(const std::string& url, const std::string& body,
+                          const std::vector<std::string>& headers, double timeout_s) {
+  // curl_global_init is not thread-safe and must run once before any handle exists.
+  static std::once_flag init;
+  std::call_once(init, [] { curl_global_init(CURL_GLOBAL_DEFAULT); });
+
+  HttpResult result;
+  CURL* curl = curl_easy_init();
+  if (!curl) {
+    result.transport_failed = true;
+    result.error = "libcurl could not create a handle";
+    return result;
+  }
+  curl_slist* list = curl_slist_append(nullptr, "Content-Type: application/json");
+  for (const auto& h : headers) list = curl_slist_append(list, h.c_str());
+  char message[CURL_ERROR_SIZE] = {};
+  curl_easy_setopt(curl, CURLOPT_URL, url.c_str());
+  curl_easy_setopt(curl, CURLOPT_HTTPHEADER, list);
+  curl_easy_setopt(curl, CURLOPT_POSTFIELDS, body.data());
+  curl_easy_setopt(curl, CURLOPT_POSTFIELDSIZE_LARGE, static_cast<curl_off_t>(body.size()));
+  curl_easy_setopt(curl, CURLOPT_WRITEFUNCTION, append_body);
+  curl_easy_setopt(curl, CURLOPT_WRITEDATA, &result.body);
+  curl_easy_setopt(curl, CURLOPT_TIMEOUT_MS, static_cast<long>(std::ceil(timeout_s * 1000)));
+  curl_easy_setopt(curl, CURLOPT_NOSIGNAL, 1L);  // timeouts without SIGALRM: safe in threads
+  curl_easy_setopt(curl, CURLOPT_ERRORBUFFER, message);
+  // No "Expect: 100-continue" round trip for large image bodies.
+  list = curl_slist_append(list, "Expect:");
+  curl_easy_setopt(curl, CURLOPT_HTTPHEADER, list);
+  const CURLcode code = curl_easy_perform(curl);
+  if (code != CURLE_OK) {
+    result.transport_failed = true;
+    result.timed_out = code == CURLE_OPERATION_TIMEDOUT;
+    result.error = message[0] ? message : curl_easy_strerror(code);
+  } else {
+    curl_easy_getinfo(curl, CURLINFO_RESPONSE_CODE, &result.status);
+  }
+  curl_slist_free_all(list);
+  curl_easy_cleanup(curl);
+  return result;
+}
+
+bool retryable(const HttpResult& result) {
+  return result.transport_failed || result.status == 429 || result.status >= 500;
+}
+
+HttpResult post_with_retries(const std::function<HttpResult()>& attempt, int retries,
+                             double backoff_s, int* attempts_made) {
+  HttpResult result;
+  int made = 0;
+  for (int k = 0; k <= retries; ++k) {
+    if (k > 0)
+      std::this_thread::sleep_for(
+          std::chrono::duration<double>(backoff_s * std::ldexp(1.0, k - 1)));
+    result = attempt();
+    ++made;
+    if (!retryable(result)) break;
+  }
+  if (attempts_made) *attempts_made = made;
+  return result;
+}
+
+}  // namespace gslift

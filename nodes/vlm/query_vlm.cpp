@@ -1,0 +1,82 @@
+#include "nodes/vlm/query_vlm.hpp"
+
+#include <atomic>
+#include <optional>
+
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include "nodes/vlm/chat_request.hpp"
+#include "nodes/vlm/http_post.hpp"
+#include "runtime/node.hpp"
+
+namespace gslift {
+
+uint64_t request_seed(uint64_t seed, size_t view, int round) {
+  // splitmix64 finaliser over the three numbers: nearby (view, round) pairs get unrelated seeds.
+  uint64_t z = seed * 0x9e3779b97f4a7c15ULL + view * 0xbf58476d1ce4e5b9ULL +
+               static_cast<uint64_t>(round) * 0x94d049bb133111ebULL + 1;
+  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+  return (z ^ (z >> 31)) >> 33;
+}
+
+std::vector<std::vector<VlmRoundReply>> query_vlm(const std::vector<VlmImage>& images,
+                                                  const std::string& prompt,
+                                                  const VlmQueryOptions& options,
+                                                  const std::function<bool()>& cancelled) {
+  const int rounds = std::max(options.rounds, 0);
+  std::vector<std::vector<VlmRoundReply>> replies(images.size(),
+                                                  std::vector<VlmRoundReply>(rounds));
+  std::vector<std::string> headers;
+  if (!options.api_key.empty()) headers.push_back("Authorization: Bearer " + options.api_key);
+  const size_t requests = images.size() * rounds;
+  // Of the requests that failed, the first in (view, round) order is reported, whichever finished
+  // first.
+  std::vector<std::optional<std::string>> errors(requests);
+  std::atomic<bool> stop{false};
+  tbb::task_arena arena(std::max(options.concurrency, 1));
+  arena.execute([&] {
+    tbb::parallel_for(size_t(0), requests, [&](size_t r) {
+      if (stop || (cancelled && cancelled())) {
+        stop = true;
+        return;
+      }
+      const size_t v = r / rounds;
+      const int k = static_cast<int>(r % rounds);
+      const std::string where =
+          options.url + " (view '" + images[v].name + "', round " + std::to_string(k) + ")";
+      ChatRequest request;
+      request.model = options.model;
+      request.prompt = prompt;
+      request.image_png = images[v].png;
+      request.temperature = options.temperature;
+      request.max_tokens = options.max_tokens;
+      request.seed = request_seed(options.seed, v, k);
+      const std::string body = build_chat_request(request);
+      int attempts = 0;
+      const HttpResult result = post_with_retries(
+          [&] { return http_post_json(options.url, body, headers, options.timeout_s); },
+          options.retries, options.backoff_s, &attempts);
+      const std::string tries = " after " + std::to_string(attempts) + " attempt(s)";
+      try {
+        if (result.transport_failed)
+          throw InputError(where + ": " + (result.timed_out ? "timed out" : "request failed") +
+                           tries + ": " + result.error);
+        if (result.status >= 400)
+          throw InputError(where + ": HTTP " + std::to_string(result.status) + tries + ": " +
+                           result.body.substr(0, 200));
+        replies[v][k].content = chat_reply_content(result.body, where);
+        replies[v][k].attempts = attempts;
+      } catch (const InputError& e) {
+        errors[r] = e.what();
+        stop = true;  // the server is unusable: do not send the remaining requests
+      }
+    });
+  });
+  for (const auto& e : errors)
+    if (e) throw InputError("vlm.query: " + *e);
+  return replies;
+}
+
+}  // namespace gslift

@@ -1,0 +1,117 @@
+// A scripted HTTP/1.1 server on 127.0.0.1 for the vlm.query tests: it answers the n-th request
+// with the n-th canned response (the last one repeats), one connection per request, and keeps
+// every request body it received.
+#pragma once
+
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <chrono>
+#include <mutex>
+#include <stdexcept>
+#include <string>
+#include <thread>
+#include <vector>
+
+namespace gslift::test {
+
+struct CannedResponse {
+  int status = 200;
+  std::string body;
+  int delay_ms = 0;  // sleep before answering (a slow or stuck server)
+};
+
+class LoopbackServer {
+ public:
+  explicit LoopbackServer(std::vector<CannedResponse> script) : script_(std::move(script)) {
+    listener_ = ::socket(AF_INET, SOCK_STREAM, 0);
+    if (listener_ < 0) throw std::runtime_error("socket() failed");
+    const int yes = 1;
+    ::setsockopt(listener_, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof yes);
+    sockaddr_in addr{};
+    addr.sin_family = AF_INET;
+    addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    addr.sin_port = 0;  // ephemeral
+    if (::bind(listener_, reinterpret_cast<sockaddr*>(&addr), sizeof addr) != 0 ||
+        ::listen(listener_, 16) != 0)
+      throw std::runtime_error("bind/listen on 127.0.0.1 failed");
+    socklen_t len = sizeof addr;
+    ::getsockname(listener_, reinterpret_cast<sockaddr*>(&addr), &len);
+    port_ = ntohs(addr.sin_port);
+    thread_ = std::thread([this] { serve(); });
+  }
+
+  ~LoopbackServer() {
+    stopping_ = true;
+    ::shutdown(listener_, SHUT_RDWR);
+    ::close(listener_);
+    thread_.join();
+  }
+
+  std::string url() const {
+    return "http://127.0.0.1:" + std::to_string(port_) + "/v1/chat/completions";
+  }
+
+  std::vector<std::string> bodies() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return bodies_;
+  }
+
+ private:
+  void serve() {
+    size_t n = 0;
+    while (!stopping_) {
+      const int client = ::accept(listener_, nullptr, nullptr);
+      if (client < 0) return;  // listener closed
+      const std::string body = read_request(client);
+      {
+        std::lock_guard<std::mutex> lock(mutex_);
+        bodies_.push_back(body);
+      }
+      const CannedResponse& r = script_[std::min(n++, script_.size() - 1)];
+      if (r.delay_ms > 0) std::this_thread::sleep_for(std::chrono::milliseconds(r.delay_ms));
+      const std::string reply = "HTTP/1.1 " + std::to_string(r.status) +
+                                " Canned\r\nContent-Type: application/json\r\nContent-Length: " +
+                                std::to_string(r.body.size()) + "\r\nConnection: close\r\n\r\n" +
+                                r.body;
+      // MSG_NOSIGNAL: the client may have given up (timeout) and closed its end.
+      ::send(client, reply.data(), reply.size(), MSG_NOSIGNAL);
+      ::close(client);
+    }
+  }
+
+  // Headers up to the blank line, then Content-Length bytes of body.
+  static std::string read_request(int client) {
+    std::string data;
+    char buffer[65536];
+    size_t header_end = std::string::npos, length = 0;
+    while (true) {
+      const ssize_t got = ::recv(client, buffer, sizeof buffer, 0);
+      if (got <= 0) break;
+      data.append(buffer, static_cast<size_t>(got));
+      if (header_end == std::string::npos) {
+        header_end = data.find("\r\n\r\n");
+        if (header_end == std::string::npos) continue;
+        std::string headers = data.substr(0, header_end);
+        for (auto& c : headers) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+        const size_t at = headers.find("content-length:");
+        if (at != std::string::npos) length = std::stoul(headers.substr(at + 15));
+      }
+      if (data.size() >= header_end + 4 + length) break;
+    }
+    return header_end == std::string::npos ? std::string() : data.substr(header_end + 4);
+  }
+
+  std::vector<CannedResponse> script_;
+  int listener_ = -1;
+  int port_ = 0;
+  std::atomic<bool> stopping_{false};
+  std::thread thread_;
+  mutable std::mutex mutex_;
+  std::vector<std::string> bodies_;
+};
+
+}  // namespace gslift::test

@@ -1,0 +1,185 @@
+// vlm.query end to end through the executor, against a scripted server on loopback.
+#include <fstream>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "nodes/boxes/context_prompt.hpp"
+#include "nodes/scene/boxes.hpp"
+#include "nodes/scene/capture.hpp"
+#include "nodes/vlm/register.hpp"
+#include "runtime/executor.hpp"
+#include "tests/test_support.hpp"
+#include "tests/vlm/loopback_server.hpp"
+
+using namespace gslift;
+
+namespace {
+
+// Two 100 x 50 views, "left" and "right".
+Registry registry_with_capture() {
+  Registry r;
+  register_vlm_nodes(r);
+  r.add(NodeSpec{"test.capture", "two small views", {}, {{"capture", "Capture", ""}}, {}},
+        [](NodeContext& ctx) {
+          Capture c;
+          c.name = "tiny";
+          for (const char* name : {"left", "right"}) {
+            View v;
+            v.name = name;
+            v.camera.width = 100;
+            v.camera.height = 50;
+            v.camera.fx = v.camera.fy = 80;
+            v.camera.cx = 50;
+            v.camera.cy = 25;
+            v.rgb = ImageSource::in_memory(cv::Mat(50, 100, CV_8UC3, cv::Scalar(10, 200, 30)));
+            c.views.push_back(std::move(v));
+          }
+          ctx.output("capture", std::move(c));
+        });
+  r.add(NodeSpec{"test.prompt", "a fixed prompt", {}, {{"prompt", "Vocabulary", ""}}, {}},
+        [](NodeContext& ctx) {
+          Vocabulary v;
+          v.prompt = "Ground every patient.";
+          ctx.output("prompt", std::move(v));
+        });
+  return r;
+}
+
+std::string reply(const std::string& content) {
+  return nlohmann::json{{"choices", {{{"message", {{"role", "assistant"}, {"content", content}}}}}}}
+      .dump();
+}
+
+const std::string kGood =
+    "Here you go:\n```json\n[{\"bbox_2d\": [100, 200, 500, 800], \"label\": \"patient\"}]\n```\n"
+    "Anything else?";
+
+std::string graph(const std::string& url, const std::string& extra) {
+  return R"(
+graph: live
+nodes:
+  capture: {type: test.capture}
+  prompt:  {type: test.prompt}
+  vlm:
+    type: vlm.query
+    in: {capture: capture.capture, prompt: prompt.prompt}
+    params: {url: ")" +
+         url + R"(", model: qwen, backoff_s: 0, concurrency: 1, )" + extra + "}\n";
+}
+
+std::string read_file(const std::filesystem::path& p) {
+  std::ifstream in(p);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+}  // namespace
+
+TEST_CASE("vlm.query parses every round, stores the raw replies, and skips a nonsense round") {
+  test::LoopbackServer server({{200, reply(kGood)},
+                               {200, reply("I see no patient.")},
+                               {200, reply(kGood)},
+                               {200, reply(kGood)}});
+  const Registry registry = registry_with_capture();
+  RunOptions options;
+  options.out_dir = test::scratch_dir("vlm_query_good");
+  const RunResult run =
+      run_graph_text(graph(server.url(), "rounds: 2, temperature: 0.4"), registry, options);
+  INFO((run.error ? run.error->str() : std::string()));
+  REQUIRE(run.ok());
+  const auto& records = run.node("vlm")->records;
+  CHECK(std::get<double>(records.at("boxes")) == 3);
+  CHECK(std::get<double>(records.at("requests")) == 4);
+  CHECK(std::get<double>(records.at("rounds_unparsed")) == 1);
+  CHECK(std::get<double>(records.at("requests_retried")) == 0);
+
+  const BoxSet& boxes = *run.values.at("vlm.boxes").get<BoxSet>();
+  REQUIRE(boxes.views.size() == 2);
+  CHECK(boxes.views[0].view == "left");
+  CHECK(boxes.views[0].rounds == 2);
+  REQUIRE(boxes.views[0].boxes.size() == 1);  // round 1 of "left" was nonsense
+  REQUIRE(boxes.views[1].boxes.size() == 2);
+  // norm1000 [100, 200, 500, 800] on a 100 x 50 image: x * 100 / 1000, y * 50 / 1000.
+  const Box& b = boxes.views[1].boxes[1];
+  CHECK(b.x1 == Approx(10));
+  CHECK(b.y1 == Approx(10));
+  CHECK(b.x2 == Approx(50));
+  CHECK(b.y2 == Approx(40));
+  CHECK(b.label == "patient");
+  CHECK(b.round == 1);
+
+  // The requests: model, sampling, the image as a PNG data URL, then the prompt.
+  const auto bodies = server.bodies();
+  REQUIRE(bodies.size() == 4);
+  const auto first = nlohmann::json::parse(bodies[0]);
+  CHECK(first["model"] == "qwen");
+  CHECK(first["temperature"] == 0.4);
+  const std::string url = first["messages"][0]["content"][0]["image_url"]["url"];
+  CHECK(url.rfind("data:image/png;base64,iVBORw0KGgo", 0) == 0);  // PNG signature
+  CHECK(first["messages"][0]["content"][1]["text"] == "Ground every patient.");
+  CHECK(nlohmann::json::parse(bodies[1])["seed"] != first["seed"]);
+
+  // Raw replies in the capture layout, readable later by ingest.vlm.
+  const auto dir = options.out_dir / "vlm" / "vlm";
+  CHECK(read_file(dir / "prompt.txt") == "Ground every patient.");
+  CHECK(read_file(dir / "left" / "round_0.txt") == kGood);
+  CHECK(read_file(dir / "left" / "round_1.txt") == "I see no patient.");
+  CHECK(std::filesystem::exists(dir / "right" / "round_1.txt"));
+}
+
+TEST_CASE("vlm.query retries a 500 and a timeout, then succeeds") {
+  test::LoopbackServer server(
+      {{500, "{\"error\": \"overloaded\"}"},
+       {200, reply(kGood)},
+       {200, reply(kGood), 700},  // past timeout_s; the retry is served at 0.7 s
+       {200, reply(kGood)}});
+  const Registry registry = registry_with_capture();
+  RunOptions options;
+  options.out_dir = test::scratch_dir("vlm_query_retry");
+  const RunResult run = run_graph_text(graph(server.url(), "rounds: 1, retries: 2, timeout_s: 0.5"),
+                                       registry, options);
+  INFO((run.error ? run.error->str() : std::string()));
+  REQUIRE(run.ok());
+  CHECK(std::get<double>(run.node("vlm")->records.at("requests_retried")) == 2);
+  CHECK(std::get<double>(run.node("vlm")->records.at("boxes")) == 2);
+  CHECK(server.bodies().size() == 4);
+}
+
+TEST_CASE("vlm.query names the url, view and round of a malformed, refused or empty answer") {
+  const Registry registry = registry_with_capture();
+  RunOptions options;
+  options.out_dir = test::scratch_dir("vlm_query_errors");
+  SECTION("a body that is not JSON") {
+    test::LoopbackServer server({{200, "{\"choices\": [{\"message\": "}});
+    const RunResult run = run_graph_text(graph(server.url(), "rounds: 1"), registry, options);
+    REQUIRE_FALSE(run.ok());
+    CHECK_THAT(run.error->str(), Catch::Contains(server.url()) &&
+                                     Catch::Contains("view 'left', round 0") &&
+                                     Catch::Contains("not JSON"));
+  }
+  SECTION("no server listening") {
+    std::string url;
+    { url = test::LoopbackServer({{200, ""}}).url(); }  // the port is closed again
+    const RunResult run = run_graph_text(graph(url, "rounds: 1, retries: 1"), registry, options);
+    REQUIRE_FALSE(run.ok());
+    CHECK_THAT(run.error->str(),
+               Catch::Contains("request failed after 2 attempt(s)") && Catch::Contains(url));
+  }
+  SECTION("a client error is not retried") {
+    test::LoopbackServer server({{404, "{\"error\": \"no such model\"}"}, {200, reply(kGood)}});
+    const RunResult run =
+        run_graph_text(graph(server.url(), "rounds: 1, retries: 3"), registry, options);
+    REQUIRE_FALSE(run.ok());
+    CHECK_THAT(run.error->str(), Catch::Contains("HTTP 404 after 1 attempt(s)"));
+    CHECK(server.bodies().size() == 1);
+  }
+  SECTION("every round of a view without a box list") {
+    test::LoopbackServer server({{200, reply("no idea")}});
+    const RunResult run = run_graph_text(graph(server.url(), "rounds: 2"), registry, options);
+    REQUIRE_FALSE(run.ok());
+    CHECK_THAT(run.error->str(),
+               Catch::Contains("view 'left': none of its 2 replies holds a box list"));
+  }
+}
