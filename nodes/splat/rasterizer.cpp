@@ -230,21 +230,65 @@ void gather_values(const RasterState& s, const TileGaussian* list, uint32_t coun
                 &out[size_t(j) * s.channels]);
 }
 
-// Blends tile t: acc (pixels x channels) += w * values of each contribution. kChannels > 0 fixes
-// the channel count at compile time so the sum vectorises along the channels.
+// Pixels per block of lanes in the blending loops: one 256-bit vector of floats. Measured on the
+// 50k bench: 8 is as fast as 16 on dense rows and faster on the many narrow ones. The lane loops
+// carry `#pragma GCC unroll 1`: fully unrolled, GCC makes eight scalar copies instead of one vector
+// loop (1.6x slower).
+constexpr int kLanes = 8;
+
+// Blends tile t front to back into acc, structure of arrays (channel c of tile pixel p at
+// [c * 256 + p]). The same blending as blend_tile (which the render cache walks contribution by
+// contribution), organised like backward_tile: each entry one tile row at a time, in blocks of
+// kLanes pixels as the lanes of branch-free loops, so that it compiles to vector code (1.4x faster
+// than the per-pixel loop). The arithmetic per contribution is the same, so both give the same
+// weights bit for bit. kChannels > 0 fixes the channel count.
+
 template <int kChannels>
-void forward_tile(const RasterState& s, int t, const float* values, float* acc, TileBlend& blend) {
+void forward_tile(const RasterState& s, int t, const float* values, float* acc, TileBlend& out) {
   const int C = kChannels > 0 ? kChannels : s.channels;
-  blend_tile(s, t, blend, [&](int p, uint32_t j, float w) {
+  constexpr int L = kTileSize, kPixels = kTileSize * kTileSize;
+  const TileGaussian* list = s.tile_gaussians.data() + s.tile_offsets[t];
+  const uint32_t count = s.tile_offsets[t + 1] - s.tile_offsets[t];
+  const PixelRect tile = tile_pixels(s, t);
+  std::fill(std::begin(out.T), std::end(out.T), 1.f);
+  std::fill(std::begin(out.last), std::end(out.last), 0u);
+  alignas(64) float done[kPixels] = {};  // 1 once the pixel's transmittance would fall below 1e-4
+  int active = (tile.x1 - tile.x0) * (tile.y1 - tile.y0);
+  for (uint32_t j = 0; j < count && active > 0; ++j) {
+    const TileGaussian& e = list[j];
+    const PixelRect r = clip(e, tile);
     const float* v = values + size_t(j) * C;
-    float* a = acc + size_t(p) * C;
-    if constexpr (kChannels > 0) {
-      using Vector = Eigen::Matrix<float, kChannels, 1>;
-      Eigen::Map<Vector>{a}.noalias() += w * Eigen::Map<const Vector>{v};
-    } else {
-      for (int c = 0; c < C; ++c) a[c] += w * v[c];
+    for (int y = r.y0; y < r.y1; ++y) {
+      // Lanes in blocks of kLanes pixels: only the blocks the entry's rectangle touches.
+      for (int h = (r.x0 - tile.x0) / kLanes * kLanes; h < r.x1 - tile.x0; h += kLanes) {
+        alignas(32) float gaussian[kLanes], alpha[kLanes], w[kLanes];
+        blend_row(e, y, tile.x0 + h, tile.x0 + h + kLanes, s.min_alpha, gaussian, alpha);
+        const int at = (y - tile.y0) * L + h;
+        int stopped = 0;
+#pragma GCC unroll 1  // a vector loop, not eight scalar copies (kLanes)
+        for (int x = 0; x < kLanes; ++x) {
+          const int px = tile.x0 + h + x;
+          const bool live = (px >= r.x0) & (px < r.x1) & (alpha[x] >= 0.f) & (done[at + x] == 0.f);
+          const float T = out.T[at + x];
+          const float next_T = T * (1.f - alpha[x]);
+          const bool stop = live & (next_T < kMinTransmittance);
+          const bool blend = live & !stop;
+          stopped += stop;
+          done[at + x] = stop ? 1.f : done[at + x];
+          w[x] = blend ? alpha[x] * T : 0.f;
+          out.T[at + x] = blend ? next_T : T;
+          out.last[at + x] = blend ? j + 1 : out.last[at + x];
+        }
+        active -= stopped;
+        for (int c = 0; c < C; ++c) {
+          float* a = acc + c * kPixels + at;
+          const float vc = v[c];
+#pragma GCC unroll 1  // a vector loop, not eight scalar copies (kLanes)
+          for (int x = 0; x < kLanes; ++x) a[x] += w[x] * vc;
+        }
+      }
     }
-  });
+  }
 }
 
 constexpr float kMinAlphaForDepth = 1e-6f;  // normalised depth is 0 below this accumulated alpha
@@ -345,26 +389,27 @@ RenderOutput render(const GaussianModel& model, const Camera& camera, const Pose
             for (int x = tile.x0; x < tile.x1; ++x) {
               const int p = (y - tile.y0) * kTileSize + (x - tile.x0);
               const size_t pix = size_t(y) * s.width + x;
-              const float* a = &acc[size_t(p) * s.channels];
+              // acc is [channel][tile pixel] (forward_tile).
+              auto a = [&](int c) { return acc[size_t(c) * kTileSize * kTileSize + p]; };
               const float T = blend.T[p];
               s.final_transmittance[pix] = T;
               s.contributors[pix] = blend.last[p];
               for (int c = 0; s.rgb_offset >= 0 && c < 3; ++c)
-                out.rgb[pix * 3 + c] = a[s.rgb_offset + c] + T * settings.background[c];
+                out.rgb[pix * 3 + c] = a(s.rgb_offset + c) + T * settings.background[c];
               if (s.depth_offset >= 0) {
-                float d = a[s.depth_offset];
+                float d = a(s.depth_offset);
                 if (settings.normalize_depth) {
-                  const float alpha = a[s.alpha_offset];
+                  const float alpha = a(s.alpha_offset);
                   d = alpha >= kMinAlphaForDepth ? d / alpha : 0.f;
                 }
                 out.depth[pix] = d;
               }
               for (int c = 0; s.normal_offset >= 0 && c < 3; ++c)
-                out.normal[pix * 3 + c] = a[s.normal_offset + c];
+                out.normal[pix * 3 + c] = a(s.normal_offset + c);
               for (int f = 0; s.feature_offset >= 0 && f < D; ++f)
-                out.features[pix * D + f] = a[s.feature_offset + f];
-              if (s.alpha_offset >= 0) s.alpha_sum[pix] = a[s.alpha_offset];
-              if (settings.alpha) out.alpha[pix] = a[s.alpha_offset];
+                out.features[pix * D + f] = a(s.feature_offset + f);
+              if (s.alpha_offset >= 0) s.alpha_sum[pix] = a(s.alpha_offset);
+              if (settings.alpha) out.alpha[pix] = a(s.alpha_offset);
             }
         }
       });
@@ -444,101 +489,131 @@ class PixelGrads {
 // Per (Gaussian, tile) slot: dL/d mean2d (2), conic (3), opacity (1), then the channel values.
 constexpr int kSlotGeometry = 6;
 
-// Per-worker buffers of backward_tile.
+// Sum of 16 lanes, pairwise in a fixed order (vectorisable, and the same at any thread count).
+inline float lane_sum(float* a) {
+  for (int h = kTileSize / 2; h > 0; h /= 2)
+    for (int i = 0; i < h; ++i) a[i] += a[i + h];
+  return a[0];
+}
+
+// Per-worker buffers of backward_tile, structure of arrays: channel c of pixel p at [c][p].
 struct BackwardScratch {
   explicit BackwardScratch(int channels)
-      : d(channels),
-        g(size_t(kTileSize) * kTileSize * channels),
-        S(size_t(kTileSize) * kTileSize * channels) {}
-  std::vector<float> values, d, g, S;
+      : g(size_t(kTileSize) * kTileSize * channels),
+        S(size_t(kTileSize) * kTileSize * channels),
+        d(size_t(kTileSize) * channels),
+        pixel(channels) {}
+  std::vector<float> values, g, S, d, pixel;
 };
 
-// Backward pass of tile t, back to front (3DGS backward), Gaussian by Gaussian in reverse depth
-// order over each one's pixels: every pixel still sees its contributions back to front. Each list
-// entry's gradient goes to its own slot, so no two tiles write the same memory. kChannels > 0
-// fixes the channel count at compile time.
+// Backward pass of tile t, back to front (3DGS backward): entry by entry in reverse depth order,
+// so every pixel still sees its contributions back to front. An entry is processed one tile row
+// at a time, in blocks of kLanes pixels as lanes (pixels outside the entry's rectangle, skipped or
+// past the pixel's last contributor are masked out), with the pixel state in structure-of-arrays
+// layout: the per-pixel work then compiles to vector code, and the per-entry sums are 16 lane
+// accumulators reduced once per entry in a fixed order. Each entry's gradient goes to its
+// own slot, so no two tiles write the same memory. kChannels > 0 fixes the channel count.
 template <int kChannels>
 void backward_tile(const RasterState& s, int t, const PixelGrads& pixel_grads, float* slot_grads,
                    BackwardScratch& scratch) {
   const int C = kChannels > 0 ? kChannels : s.channels;
   const int stride = kSlotGeometry + C;
-  constexpr int kPixels = kTileSize * kTileSize;
-  std::vector<float>& values = scratch.values;
-  float* d = scratch.d.data();
-  float* g = scratch.g.data();
-  float* S = scratch.S.data();
-  float T[kPixels];
-  uint32_t last[kPixels];
+  constexpr int L = kTileSize, kPixels = kTileSize * kTileSize;
   const TileGaussian* list = s.tile_gaussians.data() + s.tile_offsets[t];
   const uint32_t count = s.tile_offsets[t + 1] - s.tile_offsets[t];
   if (count == 0) return;
-  gather_values(s, list, count, values);
+  gather_values(s, list, count, scratch.values);
+  float* g = scratch.g.data();  // dL/d(pixel channel), [c][p]
+  float* S = scratch.S.data();  // what the entries behind the current one add, [c][p]
+  float* d = scratch.d.data();  // lane accumulators of dL/d(entry value), [c][lane]
+  alignas(64) float T[kPixels];
+  alignas(64) float last[kPixels];  // last contributor + 1, as float: compared in the lanes
   const PixelRect tile = tile_pixels(s, t);
+  for (int p = 0; p < kPixels; ++p) {
+    T[p] = 1.f;
+    last[p] = 0.f;
+    for (int c = 0; c < C; ++c) g[c * kPixels + p] = S[c * kPixels + p] = 0.f;
+  }
   for (int y = tile.y0; y < tile.y1; ++y)
     for (int x = tile.x0; x < tile.x1; ++x) {
-      const int p = (y - tile.y0) * kTileSize + (x - tile.x0);
+      const int p = (y - tile.y0) * L + (x - tile.x0);
       const size_t pix = size_t(y) * s.width + x;
-      last[p] = s.contributors[pix];
-      if (last[p] > 0 && !pixel_grads.at(pix, &g[size_t(p) * C])) last[p] = 0;
+      uint32_t contributors = s.contributors[pix];
+      if (contributors > 0 && !pixel_grads.at(pix, scratch.pixel.data())) contributors = 0;
+      last[p] = float(contributors);
       T[p] = s.final_transmittance[pix];
-      // S: what the entries behind the current one (and the background) add to each
-      // channel.
-      for (int c = 0; c < C; ++c) S[size_t(p) * C + c] = s.background[c] * T[p];
+      for (int c = 0; c < C; ++c) {
+        g[c * kPixels + p] = scratch.pixel[c];
+        S[c * kPixels + p] = s.background[c] * T[p];
+      }
     }
   for (uint32_t j = count; j-- > 0;) {
     const TileGaussian& e = list[j];
     const PixelRect rect = clip(e, tile);
-    const float* v = &values[size_t(j) * C];
-    std::fill(d, d + C, 0.f);
-    // dL/d mean2d, conic, opacity of entry j, kept in registers.
-    float d_mx = 0.f, d_my = 0.f, d_A = 0.f, d_B = 0.f, d_C = 0.f, d_o = 0.f;
-    float gaussians[kTileSize], alphas[kTileSize];
+    const float* v = &scratch.values[size_t(j) * C];
+    const float jf = float(j);
+    std::fill(d, d + size_t(C) * L, 0.f);
+    // Lane accumulators of dL/d mean2d, conic, opacity.
+    alignas(64) float a_mx[L] = {}, a_my[L] = {}, a_A[L] = {}, a_B[L] = {}, a_C[L] = {},
+                      a_o[L] = {};
     for (int y = rect.y0; y < rect.y1; ++y) {
-      blend_row(e, y, rect.x0, rect.x1, s.min_alpha, gaussians, alphas);
-      for (int x = rect.x0; x < rect.x1; ++x) {
-        const int p = (y - tile.y0) * kTileSize + (x - tile.x0);
-        const float alpha = alphas[x - rect.x0], gaussian = gaussians[x - rect.x0];
-        if (alpha < 0.f || j >= last[p]) continue;
-        const float px = x + 0.5f, py = y + 0.5f;
-        const float inv_keep = 1.f / (1.f - alpha);
-        T[p] *= inv_keep;  // transmittance in front of entry j
-        const float w = alpha * T[p];
-        const float* gp = &g[size_t(p) * C];
-        float* Sp = &S[size_t(p) * C];
+      const float dy = e.my - (float(y) + 0.5f);
+      for (int h = (rect.x0 - tile.x0) / kLanes * kLanes; h < rect.x1 - tile.x0; h += kLanes) {
+        alignas(32) float gaussian[kLanes], alpha[kLanes];
+        blend_row(e, y, tile.x0 + h, tile.x0 + h + kLanes, s.min_alpha, gaussian, alpha);
+        const int at = (y - tile.y0) * L + h;
+        // Three passes over the lanes, each a loop without branches that compiles to vector
+        // code: transmittance, then the channels one by one, then the geometry partials.
+        alignas(32) float a[kLanes], inv_keep[kLanes], Tj[kLanes], w[kLanes], d_alpha[kLanes];
+#pragma GCC unroll 1  // a vector loop, not eight scalar copies (kLanes)
+        for (int x = 0; x < kLanes; ++x) {
+          const int px = tile.x0 + h + x;
+          const bool active =
+              (px >= rect.x0) & (px < rect.x1) & (alpha[x] >= 0.f) & (jf < last[at + x]);
+          a[x] = active ? alpha[x] : 0.f;
+          inv_keep[x] = 1.f / (1.f - a[x]);
+          Tj[x] = T[at + x] * inv_keep[x];  // transmittance in front of entry j
+          T[at + x] = Tj[x];
+          w[x] = a[x] * Tj[x];
+          d_alpha[x] = 0.f;
+        }
         // C = sum_i v_i alpha_i T_i + T_N bg: dC/dalpha_j = v_j T_j - S_j / (1 - alpha_j).
-        float d_alpha = 0.f;
-        if constexpr (kChannels > 0) {
-          // Fixed-size Eigen packets vectorise along the channels.
-          using Vector = Eigen::Matrix<float, kChannels, 1>;
-          const Eigen::Map<const Vector> gv(gp), vv(v);
-          Eigen::Map<Vector> Sv(Sp), dv(d);
-          dv.noalias() += w * gv;
-          d_alpha = gv.dot(vv * T[p] - Sv * inv_keep);
-          Sv.noalias() += w * vv;
-        } else {
-          for (int c = 0; c < C; ++c) {
-            d[c] += w * gp[c];
-            d_alpha += gp[c] * (v[c] * T[p] - Sp[c] * inv_keep);
-            Sp[c] += v[c] * w;
+        for (int c = 0; c < C; ++c) {
+          float* gc = g + c * kPixels + at;
+          float* Sc = S + c * kPixels + at;
+          float* dc = d + c * L + h;
+          const float vc = v[c];
+#pragma GCC unroll 1  // a vector loop, not eight scalar copies (kLanes)
+          for (int x = 0; x < kLanes; ++x) {
+            d_alpha[x] += gc[x] * (vc * Tj[x] - Sc[x] * inv_keep[x]);
+            Sc[x] += w[x] * vc;
+            dc[x] += w[x] * gc[x];
           }
         }
-        if (e.opacity * gaussian > kMaxAlpha) continue;  // clamped: alpha is constant
-        // alpha = o exp(power), power = -0.5 (A dx^2 + C dy^2) - B dx dy, d = mean2d -
-        // pixel.
-        const float d_power = d_alpha * alpha;
-        const float dx = e.mx - px, dy = e.my - py;
-        d_mx -= d_power * (e.A * dx + e.B * dy);
-        d_my -= d_power * (e.C * dy + e.B * dx);
-        d_A -= 0.5f * d_power * dx * dx;
-        d_B -= d_power * dx * dy;
-        d_C -= 0.5f * d_power * dy * dy;
-        d_o += d_alpha * gaussian;
+// alpha = o exp(power), power = -0.5 (A dx^2 + C dy^2) - B dx dy, d = mean2d - pixel; a
+// clamped alpha is constant (and a masked lane has a = 0, so it adds nothing).
+#pragma GCC unroll 1  // a vector loop, not eight scalar copies (kLanes)
+        for (int x = 0; x < kLanes; ++x) {
+          const bool free = e.opacity * gaussian[x] <= kMaxAlpha;
+          const float d_power = free ? d_alpha[x] * a[x] : 0.f;
+          const float dx = e.mx - (float(tile.x0 + h + x) + 0.5f);
+          a_mx[h + x] -= d_power * (e.A * dx + e.B * dy);
+          a_my[h + x] -= d_power * (e.C * dy + e.B * dx);
+          a_A[h + x] -= 0.5f * d_power * dx * dx;
+          a_B[h + x] -= d_power * dx * dy;
+          a_C[h + x] -= 0.5f * d_power * dy * dy;
+          a_o[h + x] += free & (a[x] > 0.f) ? d_alpha[x] * gaussian[x] : 0.f;
+        }
       }
     }
     float* slot = &slot_grads[size_t(e.slot) * stride];
-    const float geometry[kSlotGeometry] = {d_mx, d_my, d_A, d_B, d_C, d_o};
-    std::copy_n(geometry, kSlotGeometry, slot);
-    std::copy_n(d, C, slot + kSlotGeometry);
+    slot[0] = lane_sum(a_mx);
+    slot[1] = lane_sum(a_my);
+    slot[2] = lane_sum(a_A);
+    slot[3] = lane_sum(a_B);
+    slot[4] = lane_sum(a_C);
+    slot[5] = lane_sum(a_o);
+    for (int c = 0; c < C; ++c) slot[kSlotGeometry + c] = lane_sum(d + c * L);
   }
 }
 
