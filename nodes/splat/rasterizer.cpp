@@ -1,3 +1,9 @@
+// The blending loops are written for 16 lanes (raster_state.hpp: kLanes); GCC's default for
+// -march=native on AVX-512 machines splits them into two 256-bit halves. One 512-bit register is
+// 1.1x faster on the 50k bench; the option only matters where AVX-512 is enabled.
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC target("prefer-vector-width=512")
+#endif
 #include "nodes/splat/rasterizer.hpp"
 
 #include <algorithm>
@@ -230,65 +236,22 @@ void gather_values(const RasterState& s, const TileGaussian* list, uint32_t coun
                 &out[size_t(j) * s.channels]);
 }
 
-// Pixels per block of lanes in the blending loops: one 256-bit vector of floats. Measured on the
-// 50k bench: 8 is as fast as 16 on dense rows and faster on the many narrow ones. The lane loops
-// carry `#pragma GCC unroll 1`: fully unrolled, GCC makes eight scalar copies instead of one vector
-// loop (1.6x slower).
-constexpr int kLanes = 8;
-
-// Blends tile t front to back into acc, structure of arrays (channel c of tile pixel p at
-// [c * 256 + p]). The same blending as blend_tile (which the render cache walks contribution by
-// contribution), organised like backward_tile: each entry one tile row at a time, in blocks of
-// kLanes pixels as the lanes of branch-free loops, so that it compiles to vector code (1.4x faster
-// than the per-pixel loop). The arithmetic per contribution is the same, so both give the same
-// weights bit for bit. kChannels > 0 fixes the channel count.
-
+// Blends tile t front to back (blend_tile) into acc, structure of arrays: channel c of tile pixel
+// p at [c * 256 + p], so that adding one entry's values to a row is a 16-lane FMA per channel.
+// kChannels > 0 fixes the channel count, so the channel loop unrolls.
 template <int kChannels>
 void forward_tile(const RasterState& s, int t, const float* values, float* acc, TileBlend& out) {
   const int C = kChannels > 0 ? kChannels : s.channels;
-  constexpr int L = kTileSize, kPixels = kTileSize * kTileSize;
-  const TileGaussian* list = s.tile_gaussians.data() + s.tile_offsets[t];
-  const uint32_t count = s.tile_offsets[t + 1] - s.tile_offsets[t];
-  const PixelRect tile = tile_pixels(s, t);
-  std::fill(std::begin(out.T), std::end(out.T), 1.f);
-  std::fill(std::begin(out.last), std::end(out.last), 0u);
-  alignas(64) float done[kPixels] = {};  // 1 once the pixel's transmittance would fall below 1e-4
-  int active = (tile.x1 - tile.x0) * (tile.y1 - tile.y0);
-  for (uint32_t j = 0; j < count && active > 0; ++j) {
-    const TileGaussian& e = list[j];
-    const PixelRect r = clip(e, tile);
+  blend_tile(s, t, out, [&](uint32_t j, int at, const float* w) {
     const float* v = values + size_t(j) * C;
-    for (int y = r.y0; y < r.y1; ++y) {
-      // Lanes in blocks of kLanes pixels: only the blocks the entry's rectangle touches.
-      for (int h = (r.x0 - tile.x0) / kLanes * kLanes; h < r.x1 - tile.x0; h += kLanes) {
-        alignas(32) float gaussian[kLanes], alpha[kLanes], w[kLanes];
-        blend_row(e, y, tile.x0 + h, tile.x0 + h + kLanes, s.min_alpha, gaussian, alpha);
-        const int at = (y - tile.y0) * L + h;
-        int stopped = 0;
-#pragma GCC unroll 1  // a vector loop, not eight scalar copies (kLanes)
-        for (int x = 0; x < kLanes; ++x) {
-          const int px = tile.x0 + h + x;
-          const bool live = (px >= r.x0) & (px < r.x1) & (alpha[x] >= 0.f) & (done[at + x] == 0.f);
-          const float T = out.T[at + x];
-          const float next_T = T * (1.f - alpha[x]);
-          const bool stop = live & (next_T < kMinTransmittance);
-          const bool blend = live & !stop;
-          stopped += stop;
-          done[at + x] = stop ? 1.f : done[at + x];
-          w[x] = blend ? alpha[x] * T : 0.f;
-          out.T[at + x] = blend ? next_T : T;
-          out.last[at + x] = blend ? j + 1 : out.last[at + x];
-        }
-        active -= stopped;
-        for (int c = 0; c < C; ++c) {
-          float* a = acc + c * kPixels + at;
-          const float vc = v[c];
-#pragma GCC unroll 1  // a vector loop, not eight scalar copies (kLanes)
-          for (int x = 0; x < kLanes; ++x) a[x] += w[x] * vc;
-        }
-      }
+#pragma GCC unroll 16
+    for (int c = 0; c < C; ++c) {
+      float* __restrict a = acc + c * kTilePixels + at;
+      const float vc = v[c];
+#pragma GCC unroll 1  // one vector loop, not kLanes scalar copies
+      for (int x = 0; x < kLanes; ++x) a[x] += w[x] * vc;
     }
-  }
+  });
 }
 
 constexpr float kMinAlphaForDepth = 1e-6f;  // normalised depth is 0 below this accumulated alpha
@@ -360,7 +323,7 @@ RenderOutput render(const GaussianModel& model, const Camera& camera, const Pose
 
   tbb::parallel_for(
       tbb::blocked_range<int>(0, s.tile_count()), [&](const tbb::blocked_range<int>& r) {
-        std::vector<float> values, acc(size_t(kTileSize) * kTileSize * s.channels);
+        std::vector<float> values, acc(size_t(kTilePixels) * s.channels);
         TileBlend blend;
         for (int t = r.begin(); t != r.end(); ++t) {
           const TileGaussian* list = s.tile_gaussians.data() + s.tile_offsets[t];
@@ -390,7 +353,7 @@ RenderOutput render(const GaussianModel& model, const Camera& camera, const Pose
               const int p = (y - tile.y0) * kTileSize + (x - tile.x0);
               const size_t pix = size_t(y) * s.width + x;
               // acc is [channel][tile pixel] (forward_tile).
-              auto a = [&](int c) { return acc[size_t(c) * kTileSize * kTileSize + p]; };
+              auto a = [&](int c) { return acc[size_t(c) * kTilePixels + p]; };
               const float T = blend.T[p];
               s.final_transmittance[pix] = T;
               s.contributors[pix] = blend.last[p];
@@ -489,36 +452,35 @@ class PixelGrads {
 // Per (Gaussian, tile) slot: dL/d mean2d (2), conic (3), opacity (1), then the channel values.
 constexpr int kSlotGeometry = 6;
 
-// Sum of 16 lanes, pairwise in a fixed order (vectorisable, and the same at any thread count).
+// Sum of kLanes lanes, pairwise in a fixed order (vectorisable, and the same at any thread count).
 inline float lane_sum(float* a) {
-  for (int h = kTileSize / 2; h > 0; h /= 2)
+  for (int h = kLanes / 2; h > 0; h /= 2)
     for (int i = 0; i < h; ++i) a[i] += a[i + h];
   return a[0];
 }
 
-// Per-worker buffers of backward_tile, structure of arrays: channel c of pixel p at [c][p].
+// Per-worker buffers of backward_tile, structure of arrays: channel c of tile pixel p at [c][p].
 struct BackwardScratch {
   explicit BackwardScratch(int channels)
-      : g(size_t(kTileSize) * kTileSize * channels),
-        S(size_t(kTileSize) * kTileSize * channels),
-        d(size_t(kTileSize) * channels),
+      : g(size_t(kTilePixels) * channels),
+        S(size_t(kTilePixels) * channels),
+        d(size_t(kLanes) * channels),
         pixel(channels) {}
   std::vector<float> values, g, S, d, pixel;
 };
 
 // Backward pass of tile t, back to front (3DGS backward): entry by entry in reverse depth order,
 // so every pixel still sees its contributions back to front. An entry is processed one tile row
-// at a time, in blocks of kLanes pixels as lanes (pixels outside the entry's rectangle, skipped or
-// past the pixel's last contributor are masked out), with the pixel state in structure-of-arrays
-// layout: the per-pixel work then compiles to vector code, and the per-entry sums are 16 lane
-// accumulators reduced once per entry in a fixed order. Each entry's gradient goes to its
-// own slot, so no two tiles write the same memory. kChannels > 0 fixes the channel count.
+// at a time, the row's pixels as the lanes of branch-free loops (see kLanes; lanes outside the
+// entry's rectangle, skipped, or past the pixel's last contributor get alpha 0 and add nothing),
+// with the pixel state in structure-of-arrays layout. The per-entry sums are kLanes lane
+// accumulators reduced once per entry in a fixed order. Each entry's gradient goes to its own
+// slot, so no two tiles write the same memory. kChannels > 0 fixes the channel count.
 template <int kChannels>
 void backward_tile(const RasterState& s, int t, const PixelGrads& pixel_grads, float* slot_grads,
                    BackwardScratch& scratch) {
   const int C = kChannels > 0 ? kChannels : s.channels;
   const int stride = kSlotGeometry + C;
-  constexpr int L = kTileSize, kPixels = kTileSize * kTileSize;
   const TileGaussian* list = s.tile_gaussians.data() + s.tile_offsets[t];
   const uint32_t count = s.tile_offsets[t + 1] - s.tile_offsets[t];
   if (count == 0) return;
@@ -526,25 +488,25 @@ void backward_tile(const RasterState& s, int t, const PixelGrads& pixel_grads, f
   float* g = scratch.g.data();  // dL/d(pixel channel), [c][p]
   float* S = scratch.S.data();  // what the entries behind the current one add, [c][p]
   float* d = scratch.d.data();  // lane accumulators of dL/d(entry value), [c][lane]
-  alignas(64) float T[kPixels];
-  alignas(64) float last[kPixels];  // last contributor + 1, as float: compared in the lanes
+  alignas(64) float T[kTilePixels];
+  alignas(64) float last[kTilePixels];  // last contributor + 1, as float: compared in the lanes
   const PixelRect tile = tile_pixels(s, t);
-  for (int p = 0; p < kPixels; ++p) {
+  for (int p = 0; p < kTilePixels; ++p) {
     T[p] = 1.f;
     last[p] = 0.f;
-    for (int c = 0; c < C; ++c) g[c * kPixels + p] = S[c * kPixels + p] = 0.f;
+    for (int c = 0; c < C; ++c) g[c * kTilePixels + p] = S[c * kTilePixels + p] = 0.f;
   }
   for (int y = tile.y0; y < tile.y1; ++y)
     for (int x = tile.x0; x < tile.x1; ++x) {
-      const int p = (y - tile.y0) * L + (x - tile.x0);
+      const int p = (y - tile.y0) * kTileSize + (x - tile.x0);
       const size_t pix = size_t(y) * s.width + x;
       uint32_t contributors = s.contributors[pix];
       if (contributors > 0 && !pixel_grads.at(pix, scratch.pixel.data())) contributors = 0;
       last[p] = float(contributors);
       T[p] = s.final_transmittance[pix];
       for (int c = 0; c < C; ++c) {
-        g[c * kPixels + p] = scratch.pixel[c];
-        S[c * kPixels + p] = s.background[c] * T[p];
+        g[c * kTilePixels + p] = scratch.pixel[c];
+        S[c * kTilePixels + p] = s.background[c] * T[p];
       }
     }
   for (uint32_t j = count; j-- > 0;) {
@@ -552,58 +514,57 @@ void backward_tile(const RasterState& s, int t, const PixelGrads& pixel_grads, f
     const PixelRect rect = clip(e, tile);
     const float* v = &scratch.values[size_t(j) * C];
     const float jf = float(j);
-    std::fill(d, d + size_t(C) * L, 0.f);
+    std::fill(d, d + size_t(C) * kLanes, 0.f);
     // Lane accumulators of dL/d mean2d, conic, opacity.
-    alignas(64) float a_mx[L] = {}, a_my[L] = {}, a_A[L] = {}, a_B[L] = {}, a_C[L] = {},
-                      a_o[L] = {};
+    alignas(64) float a_mx[kLanes] = {}, a_my[kLanes] = {}, a_A[kLanes] = {}, a_B[kLanes] = {},
+                      a_C[kLanes] = {}, a_o[kLanes] = {};
     for (int y = rect.y0; y < rect.y1; ++y) {
       const float dy = e.my - (float(y) + 0.5f);
-      for (int h = (rect.x0 - tile.x0) / kLanes * kLanes; h < rect.x1 - tile.x0; h += kLanes) {
-        alignas(32) float gaussian[kLanes], alpha[kLanes];
-        blend_row(e, y, tile.x0 + h, tile.x0 + h + kLanes, s.min_alpha, gaussian, alpha);
-        const int at = (y - tile.y0) * L + h;
-        // Three passes over the lanes, each a loop without branches that compiles to vector
-        // code: transmittance, then the channels one by one, then the geometry partials.
-        alignas(32) float a[kLanes], inv_keep[kLanes], Tj[kLanes], w[kLanes], d_alpha[kLanes];
-#pragma GCC unroll 1  // a vector loop, not eight scalar copies (kLanes)
+      alignas(64) float gaussian[kLanes], alpha[kLanes];
+      blend_row(e, y, tile.x0, tile.x0 + kLanes, s.min_alpha, gaussian, alpha);
+      const int at = (y - tile.y0) * kTileSize;
+      // Three passes over the lanes, each a loop without branches that compiles to vector code:
+      // transmittance, then the channels one by one, then the geometry partials.
+      alignas(64) float a[kLanes], inv_keep[kLanes], Tj[kLanes], w[kLanes], d_alpha[kLanes];
+#pragma GCC unroll 1  // one vector loop, not kLanes scalar copies
+      for (int x = 0; x < kLanes; ++x) {
+        const int px = tile.x0 + x;
+        const bool active =
+            (px >= rect.x0) & (px < rect.x1) & (alpha[x] >= 0.f) & (jf < last[at + x]);
+        a[x] = active ? alpha[x] : 0.f;
+        inv_keep[x] = 1.f / (1.f - a[x]);
+        Tj[x] = T[at + x] * inv_keep[x];  // transmittance in front of entry j
+        T[at + x] = Tj[x];
+        w[x] = a[x] * Tj[x];
+        d_alpha[x] = 0.f;
+      }
+      // C = sum_i v_i alpha_i T_i + T_N bg: dC/dalpha_j = v_j T_j - S_j / (1 - alpha_j).
+#pragma GCC unroll 16  // d_alpha stays in a register across the channels
+      for (int c = 0; c < C; ++c) {
+        const float* __restrict gc = g + c * kTilePixels + at;
+        float* __restrict Sc = S + c * kTilePixels + at;
+        float* __restrict dc = d + c * kLanes;
+        const float vc = v[c];
+#pragma GCC unroll 1  // one vector loop, not kLanes scalar copies
         for (int x = 0; x < kLanes; ++x) {
-          const int px = tile.x0 + h + x;
-          const bool active =
-              (px >= rect.x0) & (px < rect.x1) & (alpha[x] >= 0.f) & (jf < last[at + x]);
-          a[x] = active ? alpha[x] : 0.f;
-          inv_keep[x] = 1.f / (1.f - a[x]);
-          Tj[x] = T[at + x] * inv_keep[x];  // transmittance in front of entry j
-          T[at + x] = Tj[x];
-          w[x] = a[x] * Tj[x];
-          d_alpha[x] = 0.f;
+          d_alpha[x] += gc[x] * (vc * Tj[x] - Sc[x] * inv_keep[x]);
+          Sc[x] += w[x] * vc;
+          dc[x] += w[x] * gc[x];
         }
-        // C = sum_i v_i alpha_i T_i + T_N bg: dC/dalpha_j = v_j T_j - S_j / (1 - alpha_j).
-        for (int c = 0; c < C; ++c) {
-          float* gc = g + c * kPixels + at;
-          float* Sc = S + c * kPixels + at;
-          float* dc = d + c * L + h;
-          const float vc = v[c];
-#pragma GCC unroll 1  // a vector loop, not eight scalar copies (kLanes)
-          for (int x = 0; x < kLanes; ++x) {
-            d_alpha[x] += gc[x] * (vc * Tj[x] - Sc[x] * inv_keep[x]);
-            Sc[x] += w[x] * vc;
-            dc[x] += w[x] * gc[x];
-          }
-        }
-// alpha = o exp(power), power = -0.5 (A dx^2 + C dy^2) - B dx dy, d = mean2d - pixel; a
-// clamped alpha is constant (and a masked lane has a = 0, so it adds nothing).
-#pragma GCC unroll 1  // a vector loop, not eight scalar copies (kLanes)
-        for (int x = 0; x < kLanes; ++x) {
-          const bool free = e.opacity * gaussian[x] <= kMaxAlpha;
-          const float d_power = free ? d_alpha[x] * a[x] : 0.f;
-          const float dx = e.mx - (float(tile.x0 + h + x) + 0.5f);
-          a_mx[h + x] -= d_power * (e.A * dx + e.B * dy);
-          a_my[h + x] -= d_power * (e.C * dy + e.B * dx);
-          a_A[h + x] -= 0.5f * d_power * dx * dx;
-          a_B[h + x] -= d_power * dx * dy;
-          a_C[h + x] -= 0.5f * d_power * dy * dy;
-          a_o[h + x] += free & (a[x] > 0.f) ? d_alpha[x] * gaussian[x] : 0.f;
-        }
+      }
+      // alpha = o exp(power), power = -0.5 (A dx^2 + C dy^2) - B dx dy, d = mean2d - pixel; a
+      // clamped alpha is constant (and a masked lane has a = 0, so it adds nothing).
+#pragma GCC unroll 1  // one vector loop, not kLanes scalar copies
+      for (int x = 0; x < kLanes; ++x) {
+        const bool free = e.opacity * gaussian[x] <= kMaxAlpha;
+        const float d_power = free ? d_alpha[x] * a[x] : 0.f;
+        const float dx = e.mx - (float(tile.x0 + x) + 0.5f);
+        a_mx[x] -= d_power * (e.A * dx + e.B * dy);
+        a_my[x] -= d_power * (e.C * dy + e.B * dx);
+        a_A[x] -= 0.5f * d_power * dx * dx;
+        a_B[x] -= d_power * dx * dy;
+        a_C[x] -= 0.5f * d_power * dy * dy;
+        a_o[x] += free & (a[x] > 0.f) ? d_alpha[x] * gaussian[x] : 0.f;
       }
     }
     float* slot = &slot_grads[size_t(e.slot) * stride];
@@ -613,7 +574,7 @@ void backward_tile(const RasterState& s, int t, const PixelGrads& pixel_grads, f
     slot[3] = lane_sum(a_B);
     slot[4] = lane_sum(a_C);
     slot[5] = lane_sum(a_o);
-    for (int c = 0; c < C; ++c) slot[kSlotGeometry + c] = lane_sum(d + c * L);
+    for (int c = 0; c < C; ++c) slot[kSlotGeometry + c] = lane_sum(d + c * kLanes);
   }
 }
 

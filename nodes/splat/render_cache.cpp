@@ -1,3 +1,7 @@
+// Vector width of the blending loops it shares with the rasterizer: see rasterizer.cpp.
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC target("prefer-vector-width=512")
+#endif
 #include "nodes/splat/render_cache.hpp"
 
 #include <algorithm>
@@ -16,14 +20,17 @@ namespace gslift {
 namespace {
 
 // Calls visit(pixel, id, w) for every contribution of every pixel of tile t; each pixel's
-// contributions come front to back.
+// contributions come front to back (blend_tile, the forward pass's blending).
 template <class Visit>
 void visit_tile(const RasterState& s, int t, TileBlend& blend, Visit&& visit) {
   const TileGaussian* list = s.tile_gaussians.data() + s.tile_offsets[t];
   const PixelRect tile = tile_pixels(s, t);
-  blend_tile(s, t, blend, [&](int p, uint32_t j, float w) {
-    const size_t pix = size_t(tile.y0 + p / kTileSize) * s.width + tile.x0 + p % kTileSize;
-    visit(pix, list[j].id, w);
+  blend_tile(s, t, blend, [&](uint32_t j, int at, const float* w) {
+    for (int x = 0; x < kLanes; ++x)
+      if (blend.last[at + x] == j + 1) {
+        const int p = at + x;
+        visit(size_t(tile.y0 + p / kTileSize) * s.width + tile.x0 + x, list[j].id, w[x]);
+      }
   });
 }
 
