@@ -462,11 +462,8 @@ inline float lane_sum(float* a) {
 // Per-worker buffers of backward_tile, structure of arrays: channel c of tile pixel p at [c][p].
 struct BackwardScratch {
   explicit BackwardScratch(int channels)
-      : g(size_t(kTilePixels) * channels),
-        S(size_t(kTilePixels) * channels),
-        d(size_t(kLanes) * channels),
-        pixel(channels) {}
-  std::vector<float> values, g, S, d, pixel;
+      : g(size_t(kTilePixels) * channels), d(size_t(kLanes) * channels), pixel(channels) {}
+  std::vector<float> values, g, d, pixel;
 };
 
 // Backward pass of tile t, back to front (3DGS backward): entry by entry in reverse depth order,
@@ -476,6 +473,12 @@ struct BackwardScratch {
 // with the pixel state in structure-of-arrays layout. The per-entry sums are kLanes lane
 // accumulators reduced once per entry in a fixed order. Each entry's gradient goes to its own
 // slot, so no two tiles write the same memory. kChannels > 0 fixes the channel count.
+//
+// With pixel colour P = sum_i v_i alpha_i T_i + T_N bg and g = dL/dP, 3DGS keeps per channel what
+// the entries behind j add, S_j = sum_{i>j} v_i w_i + T_N bg, for
+// dL/dalpha_j = sum_c g_c (v_jc T_j - S_jc / (1 - alpha_j)). Only the dot product Q_j = g . S_j
+// enters, and it updates as Q_{j-1} = Q_j + w_j (g . v_j): one value per pixel instead of C, and
+// g . v_j is needed for the first term anyway, so the channel loop is two FMAs per lane.
 template <int kChannels>
 void backward_tile(const RasterState& s, int t, const PixelGrads& pixel_grads, float* slot_grads,
                    BackwardScratch& scratch) {
@@ -486,15 +489,16 @@ void backward_tile(const RasterState& s, int t, const PixelGrads& pixel_grads, f
   if (count == 0) return;
   gather_values(s, list, count, scratch.values);
   float* g = scratch.g.data();  // dL/d(pixel channel), [c][p]
-  float* S = scratch.S.data();  // what the entries behind the current one add, [c][p]
   float* d = scratch.d.data();  // lane accumulators of dL/d(entry value), [c][lane]
   alignas(64) float T[kTilePixels];
+  alignas(64) float Q[kTilePixels];     // g . (what the entries behind the current one add)
   alignas(64) float last[kTilePixels];  // last contributor + 1, as float: compared in the lanes
   const PixelRect tile = tile_pixels(s, t);
   for (int p = 0; p < kTilePixels; ++p) {
     T[p] = 1.f;
+    Q[p] = 0.f;
     last[p] = 0.f;
-    for (int c = 0; c < C; ++c) g[c * kTilePixels + p] = S[c * kTilePixels + p] = 0.f;
+    for (int c = 0; c < C; ++c) g[c * kTilePixels + p] = 0.f;
   }
   for (int y = tile.y0; y < tile.y1; ++y)
     for (int x = tile.x0; x < tile.x1; ++x) {
@@ -504,10 +508,12 @@ void backward_tile(const RasterState& s, int t, const PixelGrads& pixel_grads, f
       if (contributors > 0 && !pixel_grads.at(pix, scratch.pixel.data())) contributors = 0;
       last[p] = float(contributors);
       T[p] = s.final_transmittance[pix];
+      float background = 0.f;  // g . bg
       for (int c = 0; c < C; ++c) {
         g[c * kTilePixels + p] = scratch.pixel[c];
-        S[c * kTilePixels + p] = s.background[c] * T[p];
+        background += scratch.pixel[c] * s.background[c];
       }
+      Q[p] = background * T[p];
     }
   for (uint32_t j = count; j-- > 0;) {
     const TileGaussian& e = list[j];
@@ -524,8 +530,8 @@ void backward_tile(const RasterState& s, int t, const PixelGrads& pixel_grads, f
       blend_row(e, y, tile.x0, tile.x0 + kLanes, s.min_alpha, gaussian, alpha);
       const int at = (y - tile.y0) * kTileSize;
       // Three passes over the lanes, each a loop without branches that compiles to vector code:
-      // transmittance, then the channels one by one, then the geometry partials.
-      alignas(64) float a[kLanes], inv_keep[kLanes], Tj[kLanes], w[kLanes], d_alpha[kLanes];
+      // transmittance, then the channels one by one, then dL/dalpha and the geometry partials.
+      alignas(64) float a[kLanes], inv_keep[kLanes], Tj[kLanes], w[kLanes], gv[kLanes];
 #pragma GCC unroll 1  // one vector loop, not kLanes scalar copies
       for (int x = 0; x < kLanes; ++x) {
         const int px = tile.x0 + x;
@@ -536,19 +542,16 @@ void backward_tile(const RasterState& s, int t, const PixelGrads& pixel_grads, f
         Tj[x] = T[at + x] * inv_keep[x];  // transmittance in front of entry j
         T[at + x] = Tj[x];
         w[x] = a[x] * Tj[x];
-        d_alpha[x] = 0.f;
+        gv[x] = 0.f;
       }
-      // C = sum_i v_i alpha_i T_i + T_N bg: dC/dalpha_j = v_j T_j - S_j / (1 - alpha_j).
-#pragma GCC unroll 16  // d_alpha stays in a register across the channels
+#pragma GCC unroll 16  // gv stays in a register across the channels
       for (int c = 0; c < C; ++c) {
         const float* __restrict gc = g + c * kTilePixels + at;
-        float* __restrict Sc = S + c * kTilePixels + at;
         float* __restrict dc = d + c * kLanes;
         const float vc = v[c];
 #pragma GCC unroll 1  // one vector loop, not kLanes scalar copies
         for (int x = 0; x < kLanes; ++x) {
-          d_alpha[x] += gc[x] * (vc * Tj[x] - Sc[x] * inv_keep[x]);
-          Sc[x] += w[x] * vc;
+          gv[x] += gc[x] * vc;
           dc[x] += w[x] * gc[x];
         }
       }
@@ -556,15 +559,17 @@ void backward_tile(const RasterState& s, int t, const PixelGrads& pixel_grads, f
       // clamped alpha is constant (and a masked lane has a = 0, so it adds nothing).
 #pragma GCC unroll 1  // one vector loop, not kLanes scalar copies
       for (int x = 0; x < kLanes; ++x) {
+        const float d_alpha = gv[x] * Tj[x] - Q[at + x] * inv_keep[x];
+        Q[at + x] += w[x] * gv[x];
         const bool free = e.opacity * gaussian[x] <= kMaxAlpha;
-        const float d_power = free ? d_alpha[x] * a[x] : 0.f;
+        const float d_power = free ? d_alpha * a[x] : 0.f;
         const float dx = e.mx - (float(tile.x0 + x) + 0.5f);
         a_mx[x] -= d_power * (e.A * dx + e.B * dy);
         a_my[x] -= d_power * (e.C * dy + e.B * dx);
         a_A[x] -= 0.5f * d_power * dx * dx;
         a_B[x] -= d_power * dx * dy;
         a_C[x] -= 0.5f * d_power * dy * dy;
-        a_o[x] += free & (a[x] > 0.f) ? d_alpha[x] * gaussian[x] : 0.f;
+        a_o[x] += free & (a[x] > 0.f) ? d_alpha * gaussian[x] : 0.f;
       }
     }
     float* slot = &slot_grads[size_t(e.slot) * stride];
