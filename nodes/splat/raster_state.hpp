@@ -6,6 +6,8 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <memory>
+#include <utility>
 #include <vector>
 
 #include "nodes/splat/projection.hpp"
@@ -29,6 +31,27 @@ struct TileGaussian {
   uint32_t slot;  // index of this (Gaussian, tile) pair in Gaussian-major order
 };
 
+// std::vector whose resize leaves new elements of trivial types uninitialised: for the large
+// per-view arrays that parallel loops overwrite entirely, where zeroing them first would be a
+// serial pass over memory (taking all the page faults on one thread).
+template <class T>
+struct NoInitAllocator : std::allocator<T> {
+  template <class U>
+  struct rebind {
+    using other = NoInitAllocator<U>;
+  };
+  template <class U>
+  void construct(U* p) noexcept {
+    ::new (static_cast<void*>(p)) U;
+  }
+  template <class U, class... Args>
+  void construct(U* p, Args&&... args) {
+    ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
+  }
+};
+template <class T>
+using UninitVector = std::vector<T, NoInitAllocator<T>>;
+
 struct RasterState {
   int width = 0, height = 0, tiles_x = 0, tiles_y = 0;
   // Per-Gaussian blended values, N x channels: [rgb 3][depth 1][normal 3][features D][alpha 1],
@@ -43,7 +66,7 @@ struct RasterState {
   std::vector<ProjectedGaussian> projections;  // N; radius 0 = not in any tile
   std::vector<uint32_t> slot_offsets;          // N + 1: Gaussian g owns slots [g], [g+1])
   std::vector<uint32_t> tile_offsets;          // tiles + 1
-  std::vector<TileGaussian> tile_gaussians;    // all tiles' lists, front to back
+  UninitVector<TileGaussian> tile_gaussians;   // all tiles' lists, front to back
   std::vector<float> final_transmittance;      // H x W
   std::vector<uint32_t> contributors;          // H x W: last contributing list index + 1
   std::vector<float> alpha_sum;  // H x W accumulated alpha, kept when the alpha block is rendered
