@@ -514,9 +514,10 @@ void backward_tile(const RasterState& s, int t, const PixelGrads& pixel_grads, f
     const float* v = &scratch.values[size_t(j) * C];
     const float jf = float(j);
     std::fill(d, d + size_t(C) * kLanes, 0.f);
-    // Lane accumulators of dL/d mean2d, conic, opacity.
-    alignas(64) float a_mx[kLanes] = {}, a_my[kLanes] = {}, a_A[kLanes] = {}, a_B[kLanes] = {},
-                      a_C[kLanes] = {}, a_o[kLanes] = {};
+    // Lane accumulators of the moments of dL/dpower over the entry's pixels, d = mean2d - pixel:
+    // sum p dx, sum p dy, sum p dx^2, sum p dx dy, sum p dy^2 (p = dL/dpower), and of dL/dopacity.
+    alignas(64) float m_x[kLanes] = {}, m_y[kLanes] = {}, m_xx[kLanes] = {}, m_xy[kLanes] = {},
+                      m_yy[kLanes] = {}, d_opacity[kLanes] = {};
     for (int y = rect.y0; y < rect.y1; ++y) {
       const float dy = e.my - (float(y) + 0.5f);
       alignas(64) float gaussian[kLanes], alpha[kLanes];
@@ -548,8 +549,9 @@ void backward_tile(const RasterState& s, int t, const PixelGrads& pixel_grads, f
           dc[x] += w[x] * gc[x];
         }
       }
-      // alpha = o exp(power), power = -0.5 (A dx^2 + C dy^2) - B dx dy, d = mean2d - pixel; a
-      // clamped alpha is constant (and a masked lane has a = 0, so it adds nothing).
+      // alpha = o exp(power), power = -0.5 (A dx^2 + C dy^2) - B dx dy: the power's gradients
+      // are linear in the moments (applied per entry below). A clamped alpha is constant, and a
+      // masked lane has a = 0, so it adds nothing.
 #pragma GCC unroll 1  // one vector loop, not kLanes scalar copies
       for (int x = 0; x < kLanes; ++x) {
         const float d_alpha = gv[x] * Tj[x] - Q[at + x] * inv_keep[x];
@@ -557,21 +559,23 @@ void backward_tile(const RasterState& s, int t, const PixelGrads& pixel_grads, f
         const bool free = e.opacity * gaussian[x] <= kMaxAlpha;
         const float d_power = free ? d_alpha * a[x] : 0.f;
         const float dx = e.mx - (float(tile.x0 + x) + 0.5f);
-        a_mx[x] -= d_power * (e.A * dx + e.B * dy);
-        a_my[x] -= d_power * (e.C * dy + e.B * dx);
-        a_A[x] -= 0.5f * d_power * dx * dx;
-        a_B[x] -= d_power * dx * dy;
-        a_C[x] -= 0.5f * d_power * dy * dy;
-        a_o[x] += free & (a[x] > 0.f) ? d_alpha * gaussian[x] : 0.f;
+        const float p_dx = d_power * dx;
+        m_x[x] += p_dx;
+        m_y[x] += d_power * dy;
+        m_xx[x] += p_dx * dx;
+        m_xy[x] += p_dx * dy;
+        m_yy[x] += d_power * (dy * dy);
+        d_opacity[x] += free & (a[x] > 0.f) ? d_alpha * gaussian[x] : 0.f;
       }
     }
     float* slot = &slot_grads[size_t(e.slot) * stride];
-    slot[0] = lane_sum(a_mx);
-    slot[1] = lane_sum(a_my);
-    slot[2] = lane_sum(a_A);
-    slot[3] = lane_sum(a_B);
-    slot[4] = lane_sum(a_C);
-    slot[5] = lane_sum(a_o);
+    const float sx = lane_sum(m_x), sy = lane_sum(m_y);
+    slot[0] = -(e.A * sx + e.B * sy);  // dL/dmean2d = sum p dpower/dd
+    slot[1] = -(e.B * sx + e.C * sy);
+    slot[2] = -0.5f * lane_sum(m_xx);  // dL/dA, dL/dB, dL/dC
+    slot[3] = -lane_sum(m_xy);
+    slot[4] = -0.5f * lane_sum(m_yy);
+    slot[5] = lane_sum(d_opacity);
     for (int c = 0; c < C; ++c) slot[kSlotGeometry + c] = lane_sum(d + c * kLanes);
   }
 }
