@@ -1,6 +1,7 @@
 // bench_splat_raster [--runs R] [--out DIR]: times the CPU rasterizer on random scenes in front of
 // a 640x480 camera and writes DIR/splat_raster.json and .svg (default bench/results), printing a
-// table. Medians over R runs (default 5) after one warm-up run.
+// table. Medians over R runs (default 5) after one warm-up run. Next to the times: the estimated
+// floating-point work per view (see FlopEstimate) and the rate it implies.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -16,6 +17,7 @@
 #include <tbb/global_control.h>
 #include <nlohmann/json.hpp>
 
+#include "nodes/splat/raster_state.hpp"
 #include "nodes/splat/rasterizer.hpp"
 #include "nodes/splat/render_cache.hpp"
 #include "runtime/atomic_file.hpp"
@@ -51,6 +53,38 @@ GaussianModel random_scene(int n, uint32_t seed) {
     for (int f = 0; f < kFeatures; ++f) m.features[i * kFeatures + f] = uniform(-1.f, 1.f);
   }
   return m;
+}
+
+// Floating-point work of one view, counted from the forward pass's tile lists: the blending loops
+// evaluate every entry on every pixel of each tile row its rectangle touches (kLanes lanes per
+// entry row, used or masked), so that is the count of vector lanes of work. Operations per lane,
+// an FMA counted as 2 (read off the loops in raster_state.hpp and rasterizer.cpp):
+// - blend_row (power, the exp polynomial, alpha, the skip tests): 40
+// - forward: transmittance and weight 5, plus 2 per channel
+// - backward: blend_row again 40, transmittance and weight 5, dL/dalpha and the running dot
+//   product 5, the power moments and opacity 13, plus 4 per channel
+// Per Gaussian (projection, SH degree 3 colour, and their backward passes) about 1500 in all,
+// small next to the lanes (50k Gaussians: 0.08 GFLOP).
+struct FlopEstimate {
+  double lanes = 0;           // entry-row lanes evaluated per pass
+  double forward_gflop = 0;   // per view
+  double backward_gflop = 0;  // per view, the backward pass alone
+};
+
+FlopEstimate estimate_flops(const RenderOutput& out, size_t gaussians) {
+  const RasterState& s = *out.state;
+  FlopEstimate f;
+  for (int t = 0; t < s.tile_count(); ++t) {
+    const PixelRect tile = tile_pixels(s, t);
+    for (uint32_t k = s.tile_offsets[t]; k < s.tile_offsets[t + 1]; ++k) {
+      const PixelRect r = clip(s.tile_gaussians[k], tile);
+      f.lanes += double(kLanes) * std::max(0, r.y1 - r.y0);
+    }
+  }
+  const double per_gaussian = 1500.0 * gaussians / 2;  // half forward, half backward
+  f.forward_gflop = (f.lanes * (40 + 5 + 2 * s.channels) + per_gaussian) * 1e-9;
+  f.backward_gflop = (f.lanes * (40 + 5 + 5 + 13 + 4 * s.channels) + per_gaussian) * 1e-9;
+  return f;
 }
 
 double thread_cpu_ms() {
@@ -89,6 +123,7 @@ struct Row {
   double forward_cpu_ms = 0, forward_backward_cpu_ms = 0, cache_render_cpu_ms = 0;
   double cache_build_ms = 0, cache_render_ms = 0, cache_backward_ms = 0;
   double cache_mb = 0, contributions_per_pixel = 0;
+  double lanes_per_pixel = 0, forward_gflop = 0, forward_backward_gflop = 0;
 };
 
 std::string svg_chart(const std::vector<Row>& rows) {
@@ -175,9 +210,12 @@ int main(int argc, char** argv) {
   settings.depth = settings.normal = true;
 
   std::vector<Row> rows;
-  std::printf("wall ms (CPU ms of the work in brackets, 1 thread only)\n");
-  std::printf("%9s %7s %18s %18s %9s %10s %11s %16s %9s\n", "gaussians", "threads", "fwd",
-              "fwd+bwd", "cache MB", "contrib/px", "cache build", "cache 16ch", "cache bwd");
+  std::printf(
+      "wall ms (CPU ms of the work in brackets, 1 thread only); estimated GFLOP of fwd+bwd per "
+      "view and the rate it implies\n");
+  std::printf("%9s %7s %18s %18s %14s %9s %10s %11s %16s %9s\n", "gaussians", "threads", "fwd",
+              "fwd+bwd", "GFLOP (GFLOP/s)", "cache MB", "contrib/px", "cache build", "cache 16ch",
+              "cache bwd");
   for (int n : {20000, 50000, 100000}) {
     const GaussianModel model = random_scene(n, 1234u + n);
     for (int threads : {1, 2}) {
@@ -200,6 +238,11 @@ int main(int argc, char** argv) {
       });
       row.forward_backward_ms = forward_backward.wall_ms;
       row.forward_backward_cpu_ms = forward_backward.cpu_ms;
+      const FlopEstimate flops =
+          estimate_flops(render(model, camera, pose, settings), model.size());
+      row.lanes_per_pixel = flops.lanes / (kWidth * kHeight);
+      row.forward_gflop = flops.forward_gflop;
+      row.forward_backward_gflop = flops.forward_gflop + flops.backward_gflop;
       RenderSettings weights_only;
       weights_only.rgb = false;
       const RenderOutput out = render(model, camera, pose, weights_only);
@@ -222,10 +265,13 @@ int main(int argc, char** argv) {
         std::snprintf(buf, sizeof buf, threads == 1 ? "%.1f (%.1f)" : "%.1f", wall, cpu);
         return std::string(buf);
       };
-      std::printf("%9d %7d %18s %18s %9.1f %10.2f %11.1f %16s %9.1f\n", n, threads,
+      char work[32];
+      std::snprintf(work, sizeof work, "%.2f (%.0f)", row.forward_backward_gflop,
+                    row.forward_backward_gflop / (row.forward_backward_ms * 1e-3));
+      std::printf("%9d %7d %18s %18s %15s %9.1f %10.2f %11.1f %16s %9.1f\n", n, threads,
                   both(row.forward_ms, row.forward_cpu_ms).c_str(),
-                  both(row.forward_backward_ms, row.forward_backward_cpu_ms).c_str(), row.cache_mb,
-                  row.contributions_per_pixel, row.cache_build_ms,
+                  both(row.forward_backward_ms, row.forward_backward_cpu_ms).c_str(), work,
+                  row.cache_mb, row.contributions_per_pixel, row.cache_build_ms,
                   both(row.cache_render_ms, row.cache_render_cpu_ms).c_str(),
                   row.cache_backward_ms);
       rows.push_back(row);
@@ -237,6 +283,10 @@ int main(int argc, char** argv) {
   j["image"] = {kWidth, kHeight};
   j["channels_timed"] = "rgb (SH degree 3) + depth + normal";
   j["cache_channels"] = kFeatures;
+  j["flop_estimate"] =
+      "per view, from the lanes the blending loops evaluate (16 per entry and tile row): "
+      "forward 45 + 2 C per lane, backward 63 + 4 C, C = 7 channels, plus ~1500 per Gaussian "
+      "(bench/splat/splat_raster_bench.cpp, FlopEstimate)";
   j["runs_per_median"] = runs;
   // The machine and how busy it was: wall times on a shared machine include waiting for a core.
   j["hardware_threads"] = std::thread::hardware_concurrency();
@@ -257,7 +307,10 @@ int main(int argc, char** argv) {
                          {"cache_render_16ch_ms", r.cache_render_ms},
                          {"cache_backward_16ch_ms", r.cache_backward_ms},
                          {"cache_mb", r.cache_mb},
-                         {"contributions_per_pixel", r.contributions_per_pixel}});
+                         {"contributions_per_pixel", r.contributions_per_pixel},
+                         {"blend_lanes_per_pixel", r.lanes_per_pixel},
+                         {"forward_gflop_estimate", r.forward_gflop},
+                         {"forward_backward_gflop_estimate", r.forward_backward_gflop}});
   // CPU time of the work only where one thread does all of it (2 threads: the calling thread's
   // time would count half the work).
   for (size_t i = 0; i < rows.size(); ++i)
