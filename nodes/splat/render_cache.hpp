@@ -2,6 +2,14 @@
 // pass, stored per pixel in CSR form. With the geometry fixed, rendering any per-Gaussian linear
 // attribute (instance features, class scores: LangOR Eq. 1, Proto-SaGa Eq. 5) is the sparse product
 // F = W A, and its gradient dL/dA = W^T dL/dF, both far cheaper than rasterizing again.
+//
+// Both products run tile by tile: each 16x16 tile keeps the list of Gaussians that contribute to
+// one of its pixels, and each (pixel, Gaussian) pair also stores its Gaussian's position in that
+// list (16 bits when every list fits). render() gathers the attributes of a row of tiles' lists
+// once into a contiguous buffer and sums from there, reading 6 bytes per pair plus cache-resident
+// rows, instead of 8 bytes per pair plus a random attribute row; backward() sums each list entry's
+// pixels into a per-entry row and then each Gaussian's entries in tile order (deterministic at any
+// thread count, with no per-pair transpose to hold).
 #pragma once
 
 #include <cstddef>
@@ -21,17 +29,19 @@ class RenderCache {
   int width() const { return width_; }
   int height() const { return height_; }
   size_t gaussian_count() const { return gaussian_offsets_.size() - 1; }
-  size_t entries() const { return ids_.size(); }  // stored (pixel, Gaussian) pairs
-  // Memory held, in bytes: both the per-pixel rows and their per-Gaussian transpose.
+  size_t entries() const { return ids_.size(); }             // stored (pixel, Gaussian) pairs
+  size_t tile_entries() const { return entry_ids_.size(); }  // (tile, contributing Gaussian) pairs
+  // Memory held, in bytes: the per-pixel rows (id, weight, position in the tile list) and the
+  // tile lists with their per-Gaussian index.
   size_t bytes() const;
 
   // out (H x W x channels) = sum over each pixel's pairs of w * attributes[id] (N x channels,
-  // row-major). Parallel over pixel rows.
+  // row-major). Parallel over rows of tiles.
   void render(const float* attributes, int channels, float* out) const;
   std::vector<float> render(const std::vector<float>& attributes, int channels) const;
 
-  // Adds W^T grad_out to grad_attributes (N x channels). Parallel over Gaussians, each summing
-  // its pixels in row-major order, so the result does not depend on the thread count.
+  // Adds W^T grad_out to grad_attributes (N x channels). Parallel over rows of tiles, then over
+  // Gaussians; every sum runs in a fixed order, so the result does not depend on the thread count.
   void backward(const float* grad_out, int channels, float* grad_attributes) const;
 
   // Per-pixel rows: pixel p owns [pixel_offsets[p], pixel_offsets[p+1]) of ids/weights, front to
@@ -41,19 +51,30 @@ class RenderCache {
   const std::vector<float>& weights() const { return weights_; }
 
  private:
-  // backward() for Gaussians [begin, end); kChannels > 0 fixes the channel count at compile time.
-  template <int kChannels>
-  void transposed_rows(const float* grad_out, int channels, float* grad_attributes, size_t begin,
-                       size_t end) const;
+  template <class Index>
+  const Index* local_ids() const;
+  template <class Index, int kChannels>
+  void render_tiles(const float* attributes, int channels, float* out, int begin, int end) const;
+  template <class Index, int kChannels>
+  void backward_tiles(const float* grad_out, int channels, float* entry_grads, int begin,
+                      int end) const;
 
-  int width_ = 0, height_ = 0;
+  int width_ = 0, height_ = 0, tiles_x_ = 0, tiles_y_ = 0;
   std::vector<uint32_t> pixel_offsets_;  // H x W + 1
   std::vector<uint32_t> ids_;
   std::vector<float> weights_;
-  // Transpose (Gaussian -> pixels), for the deterministic gradient.
+  // Per pair, the position of its Gaussian in its tile's list: local16_ when every list has at
+  // most 2^16 entries, else local32_ (the other one is empty).
+  std::vector<uint16_t> local16_;
+  std::vector<uint32_t> local32_;
+  // Per tile, the contributing Gaussians front to back: tile t owns entries
+  // [tile_offsets_[t], tile_offsets_[t+1]) of entry_ids_.
+  std::vector<uint32_t> tile_offsets_;
+  std::vector<uint32_t> entry_ids_;
+  // Per Gaussian, its entries in tile order: g owns gaussian_entries_[gaussian_offsets_[g] ..
+  // gaussian_offsets_[g+1]), for the deterministic gradient reduction.
   std::vector<uint32_t> gaussian_offsets_;  // N + 1
-  std::vector<uint32_t> pixels_;
-  std::vector<float> pixel_weights_;
+  std::vector<uint32_t> gaussian_entries_;
 };
 
 }  // namespace gslift

@@ -21,7 +21,12 @@ TEST_CASE("raster: render cache equals the rasterizer's features and feature gra
   const RenderOutput out = render(scene.model, scene.camera, scene.pose, s);
   const RenderCache cache(out);
   REQUIRE(cache.entries() > 1000u);
-  CHECK(cache.bytes() == 4 * (96 * 64 + 1 + 401) + 16 * cache.entries());
+  // Per pair: id, weight, 16-bit list position; per tile entry: id and its per-Gaussian index;
+  // offsets of 96 x 64 pixels, 6 x 4 tiles and 400 Gaussians.
+  REQUIRE(cache.tile_entries() > 0u);
+  CHECK(cache.tile_entries() < cache.entries());
+  CHECK(cache.bytes() ==
+        4 * (96 * 64 + 1 + 25 + 401) + 10 * cache.entries() + 8 * cache.tile_entries());
 
   const std::vector<float> rendered = cache.render(scene.model.features, D);
   REQUIRE(rendered.size() == out.features.size());
