@@ -71,3 +71,44 @@ TEST_CASE("raster: render cache equals the rasterizer's features and feature gra
   }
   CHECK(one_thread == cache_grad);
 }
+
+TEST_CASE("raster: render cache with a tile list over 2^16 Gaussians (32-bit list positions)",
+          "[splat][raster]") {
+  // One 16x16 tile, 110000 faint pixel-sized Gaussians (opacity 0.005, min_alpha 1e-4): each
+  // pixel blends thousands of them and T stays above 1e-4, so the tile's list of contributing
+  // Gaussians exceeds 16 bits.
+  const int D = 3;
+  test::RasterScene scene = test::random_raster_scene(110000, 0, D, 31, 16, 16);
+  for (float& l : scene.model.log_scales) l = std::log(0.002f);
+  for (float& o : scene.model.opacity_logits) o = std::log(0.005f / 0.995f);
+  RenderSettings s;
+  s.rgb = false;
+  s.features = true;
+  s.min_alpha = 1e-4f;
+  const RenderOutput out = render(scene.model, scene.camera, scene.pose, s);
+  const RenderCache cache(out);
+  REQUIRE(cache.tile_entries() > 65536u);
+  CHECK(cache.bytes() ==
+        4 * (16 * 16 + 1 + 2 + 110001) + 12 * cache.entries() + 8 * cache.tile_entries());
+
+  const std::vector<float> rendered = cache.render(scene.model.features, D);
+  double max_err = 0;
+  for (size_t i = 0; i < rendered.size(); ++i)
+    max_err = std::max(max_err, double(std::abs(rendered[i] - out.features[i])));
+  CHECK(max_err < 1e-5);
+
+  RenderGrads g;
+  g.features.assign(out.features.size(), 0.5f);
+  ModelGrads grads;
+  grads.reset(scene.model);
+  render_backward(scene.model, scene.camera, scene.pose, s, out, g, grads);
+  std::vector<float> cache_grad(scene.model.features.size(), 0.f);
+  cache.backward(g.features.data(), D, cache_grad.data());
+  double err = 0, norm = 0;
+  for (size_t i = 0; i < cache_grad.size(); ++i) {
+    err = std::max(err, double(std::abs(cache_grad[i] - grads.features[i])));
+    norm = std::max(norm, double(std::abs(grads.features[i])));
+  }
+  CHECK(norm > 1e-3);
+  CHECK(err < 1e-5 * norm);
+}
