@@ -58,8 +58,15 @@ std::vector<Box> cluster_boxes(const std::vector<Box>& candidates, int rounds,
     if (assigned[seed]) continue;
     // Members in seed-score order, so the first member of a tied label has the highest score.
     std::vector<size_t> members;
+    const std::string seed_label = normalised_label(candidates[seed].label);
+    auto joins = [&](size_t j) {
+      if (j == seed) return true;
+      const double overlap = iou(candidates[seed], candidates[j]);
+      return overlap > params.any_label_iou ||
+             (overlap > params.iou && normalised_label(candidates[j].label) == seed_label);
+    };
     for (const size_t j : order)
-      if (!assigned[j] && (j == seed || iou(candidates[seed], candidates[j]) > params.iou)) {
+      if (!assigned[j] && joins(j)) {
         members.push_back(j);
         assigned[j] = 1;
       }

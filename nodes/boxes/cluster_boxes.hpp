@@ -8,12 +8,13 @@
 //
 // Clustering [decision]: greedy, not single-linkage. Candidates are taken in decreasing Eq. 2
 // consensus score; the best unassigned one seeds a cluster and every unassigned candidate whose
-// IoU with the seed exceeds the threshold joins it. Single-linkage chains neighbouring objects
-// through one sloppy in-between box (two surgeons side by side); greedy seeding cannot chain
-// through a box that is not itself a seed, and because seeds come in score order the seed IS the
-// Eq. 2 representative of its cluster. (A box overlapping two objects by more than the threshold
-// and scoring above both would still seed and absorb both: the threshold must stay >= 0.5.)
-// The VLM's own score is not used: Qwen-VL grounding gives none (all 1).
+// IoU with the seed exceeds the threshold joins it (a candidate with another label only above a
+// higher threshold, see BoxClusteringParams::any_label_iou). Single-linkage chains neighbouring
+// objects through one sloppy in-between box (two surgeons side by side); greedy seeding cannot
+// chain through a box that is not itself a seed, and because seeds come in score order the seed IS
+// the Eq. 2 representative of its cluster. (A box overlapping two objects by more than the
+// threshold and scoring above both would still seed and absorb both: the threshold must stay >=
+// 0.5.) The VLM's own score is not used: Qwen-VL grounding gives none (all 1).
 #pragma once
 
 #include <string>
@@ -37,8 +38,16 @@ namespace gslift {
 // robust across difficulty (0.7 splits jittery objects into duplicates on "hard", 0.3 merges
 // neighbours). Label accuracy of the voted labels: 0.99 (default), 0.92 (hard).
 struct BoxClusteringParams {
-  // Two boxes are the same object when IoU(seed, box) > iou.
+  // Two boxes with the same label are the same object when IoU(seed, box) > iou.
   float iou = 0.5f;
+  // Two boxes with different labels are the same object (one of them mislabelled, the vote
+  // decides) only when IoU(seed, box) > any_label_iou [decision, measured in docs/langor.md]:
+  // objects that rest on or stand at one another have boxes overlapping by more than `iou`
+  // (the patient on the operating table, instruments on the instrument table, a surgeon under
+  // the C-arm), and clustering them regardless of label let the larger cluster's vote erase the
+  // other object in most views. Jittered boxes of one object overlap far more than that.
+  // 1 = never merge different labels; iou = the label-blind clustering of the paper.
+  float any_label_iou = 0.8f;
   // Clusters supported by fewer distinct rounds are dropped as hallucinations. Clamped to the
   // number of rounds of the view, so single-round input (the "w/o clustering" ablation) keeps its
   // boxes.

@@ -14,13 +14,20 @@ void add_cluster(Registry& registry) {
       "multi-round VLM boxes -> one box per object per view (LangOR Eq. 2, label vote)",
       {{"boxes", "BoxSet", "candidate boxes of every view, all rounds together"}},
       {{"clusters", "BoxSet", "one representative per cluster, with support and label vote"}},
-      {float_param("iou", d.iou, "boxes join a cluster when their IoU with its seed exceeds this",
+      {float_param("iou", d.iou,
+                   "boxes with the seed's label join its cluster when their IoU with it exceeds "
+                   "this",
+                   0, 1),
+       float_param("any_label_iou", d.any_label_iou,
+                   "boxes with another label join only above this IoU (1 = never; = iou: "
+                   "label-blind, as in the paper)",
                    0, 1),
        int_param("min_support", d.min_support,
                  "drop clusters seen in fewer distinct rounds (clamped to the rounds asked)", 1)}};
   registry.add(std::move(spec), [](NodeContext& ctx) {
     BoxClusteringParams p;
     p.iou = static_cast<float>(ctx.param_float("iou"));
+    p.any_label_iou = static_cast<float>(ctx.param_float("any_label_iou"));
     p.min_support = static_cast<int>(ctx.param_int("min_support"));
     BoxSet clusters = cluster_box_set(*ctx.input<BoxSet>("boxes"), p);
     size_t count = 0;

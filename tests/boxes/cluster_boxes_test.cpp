@@ -85,12 +85,45 @@ TEST_CASE("greedy seeding does not chain two objects through an in-between box")
     c.push_back(box(6, 0, 16, 20, "surgeon", r));
   }
   c.push_back(box(3, 0, 13, 20, "person", 3));
-  const auto out = cluster_boxes(c, 4, BoxClusteringParams{});
+  BoxClusteringParams label_blind;  // the in-between box may join whatever its label
+  label_blind.any_label_iou = label_blind.iou;
+  const auto out = cluster_boxes(c, 4, label_blind);
   REQUIRE(out.size() == 2);
   CHECK(out[0].label == "nurse");  // 3 votes to 1 for "person"
   CHECK(out[0].support == 4);
   CHECK(out[1].label == "surgeon");
   CHECK(out[1].support == 3);
+}
+
+TEST_CASE("an object resting on another keeps its own cluster; a mislabelled box is voted down") {
+  // Table [0,100]x[0,40], patient on it [0,100]x[0,28]: IoU 28/40 = 0.7, above iou 0.5 but below
+  // any_label_iou 0.8, so the two labels stay two objects. A round that calls the table
+  // "patient" with a box [0,100]x[0,42] (IoU 40/42 = 0.95 with the table, 28/42 = 0.67 with the
+  // patient) is one of the table's boxes with a wrong label. Eq. 2 scores: table boxes
+  // (2 + 3 * 0.7 + 0.95) / 6 = 0.84, the stray one (3 * 0.95 + 3 * 0.67) / 6 = 0.81, patient
+  // boxes (2 + 3 * 0.7 + 0.67) / 6 = 0.79; a table box seeds, the stray box joins it and loses
+  // the vote 3 to 1.
+  std::vector<Box> c;
+  for (int r = 0; r < 3; ++r) {
+    c.push_back(box(0, 0, 100, 40, "operating table", r));
+    c.push_back(box(0, 0, 100, 28, "patient", r));
+  }
+  c.push_back(box(0, 0, 100, 42, "patient", 3));
+  const auto out = cluster_boxes(c, 4, BoxClusteringParams{});
+  REQUIRE(out.size() == 2);
+  const Box& table = out[0].label == "operating table" ? out[0] : out[1];
+  const Box& patient = out[0].label == "patient" ? out[0] : out[1];
+  CHECK(table.label == "operating table");
+  CHECK(table.support == 4);
+  CHECK(table.y2 == 40);
+  CHECK(patient.label == "patient");
+  CHECK(patient.support == 3);
+  CHECK(patient.y2 == 28);
+  // Label-blind (the paper's clustering): the seed takes everything above IoU 0.5 and one label
+  // wins, the other object is gone.
+  BoxClusteringParams label_blind;
+  label_blind.any_label_iou = label_blind.iou;
+  CHECK(cluster_boxes(c, 4, label_blind).size() == 1);
 }
 
 TEST_CASE("cluster_box_set keeps view order and names") {
