@@ -2,6 +2,9 @@
 
 #include <algorithm>
 
+#include <tbb/parallel_for.h>
+#include <opencv2/core.hpp>
+
 #include "nodes/splat/rasterizer.hpp"
 #include "runtime/node.hpp"
 
@@ -23,7 +26,23 @@ Eigen::MatrixXf encode_rows(const TextEncoder& encoder, const std::vector<std::s
 }  // namespace
 
 QueryView::QueryView(const GaussianModel& model, const Camera& camera, const Pose& pose)
-    : cache_(weights_pass(model, camera, pose)) {}
+    : cache_(weights_pass(model, camera, pose)) {
+  const auto& ids = model.instance_ids;
+  if (ids.size() != model.size()) return;
+  const int32_t max_id = ids.empty() ? -1 : *std::max_element(ids.begin(), ids.end());
+  for (int32_t k = 0; k <= max_id; ++k)
+    instance_alpha_.emplace_back(cv::Mat1f::zeros(cache_.height(), cache_.width()));
+  // Each pixel's row is summed by one task, so the planes do not depend on the thread count.
+  const auto& off = cache_.pixel_offsets();
+  const auto& entry_ids = cache_.ids();
+  const auto& w = cache_.weights();
+  tbb::parallel_for(size_t(0), off.size() - 1, [&](size_t p) {
+    for (uint32_t e = off[p]; e < off[p + 1]; ++e) {
+      const int32_t k = ids[entry_ids[e]];
+      if (k >= 0) reinterpret_cast<float*>(instance_alpha_[k].data)[p] += w[e];
+    }
+  });
+}
 
 cv::Mat1f QueryView::render(const std::vector<float>& per_gaussian) const {
   if (per_gaussian.size() != cache_.gaussian_count())
@@ -38,6 +57,23 @@ cv::Mat1f QueryView::render(const std::vector<float>& per_gaussian) const {
 cv::Mat1b QueryView::mask(const std::vector<float>& indicator, float threshold) const {
   cv::Mat1b m;
   cv::compare(render(indicator), threshold, m, cv::CMP_GE);
+  return m;
+}
+
+cv::Mat1f QueryView::render_instances(const Eigen::VectorXf& per_instance) const {
+  cv::Mat1f out = cv::Mat1f::zeros(cache_.height(), cache_.width());
+  const Eigen::Index n = std::min<Eigen::Index>(per_instance.size(), instance_alpha_.size());
+  for (Eigen::Index k = 0; k < n; ++k)
+    if (per_instance[k] != 0.f) cv::scaleAdd(instance_alpha_[k], per_instance[k], out, out);
+  return out;
+}
+
+cv::Mat1b QueryView::instance_mask(const std::vector<int>& instances, float threshold) const {
+  cv::Mat1f alpha = cv::Mat1f::zeros(cache_.height(), cache_.width());
+  for (int k : instances)
+    if (k >= 0 && k < static_cast<int>(instance_alpha_.size())) alpha += instance_alpha_[k];
+  cv::Mat1b m;
+  cv::compare(alpha, threshold, m, cv::CMP_GE);
   return m;
 }
 
@@ -110,12 +146,6 @@ TextQueryResults answer_text_queries(const GaussianModel& model, const InstanceS
   results.queries = queries;
   select_instances(instances, encoder, options, results);
 
-  std::vector<std::vector<float>> indicators, relevancies;
-  for (size_t q = 0; q < queries.size(); ++q) {
-    indicators.push_back(
-        selection_indicator(model.instance_ids, instances.size(), results.instances[q]));
-    relevancies.push_back(gaussian_values(model.instance_ids, results.relevancy[q]));
-  }
   for (int vi : view_indices) {
     const View& view = capture.views.at(static_cast<size_t>(vi));
     const QueryView qv(model, view.camera, view.pose);
@@ -125,8 +155,8 @@ TextQueryResults answer_text_queries(const GaussianModel& model, const InstanceS
     if (options.normalise_relevancy)
       alpha = cv::max(qv.render(std::vector<float>(model.size(), 1.f)), 1e-6f);
     for (size_t q = 0; q < queries.size(); ++q) {
-      answers.masks.push_back(qv.mask(indicators[q], options.mask_threshold));
-      cv::Mat1f relevancy = qv.render(relevancies[q]);
+      answers.masks.push_back(qv.instance_mask(results.instances[q], options.mask_threshold));
+      cv::Mat1f relevancy = qv.render_instances(results.relevancy[q]);
       if (options.normalise_relevancy) relevancy /= alpha;
       answers.relevancy.push_back(relevancy);
     }

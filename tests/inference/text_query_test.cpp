@@ -40,6 +40,39 @@ TEST_CASE("a selection renders as the accumulated alpha of its Gaussians") {
   CHECK_THROWS_AS(view.render({1.f}), InputError);
 }
 
+TEST_CASE("instance planes render what the per-Gaussian product renders") {
+  GaussianModel model = test::two_blobs();
+  // A third Gaussian overlapping the left blob, unassigned: it must count in neither plane.
+  model.resize(3);
+  model.means = {-0.5f, 0.f, 2.f, 0.5f, 0.f, 2.f, -0.4f, 0.f, 1.8f};
+  for (int a = 0; a < 3; ++a) model.log_scales[6 + a] = std::log(0.1f);
+  model.opacity_logits = {4.f, 4.f, 1.f};
+  model.instance_ids = {0, 1, -1};
+  const Camera cam = test::query_camera();
+  const QueryView view(model, cam, Pose{});
+  Eigen::VectorXf rel(2);
+  rel << 0.25f, 0.75f;
+  const cv::Mat1f by_instance = view.render_instances(rel);
+  const cv::Mat1f by_gaussian = view.render(gaussian_values(model.instance_ids, rel));
+  const cv::Mat1f left_alpha = view.render(selection_indicator(model.instance_ids, 2, {0}));
+  const cv::Mat1b left = view.instance_mask({0}, 0.5f);
+  int in_left = 0;
+  for (int y = 0; y < cam.height; ++y)
+    for (int x = 0; x < cam.width; ++x) {
+      REQUIRE(by_instance(y, x) == Approx(by_gaussian(y, x)).margin(1e-6));
+      REQUIRE(left(y, x) == (left_alpha(y, x) >= 0.5f ? 255 : 0));
+      in_left += left(y, x) != 0;
+    }
+  CHECK(in_left > 0);
+  // The unassigned Gaussian in front hides part of the left blob: at its centre the left
+  // instance alone has less alpha than at the blob's far edge without it.
+  const Eigen::VectorXf left_only = Eigen::VectorXf::Unit(2, 0);
+  CHECK(view.render_instances(left_only)(24, 17) < 0.9f);
+  // Selecting nothing, or an id no Gaussian has, renders nothing.
+  CHECK(cv::countNonZero(view.instance_mask({}, 0.5f)) == 0);
+  CHECK(cv::countNonZero(view.instance_mask({5}, 0.5f)) == 0);
+}
+
 TEST_CASE("unassigned Gaussians and out-of-range ids") {
   Eigen::VectorXf v(2);
   v << 3.f, 5.f;
