@@ -1,7 +1,11 @@
 // bench_splat_recon: reconstruction time, Gaussian count and PSNR on training and held-out views,
 // with the estimated floating-point work per step next to the measured time.
 //
-//   bench_splat_recon [--or DIR] [--dtu DIR] [--iterations N] [--out DIR]
+//   bench_splat_recon [--or DIR] [--dtu DIR|none] [--iterations N] [--out DIR] [--threads N]
+//                     [--ablation 0|1] [--set KEY=VALUE]...
+//
+// --set overrides one reconstruction option for every case (keys: see apply_setting), e.g. a
+// sweep point; --threads caps TBB's parallelism (1 for CPU-time comparisons on a shared machine).
 //
 // --or: an embedded OR capture folder (`gslift synth --out DIR`, default settings: 5 views, one
 // held out). --dtu: DTU scan 24 (default ../shared/data/dtu_scan24/sparse/0, its COLMAP model
@@ -14,11 +18,14 @@
 #include <cstdio>
 #include <fstream>
 #include <iostream>
+#include <map>
+#include <memory>
 #include <sstream>
 #include <string>
 #include <thread>
 #include <vector>
 
+#include <tbb/global_control.h>
 #include <nlohmann/json.hpp>
 
 #include "nodes/ingest/capture_loader.hpp"
@@ -73,6 +80,9 @@ nlohmann::json run_case(const Case& c) {
   j["scale_weight"] = c.options.scale_weight;
   j["seconds"] = r.seconds;
   j["seconds_per_step"] = per_step;
+  j["phase_seconds"] = {{"prepare", r.phases.prepare}, {"render", r.phases.render},
+                        {"losses", r.phases.losses},   {"backward", r.phases.backward},
+                        {"adam", r.phases.adam},       {"density", r.phases.density}};
   j["gaussians_initial"] = r.initial_gaussians;
   j["gaussians_final"] = r.model.size();
   j["train_psnr"] = r.train_psnr;
@@ -131,6 +141,47 @@ std::string svg_chart(const nlohmann::json& cases) {
   return s.str();
 }
 
+// Applies "key=value" to the options; returns false for an unknown key.
+bool apply_setting(const std::string& setting, ReconstructOptions& o) {
+  const size_t eq = setting.find('=');
+  if (eq == std::string::npos) return false;
+  const std::string key = setting.substr(0, eq);
+  const double v = std::stod(setting.substr(eq + 1));
+  std::map<std::string, double*> reals = {{"footprint_factor", &o.init.footprint_factor},
+                                          {"scale_factor", &o.init.scale_factor},
+                                          {"depth_weight", &o.depth_weight},
+                                          {"normal_weight", &o.normal_weight},
+                                          {"scale_weight", &o.scale_weight},
+                                          {"ssim_lambda", &o.ssim_lambda},
+                                          {"grad_threshold", &o.density.grad_threshold},
+                                          {"prune_opacity", &o.density.prune_opacity},
+                                          {"density_stop", &o.density.stop},
+                                          {"lr_position", &o.rates.position_init},
+                                          {"lr_position_final", &o.rates.position_final},
+                                          {"lr_sh_dc", &o.rates.sh_dc},
+                                          {"lr_opacity", &o.rates.opacity},
+                                          {"lr_scale", &o.rates.scale},
+                                          {"lr_rotation", &o.rates.rotation}};
+  std::map<std::string, int*> ints = {{"sh_degree", &o.sh_degree},
+                                      {"sh_interval", &o.sh_interval},
+                                      {"density_start", &o.density.start},
+                                      {"density_interval", &o.density.interval},
+                                      {"pixel_stride", &o.init.pixel_stride}};
+  if (auto it = reals.find(key); it != reals.end())
+    *it->second = v;
+  else if (auto jt = ints.find(key); jt != ints.end())
+    *jt->second = static_cast<int>(v);
+  else if (key == "opacity")
+    o.init.opacity = static_cast<float>(v);
+  else if (key == "max_gaussians")
+    o.density.max_gaussians = static_cast<size_t>(v);
+  else if (key == "densify")
+    o.densify = v != 0;
+  else
+    return false;
+  return true;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -139,6 +190,9 @@ int main(int argc, char** argv) {
   fs::path dtu =
       fs::path(GSLIFT_SOURCE_DIR) / ".." / "shared" / "data" / "dtu_scan24" / "sparse" / "0";
   int iterations = 500;
+  int threads = 0;
+  bool ablation = true;
+  std::vector<std::string> settings;
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string key = argv[i], value = argv[i + 1];
     if (key == "--or")
@@ -149,6 +203,12 @@ int main(int argc, char** argv) {
       out = value;
     else if (key == "--iterations")
       iterations = std::stoi(value);
+    else if (key == "--threads")
+      threads = std::stoi(value);
+    else if (key == "--ablation")
+      ablation = value != "0";
+    else if (key == "--set")
+      settings.push_back(value);
     else {
       std::cerr << "unknown option " << key << "\n";
       return 2;
@@ -157,6 +217,15 @@ int main(int argc, char** argv) {
   std::vector<Case> cases;
   ReconstructOptions defaults;
   defaults.iterations = iterations;
+  for (const std::string& setting : settings)
+    if (!apply_setting(setting, defaults)) {
+      std::cerr << "unknown setting " << setting << "\n";
+      return 2;
+    }
+  std::unique_ptr<tbb::global_control> limit;
+  if (threads > 0)
+    limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
+                                                  threads);
   if (!or_dir.empty()) cases.push_back({"or_default", or_dir, {}, defaults});
   if (fs::exists(dtu)) {
     CaptureOptions load;
@@ -165,7 +234,7 @@ int main(int argc, char** argv) {
     load.skip_missing_images = true;
     cases.push_back({"dtu_scan24", dtu, load, defaults});  // no depth prior: sparse points init
   }
-  if (!or_dir.empty()) {  // the geometry-loss ablation
+  if (!or_dir.empty() && ablation) {  // the geometry-loss ablation
     ReconstructOptions photometric = defaults;
     photometric.depth_weight = photometric.normal_weight = photometric.scale_weight = 0;
     cases.push_back({"or_photometric_only", or_dir, {}, photometric});
@@ -176,6 +245,8 @@ int main(int argc, char** argv) {
                        {"hardware_threads", std::thread::hardware_concurrency()}};
   report["note"] =
       "DTU background not masked; flops are estimates (recon_flops.hpp), time is wall clock";
+  report["settings"] = settings;
+  report["threads"] = threads;
   report["cases"] = nlohmann::json::array();
   for (const Case& c : cases) {  // rewritten after every case, so a long run keeps its results
     report["cases"].push_back(run_case(c));

@@ -19,47 +19,65 @@ bool valid_depth(float d) {
 
 }  // namespace
 
+PhotometricLoss photometric_loss(const cv::Mat& rendered, const SsimTarget& target,
+                                 double ssim_lambda, cv::Mat* grad) {
+  require_same(rendered, target.image, CV_32FC3, "photometric_loss");
+  PhotometricLoss loss;
+  cv::Mat ssim_grad;
+  loss.ssim = ssim(rendered, target, grad && ssim_lambda != 0 ? &ssim_grad : nullptr);
+  const double count = static_cast<double>(rendered.total() * 3);
+  const int width = rendered.cols * 3;
+  // d|x|/dx = sign(x) (sign(0) = 0 like torch), scaled by the L1 weight over the mean's count.
+  const float l1_step = static_cast<float>((1 - ssim_lambda) / count);
+  const float ssim_scale = static_cast<float>(ssim_lambda);
+  if (grad) grad->create(rendered.size(), CV_32FC3);
+  double l1 = 0;
+  for (int r = 0; r < rendered.rows; ++r) {
+    const float* x = rendered.ptr<float>(r);
+    const float* y = target.image.ptr<float>(r);
+    float* g = grad ? grad->ptr<float>(r) : nullptr;
+    const float* sg = ssim_grad.empty() ? nullptr : ssim_grad.ptr<float>(r);
+    float row = 0;
+    for (int i = 0; i < width; ++i) {
+      const float d = x[i] - y[i];
+      row += std::abs(d);
+      if (!g) continue;
+      g[i] = (d > 0 ? l1_step : d < 0 ? -l1_step : 0.f) - (sg ? ssim_scale * sg[i] : 0.f);
+    }
+    l1 += row;
+  }
+  loss.l1 = l1 / count;
+  loss.value = (1 - ssim_lambda) * loss.l1 + ssim_lambda * (1 - loss.ssim);
+  return loss;
+}
+
 PhotometricLoss photometric_loss(const cv::Mat& rendered, const cv::Mat& target, double ssim_lambda,
                                  cv::Mat* grad) {
   require_same(rendered, target, CV_32FC3, "photometric_loss");
-  PhotometricLoss loss;
-  const cv::Mat diff = rendered - target;
-  const double count = static_cast<double>(rendered.total() * 3);
-  loss.l1 = cv::norm(diff, cv::NORM_L1) / count;
-  cv::Mat ssim_grad;
-  loss.ssim = ssim(rendered, target, grad && ssim_lambda != 0 ? &ssim_grad : nullptr);
-  loss.value = (1 - ssim_lambda) * loss.l1 + ssim_lambda * (1 - loss.ssim);
-  if (grad) {
-    // d|x|/dx = sign(x); sign(0) = 0 like torch.
-    cv::Mat sign = cv::Mat::zeros(diff.size(), diff.type());
-    sign.setTo(cv::Scalar::all(1), diff > 0);
-    sign.setTo(cv::Scalar::all(-1), diff < 0);
-    *grad = sign * ((1 - ssim_lambda) / count);
-    if (ssim_lambda != 0) *grad -= ssim_lambda * ssim_grad;
-  }
-  return loss;
+  return photometric_loss(rendered, SsimTarget(target), ssim_lambda, grad);
 }
 
 double depth_log_l1_loss(const cv::Mat& rendered, const cv::Mat& target, cv::Mat* grad) {
   require_same(rendered, target, CV_32FC1, "depth_log_l1_loss");
   if (grad) *grad = cv::Mat::zeros(rendered.size(), CV_32FC1);
-  double sum = 0;
   size_t valid = 0;
-  for (int r = 0; r < rendered.rows; ++r)
-    for (int c = 0; c < rendered.cols; ++c)
-      if (valid_depth(target.at<float>(r, c))) ++valid;
+  for (int r = 0; r < target.rows; ++r) {
+    const float* d = target.ptr<float>(r);
+    for (int c = 0; c < target.cols; ++c) valid += valid_depth(d[c]);
+  }
   if (valid == 0) return 0;
   const double inv = 1.0 / static_cast<double>(valid);
+  double sum = 0;
   for (int r = 0; r < rendered.rows; ++r) {
     const float* d_hat = rendered.ptr<float>(r);
     const float* d = target.ptr<float>(r);
+    float* g = grad ? grad->ptr<float>(r) : nullptr;
     for (int c = 0; c < rendered.cols; ++c) {
       if (!valid_depth(d[c])) continue;
-      const double e = static_cast<double>(d_hat[c]) - d[c];
+      const float e = d_hat[c] - d[c];
       sum += std::log1p(std::abs(e));
       // d/de log(1 + |e|) = sign(e) / (1 + |e|)
-      if (grad && e != 0)
-        grad->ptr<float>(r)[c] = static_cast<float>(inv * (e > 0 ? 1 : -1) / (1 + std::abs(e)));
+      if (g && e != 0) g[c] = static_cast<float>(inv * (e > 0 ? 1 : -1) / (1 + std::abs(e)));
     }
   }
   return sum * inv;
@@ -68,32 +86,42 @@ double depth_log_l1_loss(const cv::Mat& rendered, const cv::Mat& target, cv::Mat
 double normal_cosine_loss(const cv::Mat& rendered, const cv::Mat& target, cv::Mat* grad) {
   require_same(rendered, target, CV_32FC3, "normal_cosine_loss");
   if (grad) *grad = cv::Mat::zeros(rendered.size(), CV_32FC3);
-  constexpr double kMinNorm = 1e-6;
-  // Two passes: count the valid pixels first so the gradient carries the 1/N of the mean.
-  auto usable = [&](const cv::Vec3f& n_hat, const cv::Vec3f& n) {
-    return (n[0] != 0 || n[1] != 0 || n[2] != 0) && cv::norm(n_hat) >= kMinNorm;
+  constexpr double kMinNorm2 = 1e-12;  // |n_hat| >= 1e-6
+  auto usable = [&](const float* a, const float* b) {
+    return (b[0] != 0 || b[1] != 0 || b[2] != 0) && static_cast<double>(a[0]) * a[0] +
+                                                            static_cast<double>(a[1]) * a[1] +
+                                                            static_cast<double>(a[2]) * a[2] >=
+                                                        kMinNorm2;
   };
+  // Two passes: count the valid pixels first so the gradient carries the 1/N of the mean.
   size_t valid = 0;
-  for (int r = 0; r < rendered.rows; ++r)
-    for (int c = 0; c < rendered.cols; ++c)
-      if (usable(rendered.at<cv::Vec3f>(r, c), target.at<cv::Vec3f>(r, c))) ++valid;
+  for (int r = 0; r < rendered.rows; ++r) {
+    const float* a = rendered.ptr<float>(r);
+    const float* b = target.ptr<float>(r);
+    for (int c = 0; c < rendered.cols; ++c) valid += usable(a + 3 * c, b + 3 * c);
+  }
   if (valid == 0) return 0;
   const double inv = 1.0 / static_cast<double>(valid);
   double sum = 0;
   for (int r = 0; r < rendered.rows; ++r) {
+    const float* a_row = rendered.ptr<float>(r);
+    const float* b_row = target.ptr<float>(r);
+    float* g_row = grad ? grad->ptr<float>(r) : nullptr;
     for (int c = 0; c < rendered.cols; ++c) {
-      const cv::Vec3f& n_hat = rendered.at<cv::Vec3f>(r, c);
-      const cv::Vec3f& n = target.at<cv::Vec3f>(r, c);
-      if (!usable(n_hat, n)) continue;
-      const cv::Vec3d a(n_hat), b(n);
-      const double len = cv::norm(a);
-      const double cosine = a.dot(b) / len;
+      const float* a = a_row + 3 * c;
+      const float* b = b_row + 3 * c;
+      if (!usable(a, b)) continue;
+      const double len =
+          std::sqrt(static_cast<double>(a[0]) * a[0] + static_cast<double>(a[1]) * a[1] +
+                    static_cast<double>(a[2]) * a[2]);
+      const double dot = static_cast<double>(a[0]) * b[0] + static_cast<double>(a[1]) * b[1] +
+                         static_cast<double>(a[2]) * b[2];
+      const double cosine = dot / len;
       sum += 1 - cosine;
-      if (grad) {
-        // d cos / d a = b / |a| - (a.b) a / |a|^3
-        const cv::Vec3d g = -(b / len - (cosine / (len * len)) * a) * inv;
-        grad->at<cv::Vec3f>(r, c) = cv::Vec3f(g);
-      }
+      if (!g_row) continue;
+      // d cos / d a = b / |a| - (a.b) a / |a|^3
+      for (int k = 0; k < 3; ++k)
+        g_row[3 * c + k] = static_cast<float>(-(b[k] / len - (cosine / (len * len)) * a[k]) * inv);
     }
   }
   return sum * inv;

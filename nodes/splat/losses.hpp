@@ -7,6 +7,8 @@
 
 #include <opencv2/core.hpp>
 
+#include "nodes/splat/ssim.hpp"
+
 namespace gslift {
 
 struct PhotometricLoss {
@@ -17,6 +19,9 @@ struct PhotometricLoss {
 
 // 3DGS photometric loss (1 - lambda) L1 + lambda D-SSIM with D-SSIM = 1 - SSIM and lambda = 0.2 in
 // the paper. Both images CV_32FC3 in [0,1]. grad receives dL/d(rendered) (CV_32FC3).
+// The SsimTarget form reuses the target's windowed statistics (training: once per view).
+PhotometricLoss photometric_loss(const cv::Mat& rendered, const SsimTarget& target,
+                                 double ssim_lambda, cv::Mat* grad = nullptr);
 PhotometricLoss photometric_loss(const cv::Mat& rendered, const cv::Mat& target, double ssim_lambda,
                                  cv::Mat* grad = nullptr);
 

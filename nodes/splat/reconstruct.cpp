@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <numeric>
+#include <optional>
 #include <random>
 
 #include "nodes/splat/depth_normals.hpp"
@@ -18,9 +19,10 @@ namespace {
 // What one training view contributes, decoded once.
 struct TrainTarget {
   const View* view = nullptr;
-  cv::Mat rgb;      // CV_32FC3 [0,1]
-  cv::Mat depth;    // CV_32FC1 metres, empty without a prior
-  cv::Mat normals;  // CV_32FC3 world-space, empty without a prior
+  cv::Mat rgb;                     // CV_32FC3 [0,1]
+  std::optional<SsimTarget> ssim;  // rgb's windowed statistics
+  cv::Mat depth;                   // CV_32FC1 metres, empty without a prior
+  cv::Mat normals;                 // CV_32FC3 world-space, empty without a prior
 };
 
 cv::Mat load_rgb(const View& view) {
@@ -36,6 +38,7 @@ TrainTarget make_target(const View& view, bool need_normals) {
   TrainTarget t;
   t.view = &view;
   load_rgb(view).convertTo(t.rgb, CV_32FC3, 1.0 / 255);
+  t.ssim.emplace(t.rgb);
   if (view.depth.present()) {
     t.depth = view.depth.load();
     if (t.depth.type() != CV_32FC1 || t.depth.size() != t.rgb.size())
@@ -55,13 +58,31 @@ struct ModelOptimiser {
   }
 };
 
+// Adds the wall seconds since the previous call (or construction) to the given phase.
+class PhaseClock {
+ public:
+  void charge(double& phase) {
+    const auto now = std::chrono::steady_clock::now();
+    phase += std::chrono::duration<double>(now - last_).count();
+    last_ = now;
+  }
+
+ private:
+  std::chrono::steady_clock::time_point last_ = std::chrono::steady_clock::now();
+};
+
 cv::Mat wrap(std::vector<float>& data, int rows, int cols, int type) {
   return cv::Mat(rows, cols, type, data.data());
 }
 
-std::vector<float> to_vector(const cv::Mat& m) {
+// The image's values times `weight`, as the flat vector RenderGrads takes (one pass, no temporary).
+std::vector<float> scaled_vector(const cv::Mat& m, double weight) {
   const cv::Mat c = m.isContinuous() ? m : m.clone();
-  return std::vector<float>(c.ptr<float>(), c.ptr<float>() + c.total() * c.channels());
+  const float* p = c.ptr<float>();
+  std::vector<float> out(c.total() * c.channels());
+  const float w = static_cast<float>(weight);
+  for (size_t i = 0; i < out.size(); ++i) out[i] = w * p[i];
+  return out;
 }
 
 }  // namespace
@@ -106,6 +127,8 @@ ReconstructResult reconstruct(const Capture& capture, const ReconstructOptions& 
   if (train.empty()) throw InputError("capture '" + capture.name + "' has no training view");
 
   ReconstructResult result;
+  PhaseClock clock;
+  PhaseSeconds& phases = result.phases;
   InitialiseOptions init = options.init;
   init.sh_degree = options.sh_degree;
   init.feature_dim = options.feature_dim;
@@ -129,6 +152,7 @@ ReconstructResult reconstruct(const Capture& capture, const ReconstructOptions& 
   std::vector<int> order;
   std::mt19937_64 view_rng(options.seed);
   std::vector<LossSummary> history;
+  clock.charge(phases.prepare);
 
   for (int step = 0; step < options.iterations; ++step) {
     // A fresh random permutation of the training views every epoch (3DGS's viewpoint stack).
@@ -149,24 +173,27 @@ ReconstructResult reconstruct(const Capture& capture, const ReconstructOptions& 
     settings.normal = use_normal;
     RenderOutput out = render(model, view.camera, view.pose, settings);
     const int H = out.height, W = out.width;
+    clock.charge(phases.render);
 
     LossSummary loss;
     RenderGrads rgrads;
     cv::Mat grad;
     loss.photometric =
-        photometric_loss(wrap(out.rgb, H, W, CV_32FC3), target.rgb, options.ssim_lambda, &grad)
+        photometric_loss(wrap(out.rgb, H, W, CV_32FC3), *target.ssim, options.ssim_lambda, &grad)
             .value;
-    rgrads.rgb = to_vector(grad);
+    rgrads.rgb = scaled_vector(grad, 1.0);
     if (use_depth) {
       loss.depth = depth_log_l1_loss(wrap(out.depth, H, W, CV_32FC1), target.depth, &grad);
-      rgrads.depth = to_vector(grad * options.depth_weight);
+      rgrads.depth = scaled_vector(grad, options.depth_weight);
     }
     if (use_normal) {
       loss.normal = normal_cosine_loss(wrap(out.normal, H, W, CV_32FC3), target.normals, &grad);
-      rgrads.normal = to_vector(grad * options.normal_weight);
+      rgrads.normal = scaled_vector(grad, options.normal_weight);
     }
+    clock.charge(phases.losses);
     grads.reset(model);
     render_backward(model, view.camera, view.pose, settings, out, rgrads, grads);
+    clock.charge(phases.backward);
     if (options.scale_weight > 0) {
       loss.flatness = flatness_loss(model.log_scales, &flatness_grad);
       for (size_t i = 0; i < flatness_grad.size(); ++i)
@@ -174,6 +201,7 @@ ReconstructResult reconstruct(const Capture& capture, const ReconstructOptions& 
     }
     loss.total = loss.photometric + options.depth_weight * loss.depth +
                  options.normal_weight * loss.normal + options.scale_weight * loss.flatness;
+    clock.charge(phases.losses);
     history.push_back(loss);
     result.loss_history.push_back(loss.total);
 
@@ -187,6 +215,7 @@ ReconstructResult reconstruct(const Capture& capture, const ReconstructOptions& 
     adam.opacity.step(model.opacity_logits.data(), grads.opacity_logits.data(), n,
                       static_cast<float>(lr.opacity));
     adam.sh.step(model.sh.data(), grads.sh.data(), n, sh_lr.data());
+    clock.charge(phases.adam);
 
     if (options.densify) {
       stats.add(grads.mean2d_abs, grads.visible);
@@ -196,6 +225,7 @@ ReconstructResult reconstruct(const Capture& capture, const ReconstructOptions& 
         adam.remap(change.source);
         stats.clear();
       }
+      clock.charge(phases.density);
     }
     result.iterations_run = step + 1;
     if (callback) callback(step, options.iterations, loss.total, model.size());

@@ -56,12 +56,24 @@ struct LossSummary {
   double total = 0, photometric = 0, depth = 0, normal = 0, flatness = 0;
 };
 
+// Wall seconds spent in each phase of the optimisation loop, summed over the steps (profiling;
+// bench/splat_recon reports them).
+struct PhaseSeconds {
+  double prepare = 0;   // initialisation and decoding the training targets
+  double render = 0;    // rasterizer forward
+  double losses = 0;    // loss values and their image gradients (SSIM, depth, normal, flatness)
+  double backward = 0;  // rasterizer backward
+  double adam = 0;      // parameter updates
+  double density = 0;   // density statistics and densify/prune rounds
+};
+
 struct ReconstructResult {
   GaussianModel model;
   size_t initial_gaussians = 0;
   int iterations_run = 0;
   bool stopped_early = false;
-  double seconds = 0;       // wall time of initialisation and optimisation
+  double seconds = 0;  // wall time of initialisation and optimisation
+  PhaseSeconds phases;
   double scene_extent = 0;  // the extent position rates and density thresholds were scaled by
   LossSummary final_loss;
   std::vector<double> loss_history;  // total loss per step
