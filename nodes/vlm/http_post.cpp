@@ -31,6 +31,8 @@ HttpResult http_post_json(const std::string& url, const std::string& body,
     return result;
   }
   curl_slist* list = curl_slist_append(nullptr, "Content-Type: application/json");
+  // No "Expect: 100-continue" round trip for large image bodies.
+  list = curl_slist_append(list, "Expect:");
   for (const auto& h : headers) list = curl_slist_append(list, h.c_str());
   char message[CURL_ERROR_SIZE] = {};
   curl_easy_setopt(curl, CURLOPT_URL, url.c_str());
@@ -42,9 +44,6 @@ HttpResult http_post_json(const std::string& url, const std::string& body,
   curl_easy_setopt(curl, CURLOPT_TIMEOUT_MS, static_cast<long>(std::ceil(timeout_s * 1000)));
   curl_easy_setopt(curl, CURLOPT_NOSIGNAL, 1L);  // timeouts without SIGALRM: safe in threads
   curl_easy_setopt(curl, CURLOPT_ERRORBUFFER, message);
-  // No "Expect: 100-continue" round trip for large image bodies.
-  list = curl_slist_append(list, "Expect:");
-  curl_easy_setopt(curl, CURLOPT_HTTPHEADER, list);
   const CURLcode code = curl_easy_perform(curl);
   if (code != CURLE_OK) {
     result.transport_failed = true;

@@ -1,6 +1,7 @@
 #include "nodes/vlm/register.hpp"
 
 #include <cstdlib>
+#include <filesystem>
 
 #include <spdlog/spdlog.h>
 #include <opencv2/imgcodecs.hpp>
@@ -39,6 +40,21 @@ std::string encode_png(const View& view) {
   return std::string(bytes.begin(), bytes.end());
 }
 
+// Where vlm/prompt.txt and vlm/<view>/round_<k>.txt go: the node's output folder, or with
+// into_capture the folder the capture was read from (a capture built in memory has none, so its
+// replies stay in the output folder), which turns the live run into a capture ingest.vlm can
+// replay.
+std::filesystem::path reply_root(NodeContext& ctx, const Capture& capture) {
+  if (ctx.param_bool("into_capture")) {
+    if (!capture.root.empty()) return capture.root;
+    spdlog::warn(
+        "vlm.query: into_capture: capture '{}' has no folder; replies go to the node's "
+        "output folder",
+        capture.name);
+  }
+  return ctx.out_dir();
+}
+
 }  // namespace
 
 void register_vlm_nodes(Registry& registry) {
@@ -71,7 +87,10 @@ void register_vlm_nodes(Registry& registry) {
        string_param("coords", "norm1000", "the VLM's box coordinate space (see ingest.vlm)",
                     {"norm1000", "resized_abs", "pixels"}),
        int_param("input_width", 0, "resized_abs: the model's input width", 0),
-       int_param("input_height", 0, "resized_abs: the model's input height", 0)}};
+       int_param("input_height", 0, "resized_abs: the model's input height", 0),
+       bool_param("into_capture", false,
+                  "write the raw replies into the capture's own vlm/ folder (overwriting what is "
+                  "there) instead of the node's output folder")}};
   registry.add(std::move(spec), [](NodeContext& ctx) {
     const Capture& capture = *ctx.input<Capture>("capture");
     const Vocabulary& vocabulary = *ctx.input<Vocabulary>("prompt");
@@ -110,7 +129,7 @@ void register_vlm_nodes(Registry& registry) {
 
     // Raw replies in the capture layout (docs/capture_format.md), so the folder can serve as a
     // capture's vlm/ for ingest.vlm later, without a server.
-    const auto dir = ctx.out_dir();
+    const std::filesystem::path dir = reply_root(ctx, capture);
     if (!dir.empty()) write_file_atomically(dir / "vlm" / "prompt.txt", vocabulary.prompt);
     BoxSet boxes;
     for (const View& v : capture.views) boxes.views.push_back({v.name, 0, {}});

@@ -16,14 +16,15 @@ using namespace gslift;
 
 namespace {
 
-// Two 100 x 50 views, "left" and "right".
-Registry registry_with_capture() {
+// Two 100 x 50 views, "left" and "right"; `root` is the folder the capture claims to come from.
+Registry registry_with_capture(const std::filesystem::path& root = {}) {
   Registry r;
   register_vlm_nodes(r);
   r.add(NodeSpec{"test.capture", "two small views", {}, {{"capture", "Capture", ""}}, {}},
-        [](NodeContext& ctx) {
+        [root](NodeContext& ctx) {
           Capture c;
           c.name = "tiny";
+          c.root = root;
           for (const char* name : {"left", "right"}) {
             View v;
             v.name = name;
@@ -127,6 +128,22 @@ TEST_CASE("vlm.query parses every round, stores the raw replies, and skips a non
   CHECK(read_file(dir / "left" / "round_0.txt") == kGood);
   CHECK(read_file(dir / "left" / "round_1.txt") == "I see no patient.");
   CHECK(std::filesystem::exists(dir / "right" / "round_1.txt"));
+}
+
+TEST_CASE("vlm.query with into_capture writes the replies into the capture's own vlm/") {
+  const auto root = test::scratch_dir("vlm_query_into_capture");
+  test::LoopbackServer server({{200, reply(kGood)}});
+  const Registry registry = registry_with_capture(root);
+  RunOptions options;
+  options.out_dir = root / "run";
+  const RunResult run =
+      run_graph_text(graph(server.url(), "rounds: 1, into_capture: true"), registry, options);
+  INFO((run.error ? run.error->str() : std::string()));
+  REQUIRE(run.ok());
+  CHECK(read_file(root / "vlm" / "prompt.txt") == "Ground every patient.");
+  CHECK(read_file(root / "vlm" / "left" / "round_0.txt") == kGood);
+  CHECK(read_file(root / "vlm" / "right" / "round_0.txt") == kGood);
+  CHECK_FALSE(std::filesystem::exists(options.out_dir / "vlm" / "vlm"));
 }
 
 TEST_CASE("vlm.query retries a 500 and a timeout, then succeeds") {
