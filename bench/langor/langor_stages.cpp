@@ -222,6 +222,37 @@ int main(int argc, char** argv) {
                 100.0 * noise / std::max(samples, 1), 100.0 * top_n / std::max(samples, 1), purity,
                 votes.c_str(), 100.0 * r.heaviest_right / std::max<int64_t>(r.heaviest, 1));
   }
+  // Held-out views: per ground-truth instance, where the heaviest Gaussian of each of its pixels
+  // went (instance label, or "-" unassigned).
+  for (const View& view : capture->views) {
+    if (!view.held_out) continue;
+    const cv::Mat1i gt = view.gt_instance.load();
+    RenderSettings weights_only;
+    weights_only.rgb = false;
+    const RenderCache cache(render(*model, view.camera, view.pose, weights_only));
+    const auto& off = cache.pixel_offsets();
+    std::map<int, std::map<std::string, int>> went;
+    for (int y = 0; y < gt.rows; ++y)
+      for (int x = 0; x < gt.cols; ++x) {
+        const size_t p = static_cast<size_t>(y) * gt.cols + x;
+        float w = 0;
+        int heavy = -1;
+        for (uint32_t e = off[p]; e < off[p + 1]; ++e)
+          if (cache.weights()[e] > w) w = cache.weights()[e], heavy = cache.ids()[e];
+        const int inst = heavy >= 0 ? model->instance_ids[heavy] : -1;
+        ++went[gt(y, x)][inst >= 0 ? std::to_string(inst) + ":" + instances->labels[inst] : "-"];
+      }
+    for (const auto& [id, labels] : went) {
+      int total = 0;
+      for (const auto& [l, n] : labels) total += n;
+      if (id == 0 || total < 100) continue;
+      std::printf("  held-out %s %s (%d), %d px:", view.name.c_str(),
+                  capture->classes.at(capture->instance_class.at(id)).c_str(), id, total);
+      for (const auto& [l, n] : labels)
+        if (n * 20 >= total) std::printf(" %s %.0f%%", l.c_str(), 100.0 * n / total);
+      std::printf("\n");
+    }
+  }
   for (const auto& n : run.nodes)
     for (const auto& [k, v] : n.records)
       if (const double* d = std::get_if<double>(&v))

@@ -45,6 +45,7 @@ Eigen::MatrixXf prototypes_of(const PointMatrix& features, const std::vector<int
 HdbscanParams default_lifting_hdbscan() {
   HdbscanParams p;
   p.min_cluster_size = 10;
+  p.min_samples = 3;
   p.metric = HdbscanMetric::Cosine;
   return p;
 }
