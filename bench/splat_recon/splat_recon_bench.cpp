@@ -149,10 +149,12 @@ bool apply_setting(const std::string& setting, ReconstructOptions& o) {
   const double v = std::stod(setting.substr(eq + 1));
   std::map<std::string, double*> reals = {{"footprint_factor", &o.init.footprint_factor},
                                           {"scale_factor", &o.init.scale_factor},
+                                          {"normal_thickness", &o.init.normal_thickness},
                                           {"depth_weight", &o.depth_weight},
                                           {"normal_weight", &o.normal_weight},
                                           {"scale_weight", &o.scale_weight},
                                           {"ssim_lambda", &o.ssim_lambda},
+                                          {"coarse_fraction", &o.coarse_fraction},
                                           {"grad_threshold", &o.density.grad_threshold},
                                           {"prune_opacity", &o.density.prune_opacity},
                                           {"density_stop", &o.density.stop},

@@ -5,7 +5,9 @@
 
 #include <open3d/geometry/KDTreeFlann.h>
 #include <open3d/geometry/PointCloud.h>
+#include <Eigen/Geometry>
 
+#include "nodes/splat/depth_normals.hpp"
 #include "runtime/node.hpp"
 
 namespace gslift {
@@ -39,6 +41,8 @@ ColouredPoints backproject_depth(const Capture& capture, const std::vector<int>&
     const Eigen::Matrix3d R_t = view.pose.R.transpose();
     const Eigen::Vector3d centre = view.pose.centre();
     const double focal = 0.5 * (cam.fx + cam.fy);
+    const cv::Mat normals =
+        normals_from_depth(depth, cam, view.pose, 0.1, 1, kPriorNormalSmoothing);
     for (int v = 0; v < depth.rows; v += stride) {
       for (int u = 0; u < depth.cols; u += stride) {
         const float d = depth.at<float>(v, u);
@@ -48,6 +52,8 @@ ColouredPoints backproject_depth(const Capture& capture, const std::vector<int>&
         out.xyz.push_back(R_t * cam_point + centre);  // x_world = R^T (x_cam - t)
         const cv::Vec3b c = rgb.at<cv::Vec3b>(v, u);
         out.rgb.emplace_back(c[0] / 255.0, c[1] / 255.0, c[2] / 255.0);
+        const cv::Vec3f n = normals.at<cv::Vec3f>(v, u);
+        out.normals.emplace_back(n[0], n[1], n[2]);
         footprints.push_back(d / focal);
       }
     }
@@ -76,6 +82,7 @@ GaussianModel gaussians_from_points(const ColouredPoints& points, double voxel,
   open3d::geometry::PointCloud cloud;
   cloud.points_ = points.xyz;
   cloud.colors_ = points.rgb;
+  cloud.normals_ = points.normals;  // averaged per voxel by VoxelDownSample
   std::shared_ptr<open3d::geometry::PointCloud> down =
       voxel > 0 ? cloud.VoxelDownSample(voxel)
                 : std::make_shared<open3d::geometry::PointCloud>(cloud);
@@ -99,11 +106,25 @@ GaussianModel gaussians_from_points(const ColouredPoints& points, double voxel,
     mean_d2 = found > 1 ? mean_d2 / (found - 1) : 0;
     const float log_scale = static_cast<float>(0.5 * std::log(std::max(mean_d2, 1e-7)) +
                                                std::log(options.scale_factor));
+    // The voxel's mean normal; views that see a thin surface from both sides cancel out, and such
+    // voxels stay isotropic.
+    const Eigen::Vector3d normal = down->HasNormals() ? down->normals_[i] : Eigen::Vector3d::Zero();
+    const bool oriented = options.normal_thickness != 1 && normal.norm() > 0.5;
+    if (oriented) {
+      const Eigen::Quaterniond q =
+          Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitZ(), normal.normalized());
+      model.quats[i * 4] = static_cast<float>(q.w());
+      model.quats[i * 4 + 1] = static_cast<float>(q.x());
+      model.quats[i * 4 + 2] = static_cast<float>(q.y());
+      model.quats[i * 4 + 3] = static_cast<float>(q.z());
+    }
     for (int k = 0; k < 3; ++k) {
       model.means[i * 3 + k] = static_cast<float>(p[k]);
       model.log_scales[i * 3 + k] = log_scale;
       model.sh[i * K * 3 + k] = static_cast<float>((down->colors_[i][k] - 0.5) / kSH0);
     }
+    if (oriented)
+      model.log_scales[i * 3 + 2] += static_cast<float>(std::log(options.normal_thickness));
     model.opacity_logits[i] = logit;
   }
   return model;

@@ -17,6 +17,9 @@ namespace gslift {
 struct ColouredPoints {
   std::vector<Eigen::Vector3d> xyz;
   std::vector<Eigen::Vector3d> rgb;  // [0,1]
+  // World-space unit normals from the depth prior (depth_normals.hpp), (0,0,0) where the depth
+  // gives none; empty for sparse points.
+  std::vector<Eigen::Vector3d> normals;
   // Median over the points of depth / focal length: the world size of one pixel at each point.
   // 0 for points without a view (sparse SfM points).
   double median_footprint = 0;
@@ -41,23 +44,31 @@ struct InitialiseOptions {
   // (the rasterizer's cost); at 0.5 about a quarter as many, and the splats still overlap (their
   // 3-sigma radius is 1.5 neighbour spacings). Optimisation grows them where needed.
   double scale_factor = 0.5;
+  // Scale along the depth-prior normal as a fraction of the in-plane scale, the Gaussian rotated so
+  // that this (shortest) axis is the normal. 1 = isotropic (3DGS). [decision] 0.3: with isotropic
+  // Gaussians the rasterizer's normal (the shortest axis) is an arbitrary axis, so the normal loss
+  // starts near 1 - cos = 0.8 and 500 steps cannot rotate 68k Gaussians into place (it ended at
+  // 0.72); discs along the prior's surface start it near its floor (bench/splat_recon).
+  double normal_thickness = 0.3;
   float opacity = 0.1f;  // initial opacity (3DGS)
   int sh_degree = 0;
   int feature_dim = 0;
 };
 
 // Back-projects each training view's depth prior (CV_32F metres, 0 = invalid) to world points
-// with the view's colours. Throws InputError naming the view when a depth map does not match its
-// image size.
+// with the view's colours and the prior's normals. Throws InputError naming the view when a depth
+// map does not match its image size.
 ColouredPoints backproject_depth(const Capture& capture, const std::vector<int>& views,
                                  int pixel_stride);
 
 // Sparse points with colours as read from the capture (rgb / 255).
 ColouredPoints sparse_points(const Capture& capture);
 
-// Gaussians at the voxel-downsampled points: colour as SH DC ((rgb - 0.5) / C0), identity
-// rotation, isotropic scale = options.scale_factor x sqrt of the mean squared distance to the 3
-// nearest neighbours (3DGS's distCUDA2, floored at 1e-7), opacity options.opacity. voxel <= 0 keeps
+// Gaussians at the voxel-downsampled points: colour as SH DC ((rgb - 0.5) / C0), scale s =
+// options.scale_factor x sqrt of the mean squared distance to the 3 nearest neighbours (3DGS's
+// distCUDA2, floored at 1e-7), opacity options.opacity. Where the voxel's mean normal is defined
+// (points with normals), the local z axis is rotated onto it and scaled by normal_thickness
+// (scales s, s, s x thickness); elsewhere identity rotation and isotropic s. voxel <= 0 keeps
 // every point.
 GaussianModel gaussians_from_points(const ColouredPoints& points, double voxel,
                                     const InitialiseOptions& options);

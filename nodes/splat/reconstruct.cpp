@@ -8,6 +8,8 @@
 #include <optional>
 #include <random>
 
+#include <opencv2/imgproc.hpp>
+
 #include "nodes/splat/depth_normals.hpp"
 #include "nodes/splat/losses.hpp"
 #include "nodes/splat/rasterizer.hpp"
@@ -17,12 +19,20 @@ namespace gslift {
 namespace {
 
 // What one training view contributes, decoded once.
-struct TrainTarget {
-  const View* view = nullptr;
+// A training view's targets at one resolution, decoded once.
+struct TargetImages {
+  Camera camera;                   // the view's camera at this resolution
   cv::Mat rgb;                     // CV_32FC3 [0,1]
   std::optional<SsimTarget> ssim;  // rgb's windowed statistics
   cv::Mat depth;                   // CV_32FC1 metres, empty without a prior
   cv::Mat normals;                 // CV_32FC3 world-space, empty without a prior
+};
+
+// What one training view contributes: full-resolution targets and, for coarse-to-fine, a copy at
+// half resolution (empty camera when unused).
+struct TrainTarget {
+  const View* view = nullptr;
+  TargetImages full, half;
 };
 
 cv::Mat load_rgb(const View& view) {
@@ -34,16 +44,38 @@ cv::Mat load_rgb(const View& view) {
   return rgb;
 }
 
-TrainTarget make_target(const View& view, bool need_normals) {
+TargetImages make_images(const View& view, const Camera& camera, const cv::Mat& rgb,
+                         const cv::Mat& depth, bool need_normals) {
+  TargetImages t;
+  t.camera = camera;
+  t.rgb = rgb;
+  t.ssim.emplace(t.rgb);
+  t.depth = depth;
+  if (!depth.empty() && need_normals)
+    t.normals = normals_from_depth(depth, camera, view.pose, 0.1, 1, kPriorNormalSmoothing);
+  return t;
+}
+
+TrainTarget make_target(const View& view, bool need_normals, bool need_half) {
   TrainTarget t;
   t.view = &view;
-  load_rgb(view).convertTo(t.rgb, CV_32FC3, 1.0 / 255);
-  t.ssim.emplace(t.rgb);
+  cv::Mat rgb, depth;
+  load_rgb(view).convertTo(rgb, CV_32FC3, 1.0 / 255);
   if (view.depth.present()) {
-    t.depth = view.depth.load();
-    if (t.depth.type() != CV_32FC1 || t.depth.size() != t.rgb.size())
+    depth = view.depth.load();
+    if (depth.type() != CV_32FC1 || depth.size() != rgb.size())
       throw InputError("view '" + view.name + "': depth prior must be CV_32F of the image size");
-    if (need_normals) t.normals = normals_from_depth(t.depth, view.camera, view.pose);
+  }
+  t.full = make_images(view, view.camera, rgb, depth, need_normals);
+  if (need_half) {
+    const Camera half = view.camera.scaled(0.5);
+    const cv::Size size(half.width, half.height);
+    cv::Mat small_rgb, small_depth;
+    cv::resize(rgb, small_rgb, size, 0, 0, cv::INTER_AREA);
+    // Nearest, not area: averaging would blend invalid (0) pixels and depth edges into depths
+    // that exist nowhere.
+    if (!depth.empty()) cv::resize(depth, small_depth, size, 0, 0, cv::INTER_NEAREST);
+    t.half = make_images(view, half, small_rgb, small_depth, need_normals);
   }
   return t;
 }
@@ -138,7 +170,9 @@ ReconstructResult reconstruct(const Capture& capture, const ReconstructOptions& 
   result.scene_extent = extent;
 
   std::vector<TrainTarget> targets;
-  for (int v : train) targets.push_back(make_target(capture.views[v], options.normal_weight > 0));
+  const int coarse_steps = static_cast<int>(options.coarse_fraction * options.iterations);
+  for (int v : train)
+    targets.push_back(make_target(capture.views[v], options.normal_weight > 0, coarse_steps > 0));
 
   const int K = GaussianModel::sh_coeffs(options.sh_degree);
   ModelOptimiser adam(K * 3, options.adam);
@@ -161,9 +195,10 @@ ReconstructResult reconstruct(const Capture& capture, const ReconstructOptions& 
       std::iota(order.begin(), order.end(), 0);
       std::shuffle(order.begin(), order.end(), view_rng);
     }
-    const TrainTarget& target = targets[order.back()];
+    const TrainTarget& train_target = targets[order.back()];
     order.pop_back();
-    const View& view = *target.view;
+    const View& view = *train_target.view;
+    const TargetImages& target = step < coarse_steps ? train_target.half : train_target.full;
 
     RenderSettings settings;
     settings.sh_degree = std::min(options.sh_degree, step / std::max(options.sh_interval, 1));
@@ -171,7 +206,7 @@ ReconstructResult reconstruct(const Capture& capture, const ReconstructOptions& 
     const bool use_normal = options.normal_weight > 0 && !target.normals.empty();
     settings.depth = use_depth;
     settings.normal = use_normal;
-    RenderOutput out = render(model, view.camera, view.pose, settings);
+    RenderOutput out = render(model, target.camera, view.pose, settings);
     const int H = out.height, W = out.width;
     clock.charge(phases.render);
 
@@ -192,7 +227,7 @@ ReconstructResult reconstruct(const Capture& capture, const ReconstructOptions& 
     }
     clock.charge(phases.losses);
     grads.reset(model);
-    render_backward(model, view.camera, view.pose, settings, out, rgrads, grads);
+    render_backward(model, target.camera, view.pose, settings, out, rgrads, grads);
     clock.charge(phases.backward);
     if (options.scale_weight > 0) {
       loss.flatness = flatness_loss(model.log_scales, &flatness_grad);

@@ -39,6 +39,9 @@ struct ReconstructOptions {
   double depth_weight = 0.2;   // depth log-L1 against the depth prior, valid pixels only
   double normal_weight = 0.1;  // 1 - cos(rendered normal, normal from the depth prior)
   double scale_weight = 0.01;  // flatness: mean smallest scale (metres)
+  // Coarse-to-fine: the first coarse_fraction of the steps render and compare at half resolution
+  // (a quarter of the pixels), the rest at full resolution. 0 = off.
+  double coarse_fraction = 0;
   bool densify = true;
   DensityControlOptions density;
   // Early stop when the mean loss of the last `plateau_window` steps improves on the previous

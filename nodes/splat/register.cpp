@@ -57,6 +57,9 @@ void add_reconstruct(Registry& registry) {
        float_param("footprint_factor", d.init.footprint_factor,
                    "initial voxel = this x the median pixel footprint (larger = fewer Gaussians)",
                    0.1, 100),
+       float_param("normal_thickness", d.init.normal_thickness,
+                   "initial scale along the depth prior's normal / in-plane scale (1 = isotropic)",
+                   0.01, 1),
        int_param("plateau_window", d.plateau_window,
                  "early stop when a window of this many steps improves the mean loss by less "
                  "than plateau_tolerance; 0 = off",
@@ -77,6 +80,7 @@ void add_reconstruct(Registry& registry) {
     o.feature_dim = static_cast<int>(ctx.param_int("feature_dim"));
     o.init.source = ctx.param_string("init");
     o.init.footprint_factor = ctx.param_float("footprint_factor");
+    o.init.normal_thickness = ctx.param_float("normal_thickness");
     o.plateau_window = static_cast<int>(ctx.param_int("plateau_window"));
     o.plateau_tolerance = ctx.param_float("plateau_tolerance");
     o.seed = ctx.seed();

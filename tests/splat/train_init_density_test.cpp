@@ -1,6 +1,8 @@
 // Initialisation from depth and points, and one density-control round, on hand-made cases.
 #include <cmath>
 
+#include <Eigen/Geometry>
+
 #include "nodes/splat/density_control.hpp"
 #include "nodes/splat/initialise.hpp"
 #include "tests/test_support.hpp"
@@ -40,6 +42,7 @@ TEST_CASE("depth initialisation voxelises a plane at the pixel footprint") {
   // gives bins 0..17 (18) and v = 0..47 gives 0..13 (14): 252 Gaussians.
   options.footprint_factor = 3.7;
   options.scale_factor = 1;
+  options.normal_thickness = 1;  // isotropic, as 3DGS
   const GaussianModel m = initialise_gaussians(capture, options);
   REQUIRE(m.size() == 252);
   std::vector<float> scales;
@@ -55,6 +58,36 @@ TEST_CASE("depth initialisation voxelises a plane at the pixel footprint") {
   CHECK(m.sh[2] == Approx((50 / 255.0 - 0.5) / kSH0).epsilon(1e-5));
   CHECK(m.opacity_logits[0] == Approx(std::log(0.1 / 0.9)));
   CHECK(m.quats[0] == 1.f);
+}
+
+TEST_CASE("depth initialisation turns Gaussians into discs along the depth prior's normal") {
+  const Capture capture = plane_capture();
+  InitialiseOptions options;
+  options.pixel_stride = 1;
+  options.footprint_factor = 3.7;
+  options.normal_thickness = 0.25;
+  const GaussianModel m = initialise_gaussians(capture, options);
+  REQUIRE(m.size() == 252);
+  // The border pixels have no prior normal, so the 18 x 14 voxels of the image's outer ring (mostly
+  // border pixels) stay isotropic; the 16 x 12 inner ones become discs.
+  size_t discs = 0;
+  for (size_t i = 0; i < m.size(); ++i) {
+    const float* s = &m.log_scales[i * 3];
+    const float* q = &m.quats[i * 4];
+    CHECK(s[0] == s[1]);
+    if (s[2] == s[0]) {
+      CHECK(q[0] == 1.f);
+      continue;
+    }
+    ++discs;
+    CHECK(s[2] == Approx(s[0] + std::log(0.25f)).margin(1e-5));
+    // The plane z = 2 faces the camera at the origin: the prior's normal is (0, 0, -1), so the
+    // rotated z axis (the shortest, the rasterizer's normal) must be -z.
+    const Eigen::Vector3f axis =
+        Eigen::Quaternionf(q[0], q[1], q[2], q[3]) * Eigen::Vector3f::UnitZ();
+    CHECK(axis.z() == Approx(-1.f).margin(1e-5));
+  }
+  CHECK(discs >= 16 * 12);
 }
 
 TEST_CASE("points initialisation takes scales from the 3 nearest neighbours") {
