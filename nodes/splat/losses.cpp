@@ -2,6 +2,10 @@
 
 #include <cmath>
 #include <stdexcept>
+#include <vector>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 
 #include "nodes/splat/ssim.hpp"
 
@@ -15,6 +19,19 @@ void require_same(const cv::Mat& a, const cv::Mat& b, int type, const char* what
 
 bool valid_depth(float d) {
   return d > 0.f && std::isfinite(d);
+}
+
+// Sum over rows of fn(row): rows in parallel, the partial sums added in row order, so the result is
+// the same at any thread count.
+template <class RowFn>
+double sum_over_rows(int rows, const RowFn& fn) {
+  std::vector<double> partial(rows, 0.0);
+  tbb::parallel_for(tbb::blocked_range<int>(0, rows, 8), [&](const tbb::blocked_range<int>& range) {
+    for (int r = range.begin(); r < range.end(); ++r) partial[r] = fn(r);
+  });
+  double sum = 0;
+  for (double p : partial) sum += p;
+  return sum;
 }
 
 }  // namespace
@@ -31,21 +48,23 @@ PhotometricLoss photometric_loss(const cv::Mat& rendered, const SsimTarget& targ
   const float l1_step = static_cast<float>((1 - ssim_lambda) / count);
   const float ssim_scale = static_cast<float>(ssim_lambda);
   if (grad) grad->create(rendered.size(), CV_32FC3);
-  double l1 = 0;
-  for (int r = 0; r < rendered.rows; ++r) {
+  const double l1 = sum_over_rows(rendered.rows, [&](int r) {
     const float* x = rendered.ptr<float>(r);
     const float* y = target.image.ptr<float>(r);
-    float* g = grad ? grad->ptr<float>(r) : nullptr;
-    const float* sg = ssim_grad.empty() ? nullptr : ssim_grad.ptr<float>(r);
     float row = 0;
+    for (int i = 0; i < width; ++i) row += std::abs(x[i] - y[i]);
+    if (!grad) return static_cast<double>(row);
+    float* g = grad->ptr<float>(r);
     for (int i = 0; i < width; ++i) {
       const float d = x[i] - y[i];
-      row += std::abs(d);
-      if (!g) continue;
-      g[i] = (d > 0 ? l1_step : d < 0 ? -l1_step : 0.f) - (sg ? ssim_scale * sg[i] : 0.f);
+      g[i] = static_cast<float>((d > 0) - (d < 0)) * l1_step;
     }
-    l1 += row;
-  }
+    if (!ssim_grad.empty()) {
+      const float* sg = ssim_grad.ptr<float>(r);
+      for (int i = 0; i < width; ++i) g[i] -= ssim_scale * sg[i];
+    }
+    return static_cast<double>(row);
+  });
   loss.l1 = l1 / count;
   loss.value = (1 - ssim_lambda) * loss.l1 + ssim_lambda * (1 - loss.ssim);
   return loss;
@@ -60,26 +79,28 @@ PhotometricLoss photometric_loss(const cv::Mat& rendered, const cv::Mat& target,
 double depth_log_l1_loss(const cv::Mat& rendered, const cv::Mat& target, cv::Mat* grad) {
   require_same(rendered, target, CV_32FC1, "depth_log_l1_loss");
   if (grad) *grad = cv::Mat::zeros(rendered.size(), CV_32FC1);
-  size_t valid = 0;
-  for (int r = 0; r < target.rows; ++r) {
+  const double valid = sum_over_rows(target.rows, [&](int r) {
     const float* d = target.ptr<float>(r);
-    for (int c = 0; c < target.cols; ++c) valid += valid_depth(d[c]);
-  }
+    int count = 0;
+    for (int c = 0; c < target.cols; ++c) count += valid_depth(d[c]);
+    return static_cast<double>(count);
+  });
   if (valid == 0) return 0;
-  const double inv = 1.0 / static_cast<double>(valid);
-  double sum = 0;
-  for (int r = 0; r < rendered.rows; ++r) {
+  const double inv = 1.0 / valid;
+  const double sum = sum_over_rows(rendered.rows, [&](int r) {
+    double row = 0;
     const float* d_hat = rendered.ptr<float>(r);
     const float* d = target.ptr<float>(r);
     float* g = grad ? grad->ptr<float>(r) : nullptr;
     for (int c = 0; c < rendered.cols; ++c) {
       if (!valid_depth(d[c])) continue;
       const float e = d_hat[c] - d[c];
-      sum += std::log1p(std::abs(e));
+      row += std::log1p(std::abs(e));
       // d/de log(1 + |e|) = sign(e) / (1 + |e|)
       if (g && e != 0) g[c] = static_cast<float>(inv * (e > 0 ? 1 : -1) / (1 + std::abs(e)));
     }
-  }
+    return row;
+  });
   return sum * inv;
 }
 
@@ -94,16 +115,17 @@ double normal_cosine_loss(const cv::Mat& rendered, const cv::Mat& target, cv::Ma
                                                         kMinNorm2;
   };
   // Two passes: count the valid pixels first so the gradient carries the 1/N of the mean.
-  size_t valid = 0;
-  for (int r = 0; r < rendered.rows; ++r) {
+  const double valid = sum_over_rows(rendered.rows, [&](int r) {
     const float* a = rendered.ptr<float>(r);
     const float* b = target.ptr<float>(r);
-    for (int c = 0; c < rendered.cols; ++c) valid += usable(a + 3 * c, b + 3 * c);
-  }
+    int count = 0;
+    for (int c = 0; c < rendered.cols; ++c) count += usable(a + 3 * c, b + 3 * c);
+    return static_cast<double>(count);
+  });
   if (valid == 0) return 0;
-  const double inv = 1.0 / static_cast<double>(valid);
-  double sum = 0;
-  for (int r = 0; r < rendered.rows; ++r) {
+  const double inv = 1.0 / valid;
+  const double sum = sum_over_rows(rendered.rows, [&](int r) {
+    double row = 0;
     const float* a_row = rendered.ptr<float>(r);
     const float* b_row = target.ptr<float>(r);
     float* g_row = grad ? grad->ptr<float>(r) : nullptr;
@@ -117,13 +139,14 @@ double normal_cosine_loss(const cv::Mat& rendered, const cv::Mat& target, cv::Ma
       const double dot = static_cast<double>(a[0]) * b[0] + static_cast<double>(a[1]) * b[1] +
                          static_cast<double>(a[2]) * b[2];
       const double cosine = dot / len;
-      sum += 1 - cosine;
+      row += 1 - cosine;
       if (!g_row) continue;
       // d cos / d a = b / |a| - (a.b) a / |a|^3
       for (int k = 0; k < 3; ++k)
         g_row[3 * c + k] = static_cast<float>(-(b[k] / len - (cosine / (len * len)) * a[k]) * inv);
     }
-  }
+    return row;
+  });
   return sum * inv;
 }
 
