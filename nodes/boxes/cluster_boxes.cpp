@@ -62,7 +62,7 @@ std::vector<Box> cluster_boxes(const std::vector<Box>& candidates, int rounds,
     auto joins = [&](size_t j) {
       if (j == seed) return true;
       const double overlap = iou(candidates[seed], candidates[j]);
-      return overlap > params.any_label_iou ||
+      return overlap > std::max(params.any_label_iou, params.iou) ||
              (overlap > params.iou && normalised_label(candidates[j].label) == seed_label);
     };
     for (const size_t j : order)

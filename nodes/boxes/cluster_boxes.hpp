@@ -46,7 +46,8 @@ struct BoxClusteringParams {
   // (the patient on the operating table, instruments on the instrument table, a surgeon under
   // the C-arm), and clustering them regardless of label let the larger cluster's vote erase the
   // other object in most views. Jittered boxes of one object overlap far more than that.
-  // 1 = never merge different labels; iou = the label-blind clustering of the paper.
+  // 1 = never merge different labels; iou = the label-blind clustering of the paper. Never below
+  // iou (iou 1, "no clustering", merges nothing).
   float any_label_iou = 0.8f;
   // Clusters supported by fewer distinct rounds are dropped as hallucinations. Clamped to the
   // number of rounds of the view, so single-round input (the "w/o clustering" ablation) keeps its

@@ -124,6 +124,11 @@ TEST_CASE("an object resting on another keeps its own cluster; a mislabelled box
   BoxClusteringParams label_blind;
   label_blind.any_label_iou = label_blind.iou;
   CHECK(cluster_boxes(c, 4, label_blind).size() == 1);
+  // iou 1 (the single-round ablation's "no clustering") keeps every box, whatever the labels.
+  BoxClusteringParams none;
+  none.iou = 1.f;
+  none.min_support = 1;
+  CHECK(cluster_boxes(c, 4, none).size() == c.size());
 }
 
 TEST_CASE("cluster_box_set keeps view order and names") {
