@@ -3,6 +3,7 @@
 //
 //   bench_splat_recon [--or DIR] [--dtu DIR|none] [--iterations N] [--out DIR] [--threads N]
 //                     [--ablation 0|1] [--set KEY=VALUE]...
+//   bench_splat_recon --merge NAME OUT_DIR REPORT[:CPU_SECONDS]...
 //
 // --set overrides one reconstruction option for every case (keys: see apply_setting), e.g. a
 // sweep point; --threads caps TBB's parallelism (1 for CPU-time comparisons on a shared machine).
@@ -103,9 +104,14 @@ nlohmann::json run_case(const Case& c) {
   return j;
 }
 
+// The time a case is charted by: its CPU seconds when recorded (sweeps), else wall seconds.
+double charted_seconds(const nlohmann::json& c) {
+  return c.contains("cpu_seconds") ? c["cpu_seconds"].get<double>() : c["seconds"].get<double>();
+}
+
 // Two horizontal bar panels (seconds, PSNR train/test), one row per case.
 std::string svg_chart(const nlohmann::json& cases) {
-  const int row = 26, left = 200, width = 360, top = 40;
+  const int row = 26, left = 380, width = 300, top = 40;
   const int n = static_cast<int>(cases.size());
   const int panel = n * row + 30;
   std::ostringstream s;
@@ -114,13 +120,13 @@ std::string svg_chart(const nlohmann::json& cases) {
     << "<text x='10' y='20' font-size='14'>splat reconstruction: time and PSNR</text>\n";
   double max_s = 1, max_p = 1;
   for (const auto& c : cases) {
-    max_s = std::max(max_s, c["seconds"].get<double>());
+    max_s = std::max(max_s, charted_seconds(c));
     max_p = std::max(max_p, c["train_psnr"].get<double>());
   }
   for (int i = 0; i < n; ++i) {
     const auto& c = cases[i];
     const int y = top + 20 + i * row;
-    const double sec = c["seconds"].get<double>();
+    const double sec = charted_seconds(c);
     s << "<text x='10' y='" << y + 13 << "'>" << c["case"].get<std::string>() << "</text>"
       << "<rect x='" << left << "' y='" << y << "' width='" << width * sec / max_s
       << "' height='18' fill='#4c72b0'/><text x='" << left + width * sec / max_s + 5 << "' y='"
@@ -135,7 +141,9 @@ std::string svg_chart(const nlohmann::json& cases) {
       << left + width * train / max_p + 5 << "' y='" << yp + 13 << "'>"
       << std::round(train * 10) / 10 << " / " << std::round(test * 10) / 10 << " dB</text>\n";
   }
-  s << "<text x='10' y='" << top + 10 << "'>wall time (s)</text>\n"
+  const bool cpu = !cases.empty() && cases[0].contains("cpu_seconds");
+  s << "<text x='10' y='" << top + 10 << "'>" << (cpu ? "CPU time, 1 thread (s)" : "wall time (s)")
+    << "</text>\n"
     << "<text x='10' y='" << top + panel + 10
     << "'>PSNR dB: train (green) / held-out (red)</text>\n</svg>\n";
   return s.str();
@@ -186,7 +194,44 @@ bool apply_setting(const std::string& setting, ReconstructOptions& o) {
 
 }  // namespace
 
+// --merge: one report (NAME.json + NAME.svg in --out) from the cases of earlier runs' reports, each
+// case named by its run's --set list; a run's CPU seconds (e.g. from /usr/bin/time) may follow
+// its path after a colon. Used to record a parameter sweep run as separate processes.
+int merge_reports(const std::string& name, const std::vector<std::string>& inputs,
+                  const fs::path& out) {
+  nlohmann::json merged;
+  merged["benchmark"] = "splat_recon sweep";
+  merged["cases"] = nlohmann::json::array();
+  for (const std::string& input : inputs) {
+    const size_t colon = input.rfind(':');
+    const std::string path = colon == std::string::npos ? input : input.substr(0, colon);
+    std::ifstream in(path);
+    if (!in) {
+      std::cerr << "cannot read " << path << "\n";
+      return 2;
+    }
+    const nlohmann::json report = nlohmann::json::parse(in);
+    merged["machine"] = report["machine"];
+    merged["threads"] = report["threads"];
+    std::string label = "defaults";
+    for (const auto& setting : report["settings"])
+      label = (label == "defaults" ? "" : label + " ") + setting.get<std::string>();
+    for (nlohmann::json c : report["cases"]) {
+      c["case"] = label;
+      if (colon != std::string::npos) c["cpu_seconds"] = std::stod(input.substr(colon + 1));
+      merged["cases"].push_back(c);
+    }
+  }
+  write_file_atomically(out / (name + ".json"), merged.dump(2) + "\n");
+  write_file_atomically(out / (name + ".svg"), svg_chart(merged["cases"]));
+  return 0;
+}
+
 int main(int argc, char** argv) {
+  if (argc >= 4 && std::string(argv[1]) == "--merge") {
+    // bench_splat_recon --merge NAME OUT_DIR REPORT[:CPU_SECONDS]...
+    return merge_reports(argv[2], std::vector<std::string>(argv + 4, argv + argc), argv[3]);
+  }
   fs::path or_dir, out = fs::path(GSLIFT_SOURCE_DIR) / "bench" / "results";
   // sparse/0: the COLMAP model with 34k SfM points to initialise from (colmap/ has none).
   fs::path dtu =

@@ -43,8 +43,10 @@ TEST_CASE("a tiny reconstruction reaches a PSNR floor and lowers its loss") {
   INFO("initial loss " << first << " final " << r.final_loss.total << " train PSNR " << r.train_psnr
                        << " test PSNR " << r.test_psnr << " gaussians " << r.model.size());
   CHECK(r.final_loss.total < 0.5 * first);
-  CHECK(r.train_psnr > 32.0);
-  CHECK(r.test_psnr > 24.0);
+  // Measured 35.3 / 28.0 dB with smoothed prior normals and disc initialisation (32.x / 24.x
+  // before).
+  CHECK(r.train_psnr > 34.0);
+  CHECK(r.test_psnr > 26.5);
   CHECK(r.final_loss.depth > 0);
   CHECK(r.final_loss.normal > 0);
 }
@@ -85,4 +87,15 @@ TEST_CASE("early stop ends a run whose loss has plateaued") {
   CHECK(r.stopped_early);
   CHECK(r.iterations_run < 2000);
   CHECK(r.iterations_run % 50 == 0);
+}
+
+TEST_CASE("coarse-to-fine trains the first steps at half resolution and still reaches the floor") {
+  const Capture capture = rendered_capture();
+  ReconstructOptions o = tiny_options();
+  o.coarse_fraction = 0.4;
+  const ReconstructResult r = reconstruct(capture, o);
+  INFO("train PSNR " << r.train_psnr << " test PSNR " << r.test_psnr);
+  CHECK(r.iterations_run == 300);
+  CHECK(r.train_psnr > 34.0);  // measured 35.7 / 28.4 dB
+  CHECK(r.test_psnr > 26.5);
 }
