@@ -33,10 +33,12 @@ struct InitialiseOptions {
   // decides the final density; the stride only bounds the work before it.
   int pixel_stride = 2;
   // Voxel edge = footprint_factor x median pixel footprint. 1 keeps one Gaussian per pixel of the
-  // nearest view; larger trades detail for speed. [decision] 8: on the embedded OR (4 training
-  // views at 640x480) factor 4 gives 182k Gaussians and ~1.4 s per step on this machine, 8 gives
-  // 68k (bench/splat_recon).
-  double footprint_factor = 8.0;
+  // nearest view; larger trades detail for speed. [decision] 12: on the embedded OR (4 training
+  // views at 640x480, 500 steps, 1 thread) factor 8 / 12 / 16 start from 68k / 30k / 16k
+  // Gaussians, densification grows them to 87k / 65k / 60k, and the run takes 102 / 84 / 77 s CPU
+  // for 29.52 / 29.49 / 29.34 dB train PSNR (bench/results/splat_recon_sweep.json): 12 loses
+  // nothing measurable against 8.
+  double footprint_factor = 12.0;
   // Used for sparse points only (no footprint there): voxel edge in metres, 0 = no downsampling.
   double points_voxel = 0.0;
   // Initial scale = scale_factor x the RMS distance to the 3 nearest neighbours (3DGS: 1).

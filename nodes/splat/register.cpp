@@ -45,6 +45,8 @@ void add_reconstruct(Registry& registry) {
                    "1 - cos between rendered normals and depth-prior normals; 0 = off", 0),
        float_param("scale_weight", d.scale_weight,
                    "flatness regulariser, mean smallest scale in metres; 0 = off", 0),
+       float_param("coarse_fraction", d.coarse_fraction,
+                   "fraction of the steps trained at half resolution first; 0 = off", 0, 1),
        bool_param("densify", d.densify, "clone/split/prune on the compressed schedule"),
        int_param("max_gaussians", static_cast<int64_t>(d.density.max_gaussians),
                  "Gaussian budget for densification", 1),
@@ -75,6 +77,7 @@ void add_reconstruct(Registry& registry) {
     o.depth_weight = ctx.param_float("depth_weight");
     o.normal_weight = ctx.param_float("normal_weight");
     o.scale_weight = ctx.param_float("scale_weight");
+    o.coarse_fraction = ctx.param_float("coarse_fraction");
     o.densify = ctx.param_bool("densify");
     o.density.max_gaussians = static_cast<size_t>(ctx.param_int("max_gaussians"));
     o.feature_dim = static_cast<int>(ctx.param_int("feature_dim"));
