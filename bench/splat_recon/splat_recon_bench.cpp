@@ -3,7 +3,7 @@
 //
 //   bench_splat_recon [--or DIR] [--dtu DIR|none] [--iterations N] [--out DIR] [--threads N]
 //                     [--ablation 0|1] [--set KEY=VALUE]...
-//   bench_splat_recon --merge NAME OUT_DIR REPORT[:CPU_SECONDS]...
+//   bench_splat_recon --merge NAME OUT_DIR REPORT[:CPU_SECONDS[:LABEL]]...
 //
 // --set overrides one reconstruction option for every case (keys: see apply_setting), e.g. a
 // sweep point; --threads caps TBB's parallelism (1 for CPU-time comparisons on a shared machine).
@@ -194,17 +194,20 @@ bool apply_setting(const std::string& setting, ReconstructOptions& o) {
 
 }  // namespace
 
-// --merge: one report (NAME.json + NAME.svg in --out) from the cases of earlier runs' reports, each
-// case named by its run's --set list; a run's CPU seconds (e.g. from /usr/bin/time) may follow
-// its path after a colon. Used to record a parameter sweep run as separate processes.
+// --merge: one report (NAME.json + NAME.svg in OUT_DIR) from the cases of earlier runs' reports,
+// each case named by its run's --set list; a run's CPU seconds (e.g. from /usr/bin/time) and a
+// label (e.g. the code version) may follow its path after colons. Records a parameter sweep run
+// as separate processes.
 int merge_reports(const std::string& name, const std::vector<std::string>& inputs,
                   const fs::path& out) {
   nlohmann::json merged;
   merged["benchmark"] = "splat_recon sweep";
   merged["cases"] = nlohmann::json::array();
   for (const std::string& input : inputs) {
-    const size_t colon = input.rfind(':');
-    const std::string path = colon == std::string::npos ? input : input.substr(0, colon);
+    // PATH[:CPU_SECONDS[:LABEL]]
+    const size_t colon = input.find(':');
+    const size_t second = colon == std::string::npos ? colon : input.find(':', colon + 1);
+    const std::string path = input.substr(0, colon);
     std::ifstream in(path);
     if (!in) {
       std::cerr << "cannot read " << path << "\n";
@@ -218,7 +221,9 @@ int merge_reports(const std::string& name, const std::vector<std::string>& input
       label = (label == "defaults" ? "" : label + " ") + setting.get<std::string>();
     for (nlohmann::json c : report["cases"]) {
       c["case"] = label;
-      if (colon != std::string::npos) c["cpu_seconds"] = std::stod(input.substr(colon + 1));
+      if (colon != std::string::npos)
+        c["cpu_seconds"] = std::stod(input.substr(colon + 1, second - colon - 1));
+      if (second != std::string::npos) c["case"] = input.substr(second + 1) + ": " + label;
       merged["cases"].push_back(c);
     }
   }
@@ -229,7 +234,6 @@ int merge_reports(const std::string& name, const std::vector<std::string>& input
 
 int main(int argc, char** argv) {
   if (argc >= 4 && std::string(argv[1]) == "--merge") {
-    // bench_splat_recon --merge NAME OUT_DIR REPORT[:CPU_SECONDS]...
     return merge_reports(argv[2], std::vector<std::string>(argv + 4, argv + argc), argv[3]);
   }
   fs::path or_dir, out = fs::path(GSLIFT_SOURCE_DIR) / "bench" / "results";

@@ -35,7 +35,7 @@ struct InitialiseOptions {
   // Voxel edge = footprint_factor x median pixel footprint. 1 keeps one Gaussian per pixel of the
   // nearest view; larger trades detail for speed. [decision] 12: on the embedded OR (4 training
   // views at 640x480, 500 steps, 1 thread) factor 8 / 12 / 16 start from 68k / 30k / 16k
-  // Gaussians, densification grows them to 87k / 65k / 60k, and the run takes 102 / 84 / 77 s CPU
+  // Gaussians, densification grows them to 87k / 65k / 60k, and the run takes 104 / 86 / 80 s CPU
   // for 29.52 / 29.49 / 29.34 dB train PSNR (bench/results/splat_recon_sweep.json): 12 loses
   // nothing measurable against 8.
   double footprint_factor = 12.0;

@@ -21,7 +21,7 @@ struct LearningRates {
   double position_final = 1.6e-6;  // reached at the last iteration, log-linear decay
   // [decision] Colour and opacity at twice the newer 3DGS code's rates (sh_dc 2.5e-3, opacity
   // 0.025; opacity 0.05 is the paper release's): 500 steps are 1/60 of 3DGS's run. On the embedded
-  // OR (coarse-to-fine, footprint 12) train PSNR 29.99 -> 30.43 dB, 74 -> 72 s CPU
+  // OR (coarse-to-fine, footprint 12) train PSNR 29.99 -> 30.43 dB, 78 -> 72 s CPU
   // (bench/results/splat_recon_sweep.json).
   double sh_dc = 5e-3;
   double sh_rest = 2.5e-3 / 20;  // 1.25e-4
@@ -45,7 +45,7 @@ struct ReconstructOptions {
   double scale_weight = 0.01;  // flatness: mean smallest scale (metres)
   // Coarse-to-fine: the first coarse_fraction of the steps render and compare at half resolution
   // (a quarter of the pixels), the rest at full resolution. 0 = off. [decision] 0.4: on the
-  // embedded OR (footprint 12) 84 -> 74 s CPU for 500 steps and train PSNR 29.49 -> 29.99 dB
+  // embedded OR (footprint 12) 86 -> 78 s CPU for 500 steps and train PSNR 29.49 -> 29.99 dB
   // (bench/results/splat_recon_sweep.json).
   double coarse_fraction = 0.4;
   bool densify = true;
