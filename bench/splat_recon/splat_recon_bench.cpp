@@ -111,7 +111,7 @@ double charted_seconds(const nlohmann::json& c) {
 
 // Two horizontal bar panels (seconds, PSNR train/test), one row per case.
 std::string svg_chart(const nlohmann::json& cases) {
-  const int row = 26, left = 380, width = 300, top = 40;
+  const int row = 26, left = 700, width = 300, top = 40;  // left: room for sweep labels
   const int n = static_cast<int>(cases.size());
   const int panel = n * row + 30;
   std::ostringstream s;
