@@ -195,13 +195,13 @@ bool apply_setting(const std::string& setting, ReconstructOptions& o) {
 }  // namespace
 
 // --merge: one report (NAME.json + NAME.svg in OUT_DIR) from the cases of earlier runs' reports,
-// each case named by its run's --set list; a run's CPU seconds (e.g. from /usr/bin/time) and a
-// label (e.g. the code version) may follow its path after colons. Records a parameter sweep run
-// as separate processes.
+// each case named by its case and its run's --set list; a run's CPU seconds (e.g. from
+// /usr/bin/time) and a label (e.g. the code version) may follow its path after colons. Records a
+// parameter sweep run as separate processes.
 int merge_reports(const std::string& name, const std::vector<std::string>& inputs,
                   const fs::path& out) {
   nlohmann::json merged;
-  merged["benchmark"] = "splat_recon sweep";
+  merged["benchmark"] = "splat_recon (merged runs)";
   merged["cases"] = nlohmann::json::array();
   for (const std::string& input : inputs) {
     // PATH[:CPU_SECONDS[:LABEL]]
@@ -215,15 +215,17 @@ int merge_reports(const std::string& name, const std::vector<std::string>& input
     }
     const nlohmann::json report = nlohmann::json::parse(in);
     merged["machine"] = report["machine"];
-    merged["threads"] = report["threads"];
-    std::string label = "defaults";
-    for (const auto& setting : report["settings"])
-      label = (label == "defaults" ? "" : label + " ") + setting.get<std::string>();
+    const int threads = report["threads"].get<int>();
+    std::string settings;
+    for (const auto& setting : report["settings"]) settings += " " + setting.get<std::string>();
     for (nlohmann::json c : report["cases"]) {
+      const std::string label = c["case"].get<std::string>() + settings;
       c["case"] = label;
-      if (colon != std::string::npos)
-        c["cpu_seconds"] = std::stod(input.substr(colon + 1, second - colon - 1));
+      const std::string cpu =
+          colon == std::string::npos ? "" : input.substr(colon + 1, second - colon - 1);
+      if (!cpu.empty()) c["cpu_seconds"] = std::stod(cpu);
       if (second != std::string::npos) c["case"] = input.substr(second + 1) + ": " + label;
+      c["threads"] = threads;  // 0 = all hardware threads
       merged["cases"].push_back(c);
     }
   }
