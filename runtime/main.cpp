@@ -1,8 +1,10 @@
 #include "nodes/builtin.hpp"
 #include "nodes/synth/synth_command.hpp"
+#include "runtime/allocator.hpp"
 #include "runtime/cli.hpp"
 
 int main(int argc, char** argv) {
+  gslift::keep_freed_memory_in_process();
   gslift::Registry registry;
   gslift::register_builtin_nodes(registry);
   const std::vector<gslift::ExtraCommand> extra = {

@@ -18,6 +18,7 @@
 #include <nlohmann/json.hpp>
 
 #include "nodes/lifting/hdbscan.hpp"
+#include "runtime/allocator.hpp"
 #include "runtime/atomic_file.hpp"
 
 using namespace gslift;
@@ -112,6 +113,7 @@ std::string svg_chart(const std::vector<Row>& rows, const std::vector<int>& size
 }  // namespace
 
 int main(int argc, char** argv) {
+  gslift::keep_freed_memory_in_process();
   std::string out_dir = std::string(GSLIFT_SOURCE_DIR) + "/bench/results";
   int reps = 3;
   std::vector<int> sizes{1000, 5000, 10000, 20000};

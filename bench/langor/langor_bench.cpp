@@ -29,6 +29,7 @@
 
 #include "nodes/builtin.hpp"
 #include "nodes/inference/text_query.hpp"
+#include "runtime/allocator.hpp"
 #include "runtime/atomic_file.hpp"
 #include "runtime/executor.hpp"
 
@@ -224,6 +225,7 @@ std::string svg_chart(const nlohmann::json& variants) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  gslift::keep_freed_memory_in_process();
   int seeds = 5;
   std::vector<std::string> variants = {"langor", "no_geometry", "mask_level", "sigma_07",
                                        "single_round"};

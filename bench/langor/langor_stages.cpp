@@ -29,6 +29,7 @@
 #include "nodes/scene/instances.hpp"
 #include "nodes/splat/rasterizer.hpp"
 #include "nodes/splat/render_cache.hpp"
+#include "runtime/allocator.hpp"
 #include "runtime/executor.hpp"
 
 using namespace gslift;
@@ -56,6 +57,7 @@ double iou(const cv::Mat1b& a, const cv::Mat1b& b) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  gslift::keep_freed_memory_in_process();
   if (argc < 2) {
     std::cerr << "usage: langor_stages GRAPH [--input CAPTURE] [--set NODE.P=V]... [--seed S]\n";
     return 2;

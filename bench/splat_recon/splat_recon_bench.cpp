@@ -32,6 +32,7 @@
 #include "nodes/ingest/capture_loader.hpp"
 #include "nodes/splat/reconstruct.hpp"
 #include "recon_flops.hpp"
+#include "runtime/allocator.hpp"
 #include "runtime/atomic_file.hpp"
 
 using namespace gslift;
@@ -235,6 +236,7 @@ int merge_reports(const std::string& name, const std::vector<std::string>& input
 }
 
 int main(int argc, char** argv) {
+  gslift::keep_freed_memory_in_process();
   if (argc >= 4 && std::string(argv[1]) == "--merge") {
     return merge_reports(argv[2], std::vector<std::string>(argv + 4, argv + argc), argv[3]);
   }

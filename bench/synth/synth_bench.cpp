@@ -26,6 +26,7 @@
 #include "nodes/synth/render_view.hpp"
 #include "nodes/synth/visible_instances.hpp"
 #include "nodes/synth/vlm_simulator.hpp"
+#include "runtime/allocator.hpp"
 #include "runtime/atomic_file.hpp"
 
 namespace fs = std::filesystem;
@@ -117,6 +118,7 @@ void write_picture(const fs::path& path) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  gslift::keep_freed_memory_in_process();
   int runs = 5;
   fs::path results = fs::path(GSLIFT_SOURCE_DIR) / "bench" / "results";
   fs::path picture;
