@@ -50,6 +50,9 @@ struct Capture {
 
   std::vector<int> train_views() const;  // indices of views with held_out == false
   std::vector<int> test_views() const;
+  // The views a node's `views` param names: "train", "test", or anything else (the params
+  // restrict it to "all") for every view.
+  std::vector<int> views_named(const std::string& which) const;
   int find_view(const std::string& name) const;  // index or -1
 };
 

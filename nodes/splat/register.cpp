@@ -21,14 +21,6 @@ PortSpec model_port(const std::string& doc) {
   return {"model", PortTypeName<GaussianModel>::value, doc};
 }
 
-std::vector<int> select_views(const Capture& capture, const std::string& which) {
-  if (which == "train") return capture.train_views();
-  if (which == "test") return capture.test_views();
-  std::vector<int> all(capture.views.size());
-  for (size_t i = 0; i < all.size(); ++i) all[i] = static_cast<int>(i);
-  return all;
-}
-
 void add_reconstruct(Registry& registry) {
   const ReconstructOptions d;
   NodeSpec spec{
@@ -155,7 +147,7 @@ void add_render(Registry& registry) {
     for (const auto& c : channels) request_channel(settings, c);
     settings.normalize_depth = true;  // a picture of the surface, not of the blend weights
     const auto dir = ctx.out_dir();
-    const std::vector<int> views = select_views(*capture, ctx.param_string("views"));
+    const std::vector<int> views = capture->views_named(ctx.param_string("views"));
     for (size_t k = 0; k < views.size(); ++k) {
       ctx.check_cancelled();
       const View& view = capture->views[views[k]];

@@ -17,14 +17,6 @@
 namespace gslift {
 namespace {
 
-std::vector<int> selected_views(const Capture& capture, const std::string& which) {
-  if (which == "train") return capture.train_views();
-  if (which == "test") return capture.test_views();
-  std::vector<int> all(capture.views.size());
-  for (size_t i = 0; i < all.size(); ++i) all[i] = static_cast<int>(i);
-  return all;
-}
-
 // The view's image exactly as the capture holds it (after any ingest downscale), so `pixels`
 // coordinates need no rescaling.
 std::string encode_png(const View& view) {
@@ -121,7 +113,7 @@ void register_vlm_nodes(Registry& registry) {
         (frame.input_width <= 0 || frame.input_height <= 0))
       throw InputError("vlm.query: coords resized_abs needs input_width and input_height");
 
-    const std::vector<int> views = selected_views(capture, ctx.param_string("views"));
+    const std::vector<int> views = capture.views_named(ctx.param_string("views"));
     std::vector<VlmImage> images;
     for (int v : views) images.push_back({capture.views[v].name, encode_png(capture.views[v])});
     const auto replies = query_vlm(images, vocabulary.prompt, o, [&] { return ctx.cancelled(); });

@@ -228,3 +228,12 @@ TEST_CASE("3DMatch RGB-D: depth in metres and poses consistent across frames") {
   check_depth_range(c.views[0], 0.2f, 10.f);
   CHECK(median_reprojection_depth_error(c.views[0], c.views[2]) < 0.05);
 }
+
+TEST_CASE("a views param names the training, the held-out or all views of a capture", "[capture]") {
+  Capture capture;
+  capture.views.resize(4);
+  capture.views[2].held_out = true;
+  CHECK(capture.views_named("train") == std::vector<int>{0, 1, 3});
+  CHECK(capture.views_named("test") == std::vector<int>{2});
+  CHECK(capture.views_named("all") == std::vector<int>{0, 1, 2, 3});
+}
