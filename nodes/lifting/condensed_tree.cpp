@@ -5,6 +5,8 @@
 #include <limits>
 #include <map>
 #include <set>
+#include <stdexcept>
+#include <string>
 
 namespace gslift {
 namespace {
@@ -118,7 +120,46 @@ std::set<int64_t> epsilon_search(const ClusterTree& ct, const std::set<int64_t>&
   return selected;
 }
 
-std::set<int64_t> select_excess_of_mass(ClusterTree& ct, const FlatClusteringOptions& o) {
+// Per cluster of the condensed tree, whether it holds both groups of a cannot-link pair (more
+// than half of each group's points fell out of it or of its descendants).
+std::vector<char> cannot_link_violations(const ClusterTree& ct,
+                                         const std::vector<CondensedEdge>& tree, int64_t num_points,
+                                         const CannotLink& cl) {
+  std::vector<char> violates(ct.count(), 0);
+  if (cl.empty()) return violates;
+  if (static_cast<int64_t>(cl.point_groups.size()) != num_points)
+    throw std::invalid_argument("HDBSCAN: cannot-link groups for " +
+                                std::to_string(cl.point_groups.size()) + " points, expected " +
+                                std::to_string(num_points));
+  int groups = 0;
+  for (const int g : cl.point_groups) groups = std::max(groups, g + 1);
+  for (const auto& [a, b] : cl.pairs)
+    if (a < 0 || b < 0 || a >= groups || b >= groups)
+      throw std::invalid_argument("HDBSCAN: a cannot-link pair names a group without points");
+  std::vector<int64_t> group_size(groups, 0);
+  // held[c * groups + g]: points of group g in cluster c's subtree.
+  std::vector<int64_t> held(static_cast<size_t>(ct.count()) * groups, 0);
+  for (const auto& e : tree) {
+    if (e.child >= num_points) continue;
+    const int g = cl.point_groups[e.child];
+    if (g < 0) continue;
+    ++group_size[g];
+    for (int64_t c = e.parent; c >= 0; c = ct.parent[ct.index(c)])
+      ++held[static_cast<size_t>(ct.index(c)) * groups + g];
+  }
+  for (int64_t c = 0; c < ct.count(); ++c) {
+    const int64_t* h = held.data() + static_cast<size_t>(c) * groups;
+    for (const auto& [a, b] : cl.pairs)
+      if (2 * h[a] > group_size[a] && 2 * h[b] > group_size[b]) {
+        violates[c] = 1;
+        break;
+      }
+  }
+  return violates;
+}
+
+std::set<int64_t> select_excess_of_mass(ClusterTree& ct, const FlatClusteringOptions& o,
+                                        const std::vector<char>& violates) {
   // Reverse id order is a bottom-up order: children always get larger ids than their parent.
   std::map<int64_t, bool> is_cluster;
   for (int64_t c = ct.root + ct.count() - 1; c >= ct.root; --c) {
@@ -132,7 +173,9 @@ std::set<int64_t> select_excess_of_mass(ClusterTree& ct, const FlatClusteringOpt
     // hdbscan 0.8.33 holds this sum in a C float (`cdef float subtree_stability`); rounding it the
     // same way keeps near-ties between a cluster and its children decided as in the reference.
     const float subtree = static_cast<float>(children_sum);
-    if (subtree > ct.stability[ct.index(node)]) {
+    // A cluster that joins two cannot-linked groups gives way to its children (if it has any).
+    const bool must_split = violates[ct.index(node)] && !ct.children[ct.index(node)].empty();
+    if (must_split || subtree > ct.stability[ct.index(node)]) {
       it->second = false;
       ct.stability[ct.index(node)] = subtree;
     } else {
@@ -224,9 +267,11 @@ FlatClustering extract_clusters(const std::vector<CondensedEdge>& tree, int64_t 
   if (tree.empty()) return out;
 
   ClusterTree ct = build_cluster_tree(tree, num_points);
-  const std::set<int64_t> selected = options.selection == ClusterSelection::ExcessOfMass
-                                         ? select_excess_of_mass(ct, options)
-                                         : select_leaves(ct, options);
+  const std::set<int64_t> selected =
+      options.selection == ClusterSelection::ExcessOfMass
+          ? select_excess_of_mass(ct, options,
+                                  cannot_link_violations(ct, tree, num_points, options.cannot_link))
+          : select_leaves(ct, options);
   std::map<int64_t, int> label_of;
   for (const int64_t c : selected) label_of.emplace(c, static_cast<int>(label_of.size()));
   out.clusters = static_cast<int>(label_of.size());

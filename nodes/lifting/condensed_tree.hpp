@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "nodes/lifting/single_linkage.hpp"
@@ -32,6 +33,18 @@ enum class ClusterSelection {
   Leaf,          // "leaf": the leaves of the condensed cluster tree (finer, more homogeneous)
 };
 
+// Cannot-link constraints for the excess-of-mass selection, in the spirit of Campello et al.'s
+// semi-supervised selection of clusters from the HDBSCAN hierarchy (FOSC, 2013): points carry a
+// group id (e.g. the mask they were sampled from), and two groups of a pair are known to be
+// different objects. A cluster "holds" a group when more than half of the group's points are in
+// it; a cluster that holds both groups of a pair is not selected while its descendants can be,
+// and excess of mass chooses among those instead. Empty = no constraints (plain HDBSCAN).
+struct CannotLink {
+  std::vector<int> point_groups;           // per point, -1 = in no group
+  std::vector<std::pair<int, int>> pairs;  // group ids, each in [0, number of groups)
+  bool empty() const { return pairs.empty(); }
+};
+
 struct FlatClusteringOptions {
   ClusterSelection selection = ClusterSelection::ExcessOfMass;
   // Clusters born (split off) at a distance below this are merged upwards until their parent was
@@ -46,6 +59,8 @@ struct FlatClusteringOptions {
   // cluster was born (strictly larger lambda); the min_samples / min_cluster_size shifts of that
   // convention are applied by hdbscan() (hdbscan.hpp).
   bool match_reference_implementation = false;
+  // Excess of mass only (leaf selection never merges): see CannotLink.
+  CannotLink cannot_link;
 };
 
 struct FlatClustering {

@@ -4,6 +4,8 @@
 #include <stdexcept>
 #include <string>
 
+#include <opencv2/core.hpp>
+
 #include "nodes/lifting/alias_sampler.hpp"
 #include "nodes/lifting/cvp_weights.hpp"
 
@@ -40,7 +42,46 @@ Eigen::MatrixXf prototypes_of(const PointMatrix& features, const std::vector<int
   return sum.cast<float>();
 }
 
+double mask_iou(const cv::Mat1b& a, const cv::Mat1b& b) {
+  const int both = cv::countNonZero(a & b);
+  if (both == 0) return 0.0;
+  return double(both) / (cv::countNonZero(a) + cv::countNonZero(b) - both);
+}
+
+// The constraints of same_view_cannot_links over points that each come from one mask.
+CannotLink cannot_link_for(const std::vector<SampledPixel>& samples, const MaskSet& masks,
+                           double max_iou) {
+  CannotLink cl;
+  cl.pairs = same_view_cannot_links(masks, max_iou);
+  if (cl.pairs.empty()) return cl;
+  const std::vector<std::vector<int>> group = mask_group_ids(masks);
+  for (const SampledPixel& s : samples) cl.point_groups.push_back(group[s.view][s.mask]);
+  return cl;
+}
+
 }  // namespace
+
+std::vector<std::vector<int>> mask_group_ids(const MaskSet& masks) {
+  std::vector<std::vector<int>> ids(masks.views.size());
+  int next = 0;
+  for (size_t v = 0; v < masks.views.size(); ++v)
+    for (size_t m = 0; m < masks.views[v].masks.size(); ++m) ids[v].push_back(next++);
+  return ids;
+}
+
+std::vector<std::pair<int, int>> same_view_cannot_links(const MaskSet& masks, double max_iou) {
+  std::vector<std::pair<int, int>> pairs;
+  if (max_iou <= 0) return pairs;
+  const std::vector<std::vector<int>> group = mask_group_ids(masks);
+  for (size_t v = 0; v < masks.views.size(); ++v) {
+    const std::vector<Mask>& ms = masks.views[v].masks;
+    for (size_t a = 0; a < ms.size(); ++a)
+      for (size_t b = a + 1; b < ms.size(); ++b)
+        if (mask_iou(ms[a].pixels, ms[b].pixels) < max_iou)
+          pairs.emplace_back(group[v][a], group[v][b]);
+  }
+  return pairs;
+}
 
 HdbscanParams default_lifting_hdbscan() {
   HdbscanParams p;
@@ -84,14 +125,15 @@ LiftedInstances cvp_lifting(const std::vector<FeatureMap>& views, const MaskSet&
     const float* f = views[s.view].at(s.x, s.y);
     for (int k = 0; k < dim; ++k) features(static_cast<int64_t>(i), k) = f[k];
   }
-  const HdbscanResult clusters = hdbscan(features, params.hdbscan);
+  const HdbscanResult clusters = hdbscan(
+      features, params.hdbscan, cannot_link_for(out.samples, masks, params.cannot_link_iou));
   out.labels = clusters.labels;
   out.prototypes = prototypes_of(features, out.labels, clusters.clusters);
   return out;
 }
 
 LiftedInstances mask_level_lifting(const std::vector<FeatureMap>& views, const MaskSet& masks,
-                                   const HdbscanParams& hdbscan_params) {
+                                   const HdbscanParams& hdbscan_params, double cannot_link_iou) {
   check_inputs(views, masks);
   LiftedInstances out;
   std::vector<std::vector<double>> rows;
@@ -116,7 +158,8 @@ LiftedInstances mask_level_lifting(const std::vector<FeatureMap>& views, const M
   PointMatrix features(static_cast<int64_t>(rows.size()), views.front().dim);
   for (size_t i = 0; i < rows.size(); ++i)
     for (size_t k = 0; k < rows[i].size(); ++k) features(static_cast<int64_t>(i), k) = rows[i][k];
-  const HdbscanResult clusters = hdbscan(features, hdbscan_params);
+  const HdbscanResult clusters =
+      hdbscan(features, hdbscan_params, cannot_link_for(out.samples, masks, cannot_link_iou));
   out.labels = clusters.labels;
   out.prototypes = prototypes_of(features, out.labels, clusters.clusters);
   return out;

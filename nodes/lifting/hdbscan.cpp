@@ -17,7 +17,8 @@ ClusterSelection parse_cluster_selection(const std::string& name) {
   throw std::invalid_argument("unknown cluster selection '" + name + "' (eom, leaf)");
 }
 
-HdbscanResult hdbscan(const PointMatrix& points, const HdbscanParams& params) {
+HdbscanResult hdbscan(const PointMatrix& points, const HdbscanParams& params,
+                      const CannotLink& cannot_link) {
   if (params.min_cluster_size < 2)
     throw std::invalid_argument("HDBSCAN: min_cluster_size must be at least 2");
   if (params.min_samples < 0) throw std::invalid_argument("HDBSCAN: min_samples must be >= 0");
@@ -66,6 +67,7 @@ HdbscanResult hdbscan(const PointMatrix& points, const HdbscanParams& params) {
   options.cluster_selection_epsilon = params.cluster_selection_epsilon;
   options.allow_single_cluster = params.allow_single_cluster;
   options.match_reference_implementation = params.match_reference_implementation;
+  options.cannot_link = cannot_link;
   FlatClustering flat = extract_clusters(tree, n, options);
   result.labels = std::move(flat.labels);
   result.probabilities = std::move(flat.probabilities);

@@ -63,6 +63,9 @@ struct HdbscanResult {
 // Points as rows. Throws std::invalid_argument for invalid params, non-finite coordinates, zero
 // rows under the cosine metric, or more than kHdbscanMaxPoints points. Fewer than 2 points: all
 // noise.
-HdbscanResult hdbscan(const PointMatrix& points, const HdbscanParams& params);
+// `cannot_link` (condensed_tree.hpp) constrains the excess-of-mass selection; empty = plain
+// HDBSCAN.
+HdbscanResult hdbscan(const PointMatrix& points, const HdbscanParams& params,
+                      const CannotLink& cannot_link = {});
 
 }  // namespace gslift

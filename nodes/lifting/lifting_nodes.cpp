@@ -23,7 +23,7 @@ std::vector<PortSpec> lifting_outputs() {
            "the lifted 3D instances: clustered samples and one prototype per instance (Eq. 5)"}};
 }
 
-// The HDBSCAN params both nodes share, with each node's defaults.
+// The HDBSCAN params both nodes share, with each node's defaults, and the cannot-link threshold.
 std::vector<ParamSpec> hdbscan_params(const HdbscanParams& d) {
   return {int_param("min_cluster_size", d.min_cluster_size,
                     "HDBSCAN: smallest group of samples that counts as an instance", 2),
@@ -36,7 +36,12 @@ std::vector<ParamSpec> hdbscan_params(const HdbscanParams& d) {
           string_param("metric", d.metric == HdbscanMetric::Cosine ? "cosine" : "euclidean",
                        "feature distance: cosine (the contrastive loss shapes features by cosine) "
                        "or euclidean",
-                       {"cosine", "euclidean"})};
+                       {"cosine", "euclidean"}),
+          float_param("cannot_link_iou", CvpLiftingParams{}.cannot_link_iou,
+                      "masks of one view overlapping less than this are different objects: no "
+                      "instance may take most samples of two of them (gslift addition; 0 = off, "
+                      "the paper's plain HDBSCAN)",
+                      0, 1)};
 }
 
 HdbscanParams read_hdbscan(const NodeContext& ctx) {
@@ -98,6 +103,7 @@ void add_cvp(Registry& registry) {
     p.samples_per_mask = static_cast<int>(ctx.param_int("samples_per_mask"));
     p.max_samples = static_cast<int>(ctx.param_int("max_samples"));
     p.hdbscan = read_hdbscan(ctx);
+    p.cannot_link_iou = ctx.param_float("cannot_link_iou");
     p.seed = ctx.seed();
     run_lifting(ctx, [&](const TrainingFeatureMaps& v) { return cvp_lifting(v.maps, v.masks, p); });
   });
@@ -121,8 +127,10 @@ void add_mask_level(Registry& registry) {
                 lifting_inputs(), lifting_outputs(), hdbscan_params(mask_level_hdbscan())};
   registry.add(std::move(spec), [](NodeContext& ctx) {
     const HdbscanParams p = read_hdbscan(ctx);
-    run_lifting(
-        ctx, [&](const TrainingFeatureMaps& v) { return mask_level_lifting(v.maps, v.masks, p); });
+    const double cannot_link_iou = ctx.param_float("cannot_link_iou");
+    run_lifting(ctx, [&](const TrainingFeatureMaps& v) {
+      return mask_level_lifting(v.maps, v.masks, p, cannot_link_iou);
+    });
   });
 }
 

@@ -100,7 +100,7 @@ TEST_CASE("mask-level lifting: one prototype per mask, clustered across views") 
   HdbscanParams h;
   h.min_cluster_size = 2;
   h.min_samples = 1;
-  const LiftedInstances r = mask_level_lifting(s.views, s.masks, h);
+  const LiftedInstances r = mask_level_lifting(s.views, s.masks, h, 0.5);
   REQUIRE(r.samples.size() == 6);
   CHECK(same_partition(r.labels, {0, 1, 0, 1, 0, 1}));
   CHECK(r.prototypes.rows() == 2);
@@ -112,5 +112,27 @@ TEST_CASE("lifting rejects mismatched inputs") {
   CHECK_THROWS_AS(cvp_lifting(s.views, s.masks, CvpLiftingParams{}), std::invalid_argument);
   Scene t = two_objects(1);
   t.masks.views[0].masks[0].pixels = cv::Mat1b::zeros(3, 3);
-  CHECK_THROWS_AS(mask_level_lifting(t.views, t.masks, HdbscanParams{}), std::invalid_argument);
+  CHECK_THROWS_AS(mask_level_lifting(t.views, t.masks, HdbscanParams{}, 0.5),
+                  std::invalid_argument);
+}
+
+TEST_CASE("masks of one view that barely overlap are cannot-linked, duplicates are not") {
+  auto rect = [](int x0, int x1) {
+    cv::Mat1b m = cv::Mat1b::zeros(10, 20);
+    m(cv::Rect(x0, 0, x1 - x0, 10)) = 255;
+    return m;
+  };
+  MaskSet masks;
+  masks.views.resize(2);
+  // View 0: a = [0, 10), b = [10, 20), c = [1, 10) (IoU with a 0.9: the same object boxed
+  // twice). View 1: d = [0, 8), e = [4, 12) (IoU 4 / 12 = 0.33).
+  for (auto [x0, x1] : {std::pair{0, 10}, {10, 20}, {1, 10}})
+    masks.views[0].masks.push_back({rect(x0, x1), "x"});
+  for (auto [x0, x1] : {std::pair{0, 8}, {4, 12}})
+    masks.views[1].masks.push_back({rect(x0, x1), "x"});
+  CHECK(mask_group_ids(masks) == std::vector<std::vector<int>>{{0, 1, 2}, {3, 4}});
+  using Pairs = std::vector<std::pair<int, int>>;
+  CHECK(same_view_cannot_links(masks, 0.5) == Pairs{{0, 1}, {1, 2}, {3, 4}});
+  CHECK(same_view_cannot_links(masks, 0.3) == Pairs{{0, 1}, {1, 2}});
+  CHECK(same_view_cannot_links(masks, 0.0).empty());
 }

@@ -92,6 +92,37 @@ TEST_CASE("HDBSCAN excess of mass keeps a long-lived parent, leaf selection its 
   CHECK(same_partition(hdbscan(p, params).labels, {0, 0, 0, 0, 1, 1}));
 }
 
+TEST_CASE("HDBSCAN cannot-link groups make excess of mass give a joined parent up") {
+  // The example above: excess of mass keeps AB (stability 25.8 > 13.3). Groups: A = 0, B = 1,
+  // C = 2. A cannot-link between A and B forbids AB, so its children A and B are chosen.
+  const PointMatrix p = line({0, 0.1, 0.25, 0.35, 5, 5.1});
+  HdbscanParams params;
+  params.min_cluster_size = 2;
+  params.min_samples = 1;
+  CannotLink cl;
+  cl.point_groups = {0, 0, 1, 1, 2, 2};
+  cl.pairs = {{0, 1}};
+  const HdbscanResult split = hdbscan(p, params, cl);
+  CHECK(split.clusters == 3);
+  CHECK(same_partition(split.labels, {0, 0, 1, 1, 2, 2}));
+  // A constraint AB satisfies anyway (A against C) changes nothing.
+  cl.pairs = {{0, 2}};
+  CHECK(hdbscan(p, params, cl).labels == std::vector<int>{0, 0, 0, 0, 1, 1});
+  // "Holds" means more than half of a group: with group 1 = {0.25, 0.35, 5} AB holds 2 of its 3
+  // points and still must split; with group 1 = {0.35, 5, 5.1} it holds 1 of 3 and may stay.
+  cl.pairs = {{0, 1}};
+  cl.point_groups = {0, 0, 1, 1, 1, -1};
+  CHECK(hdbscan(p, params, cl).clusters == 3);
+  cl.point_groups = {0, 0, -1, 1, 1, 1};
+  CHECK(hdbscan(p, params, cl).labels == std::vector<int>{0, 0, 0, 0, 1, 1});
+  // Bad constraints are named.
+  cl.point_groups = {0, 0, 1};
+  CHECK_THROWS_AS(hdbscan(p, params, cl), std::invalid_argument);
+  cl.point_groups = {0, 0, 1, 1, 2, 2};
+  cl.pairs = {{0, 7}};
+  CHECK_THROWS_AS(hdbscan(p, params, cl), std::invalid_argument);
+}
+
 TEST_CASE("HDBSCAN separates two blobs from isolated noise (fixture)") {
   std::ifstream in(test::test_data("lifting/two_blobs_noise.csv"));
   REQUIRE(in);
