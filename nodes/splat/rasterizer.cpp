@@ -493,6 +493,11 @@ void backward_tile(const RasterState& s, int t, const PixelGrads& pixel_grads, f
     last[p] = 0.f;
     for (int c = 0; c < C; ++c) g[c * kTilePixels + p] = 0.f;
   }
+  // The entries at or past a row's last contributor add nothing to it (all lanes masked, so T
+  // and Q stay and every sum gains 0), and those past the tile's last contributor nothing at all:
+  // behind opaque surfaces that is most of a trained scene's tile list. Skipping them is exact.
+  float row_last[kTileSize] = {};
+  uint32_t tile_last = 0;
   for (int y = tile.y0; y < tile.y1; ++y)
     for (int x = tile.x0; x < tile.x1; ++x) {
       const int p = (y - tile.y0) * kTileSize + (x - tile.x0);
@@ -500,6 +505,8 @@ void backward_tile(const RasterState& s, int t, const PixelGrads& pixel_grads, f
       uint32_t contributors = s.contributors[pix];
       if (contributors > 0 && !pixel_grads.at(pix, scratch.pixel.data())) contributors = 0;
       last[p] = float(contributors);
+      row_last[y - tile.y0] = std::max(row_last[y - tile.y0], last[p]);
+      tile_last = std::max(tile_last, contributors);
       T[p] = s.final_transmittance[pix];
       float background = 0.f;  // g . bg
       for (int c = 0; c < C; ++c) {
@@ -508,7 +515,9 @@ void backward_tile(const RasterState& s, int t, const PixelGrads& pixel_grads, f
       }
       Q[p] = background * T[p];
     }
-  for (uint32_t j = count; j-- > 0;) {
+  for (uint32_t j = tile_last; j < count; ++j)
+    std::fill_n(&slot_grads[size_t(list[j].slot) * stride], stride, 0.f);
+  for (uint32_t j = std::min(count, tile_last); j-- > 0;) {
     const TileGaussian& e = list[j];
     const PixelRect rect = clip(e, tile);
     const float* v = &scratch.values[size_t(j) * C];
@@ -519,6 +528,7 @@ void backward_tile(const RasterState& s, int t, const PixelGrads& pixel_grads, f
     alignas(64) float m_x[kLanes] = {}, m_y[kLanes] = {}, m_xx[kLanes] = {}, m_xy[kLanes] = {},
                       m_yy[kLanes] = {}, d_opacity[kLanes] = {};
     for (int y = rect.y0; y < rect.y1; ++y) {
+      if (jf >= row_last[y - tile.y0]) continue;
       const float dy = e.my - (float(y) + 0.5f);
       alignas(64) float gaussian[kLanes], alpha[kLanes];
       blend_row(e, y, tile.x0, tile.x0 + kLanes, s.min_alpha, gaussian, alpha);
