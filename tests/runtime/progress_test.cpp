@@ -35,9 +35,12 @@ TEST_CASE("on a terminal progress redraws one line, throttled, and clears it", "
 TEST_CASE("progress fractions are clamped to 0..100%", "[progress]") {
   std::FILE* f = std::tmpfile();
   REQUIRE(f);
-  ConsoleProgress p(true, f, std::chrono::milliseconds(0));
-  p.node_progress("a", 1.7, "x");
-  p.node_progress("a", -0.2, "y");
-  CHECK(contents(f) == "\r\033[Ka 100% x\r\033[Ka   0% y");
+  {
+    // Scoped: the destructor erases the line, so it must run before the file is closed.
+    ConsoleProgress p(true, f, std::chrono::milliseconds(0));
+    p.node_progress("a", 1.7, "x");
+    p.node_progress("a", -0.2, "y");
+    CHECK(contents(f) == "\r\033[Ka 100% x\r\033[Ka   0% y");
+  }
   std::fclose(f);
 }
