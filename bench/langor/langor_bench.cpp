@@ -227,8 +227,9 @@ std::string svg_chart(const nlohmann::json& variants) {
 int main(int argc, char** argv) {
   gslift::keep_freed_memory_in_process();
   int seeds = 5;
-  std::vector<std::string> variants = {"langor", "no_geometry", "mask_level", "sigma_07",
-                                       "single_round"};
+  // The paper's four ablations, then gslift's own (no_cannot_link).
+  std::vector<std::string> variants = {"langor",   "no_geometry",  "mask_level",
+                                       "sigma_07", "single_round", "no_cannot_link"};
   std::vector<std::string> sets;
   fs::path out = fs::path(GSLIFT_SOURCE_DIR) / "bench/results";
   bool timing = true;
