@@ -2,11 +2,12 @@
 // with the estimated floating-point work per step next to the measured time.
 //
 //   bench_splat_recon [--or DIR] [--dtu DIR|none] [--iterations N] [--out DIR] [--threads N]
-//                     [--ablation 0|1] [--set KEY=VALUE]...
+//                     [--ablation 0|1] [--repeat N] [--set KEY=VALUE]...
 //   bench_splat_recon --merge NAME OUT_DIR REPORT[:CPU_SECONDS[:LABEL]]...
 //
 // --set overrides one reconstruction option for every case (keys: see apply_setting), e.g. a
-// sweep point; --threads caps TBB's parallelism (1 for CPU-time comparisons on a shared machine).
+// sweep point; --threads caps TBB's parallelism (1 for CPU-time comparisons on a shared machine);
+// --repeat runs every case N times and reports the median wall time beside all N.
 //
 // --or: an embedded OR capture folder (`gslift synth --out DIR`, default settings: 5 views, one
 // held out). --dtu: DTU scan 24 (default ../shared/data/dtu_scan24/sparse/0, its COLMAP model
@@ -14,6 +15,7 @@
 // downscaled 4x with every 8th image held out; its background is NOT masked (the photos are
 // trained as they are). Writes splat_recon.json and splat_recon.svg into --out (default
 // bench/results).
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -55,19 +57,32 @@ std::string cpu_model() {
   return "unknown";
 }
 
-nlohmann::json run_case(const Case& c) {
+// Runs a case `repeat` times and reports the run with the median wall time (the model and its
+// PSNR are the same every time: reconstruction is deterministic) and every run's time.
+nlohmann::json run_case(const Case& c, int repeat) {
   std::cerr << "[splat_recon] " << c.name << ": loading " << c.path << "\n";
   const Capture capture = load_capture(c.path, c.load);
   const View& first = capture.views.at(capture.train_views().at(0));
-  const auto start = std::chrono::steady_clock::now();
-  const ReconstructResult r =
-      reconstruct(capture, c.options, [&](int step, int total, double loss, size_t gaussians) {
-        if ((step + 1) % 25 != 0) return;
-        const double t =
-            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-        std::cerr << "[splat_recon] " << c.name << " step " << step + 1 << "/" << total << " loss "
-                  << loss << " gaussians " << gaussians << " at " << t << " s\n";
-      });
+  std::vector<ReconstructResult> runs;
+  for (int k = 0; k < repeat; ++k) {
+    const auto start = std::chrono::steady_clock::now();
+    runs.push_back(
+        reconstruct(capture, c.options, [&](int step, int total, double loss, size_t gaussians) {
+          if ((step + 1) % 25 != 0) return;
+          const double t =
+              std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+          std::cerr << "[splat_recon] " << c.name << " run " << k + 1 << " step " << step + 1 << "/"
+                    << total << " loss " << loss << " gaussians " << gaussians << " at " << t
+                    << " s\n";
+        }));
+  }
+  std::vector<double> seconds;
+  for (const ReconstructResult& run : runs) seconds.push_back(run.seconds);
+  std::vector<size_t> order(runs.size());
+  for (size_t k = 0; k < order.size(); ++k) order[k] = k;
+  std::sort(order.begin(), order.end(),
+            [&](size_t a, size_t b) { return runs[a].seconds < runs[b].seconds; });
+  const ReconstructResult& r = runs[order[order.size() / 2]];
   const bench::StepFlops flops = bench::estimate_step_flops(r.model, first);
   const double per_step = r.seconds / std::max(r.iterations_run, 1);
   nlohmann::json j;
@@ -80,7 +95,8 @@ nlohmann::json run_case(const Case& c) {
   j["depth_weight"] = c.options.depth_weight;
   j["normal_weight"] = c.options.normal_weight;
   j["scale_weight"] = c.options.scale_weight;
-  j["seconds"] = r.seconds;
+  j["seconds"] = r.seconds;  // the median run's
+  j["seconds_runs"] = seconds;
   j["seconds_per_step"] = per_step;
   j["phase_seconds"] = {{"prepare", r.phases.prepare}, {"render", r.phases.render},
                         {"losses", r.phases.losses},   {"backward", r.phases.backward},
@@ -246,6 +262,7 @@ int main(int argc, char** argv) {
       fs::path(GSLIFT_SOURCE_DIR) / ".." / "shared" / "data" / "dtu_scan24" / "sparse" / "0";
   int iterations = 500;
   int threads = 0;
+  int repeat = 1;
   bool ablation = true;
   std::vector<std::string> settings;
   for (int i = 1; i + 1 < argc; i += 2) {
@@ -260,6 +277,8 @@ int main(int argc, char** argv) {
       iterations = std::stoi(value);
     else if (key == "--threads")
       threads = std::stoi(value);
+    else if (key == "--repeat")
+      repeat = std::max(1, std::stoi(value));
     else if (key == "--ablation")
       ablation = value != "0";
     else if (key == "--set")
@@ -304,7 +323,7 @@ int main(int argc, char** argv) {
   report["threads"] = threads;
   report["cases"] = nlohmann::json::array();
   for (const Case& c : cases) {  // rewritten after every case, so a long run keeps its results
-    report["cases"].push_back(run_case(c));
+    report["cases"].push_back(run_case(c, repeat));
     write_file_atomically(out / "splat_recon.json", report.dump(2) + "\n");
     write_file_atomically(out / "splat_recon.svg", svg_chart(report["cases"]));
   }
