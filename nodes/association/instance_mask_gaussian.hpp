@@ -30,7 +30,7 @@ struct AssociationParams {
   // [decision] A Gaussian whose blend weights summed over all training pixels stay below this
   // (in pixels) is left -1: its feature received (almost) no gradient in feature training, so its
   // most similar prototype is chance. 0.01 = a hundredth of a pixel over all training views.
-  float min_contribution = 0.01f;
+  double min_contribution = 0.01;
   // [decision] A Gaussian joins its most similar instance only when cos(f_g, f_S) reaches this;
   // otherwise it stays -1 (background: walls, floor, anything no mask covered). Eq. 3 pulls
   // in-mask features to cos 1 with their mask's centroid and pushes the rest to cos <= 0, so 0.5

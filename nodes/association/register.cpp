@@ -67,7 +67,7 @@ void register_association_nodes(Registry& registry) {
     const auto encoder = ctx.input<TextEncoder>("encoder");
     AssociationParams p;
     p.min_similarity = static_cast<float>(ctx.param_float("min_similarity"));
-    p.min_contribution = static_cast<float>(ctx.param_float("min_contribution"));
+    p.min_contribution = ctx.param_float("min_contribution");
 
     const TrainingFeatureMaps views =
         render_training_feature_maps(*model, *capture, *masks, /*with_contribution=*/true);

@@ -39,7 +39,7 @@ namespace gslift {
 // neighbours). Label accuracy of the voted labels: 0.99 (default), 0.92 (hard).
 struct BoxClusteringParams {
   // Two boxes with the same label are the same object when IoU(seed, box) > iou.
-  float iou = 0.5f;
+  double iou = 0.5;
   // Two boxes with different labels are the same object (one of them mislabelled, the vote
   // decides) only when IoU(seed, box) > any_label_iou [decision, measured in docs/langor.md]:
   // objects that rest on or stand at one another have boxes overlapping by more than `iou`
@@ -48,7 +48,7 @@ struct BoxClusteringParams {
   // other object in most views. Jittered boxes of one object overlap far more than that.
   // 1 = never merge different labels; iou = the label-blind clustering of the paper. Never below
   // iou (iou 1, "no clustering", merges nothing).
-  float any_label_iou = 0.8f;
+  double any_label_iou = 0.8;
   // Clusters supported by fewer distinct rounds are dropped as hallucinations. Clamped to the
   // number of rounds of the view, so single-round input (the "w/o clustering" ablation) keeps its
   // boxes.

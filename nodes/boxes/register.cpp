@@ -26,8 +26,8 @@ void add_cluster(Registry& registry) {
                  "drop clusters seen in fewer distinct rounds (clamped to the rounds asked)", 1)}};
   registry.add(std::move(spec), [](NodeContext& ctx) {
     BoxClusteringParams p;
-    p.iou = static_cast<float>(ctx.param_float("iou"));
-    p.any_label_iou = static_cast<float>(ctx.param_float("any_label_iou"));
+    p.iou = ctx.param_float("iou");
+    p.any_label_iou = ctx.param_float("any_label_iou");
     p.min_support = static_cast<int>(ctx.param_int("min_support"));
     BoxSet clusters = cluster_box_set(*ctx.input<BoxSet>("boxes"), p);
     size_t count = 0;
