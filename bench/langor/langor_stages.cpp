@@ -49,11 +49,6 @@ struct InstanceReport {
   int64_t heaviest = 0, heaviest_right = 0;
 };
 
-double iou(const cv::Mat1b& a, const cv::Mat1b& b) {
-  const double inter = cv::countNonZero(a & b), uni = cv::countNonZero(a | b);
-  return uni > 0 ? inter / uni : 0;
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -129,7 +124,7 @@ int main(int argc, char** argv) {
       int best = -1;
       double best_iou = 0.5;
       for (size_t m = 0; m < vm.masks.size(); ++m) {
-        const double v = iou(vm.masks[m].pixels, gt_mask);
+        const double v = mask_iou(vm.masks[m].pixels, gt_mask);
         if (v >= best_iou) best_iou = v, best = static_cast<int>(m);
       }
       if (best < 0) continue;
@@ -178,7 +173,7 @@ int main(int argc, char** argv) {
                                        : std::string("background");
       std::printf("  %s mask %2zu '%s': mostly %s (%d), IoU %.2f, %d px -> instance %d\n",
                   view.name.c_str(), m, vm.masks[m].label.c_str(), what.c_str(), top,
-                  top > 0 ? iou(px, gt == top) : 0.0, cv::countNonZero(px), voted[m]);
+                  top > 0 ? mask_iou(px, gt == top) : 0.0, cv::countNonZero(px), voted[m]);
     }
     for (size_t i = 0; i < lifted->samples.size(); ++i) {
       const SampledPixel& s = lifted->samples[i];

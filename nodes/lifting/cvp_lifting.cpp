@@ -4,8 +4,6 @@
 #include <stdexcept>
 #include <string>
 
-#include <opencv2/core.hpp>
-
 #include "nodes/lifting/alias_sampler.hpp"
 #include "nodes/lifting/cvp_weights.hpp"
 
@@ -40,12 +38,6 @@ Eigen::MatrixXf prototypes_of(const PointMatrix& features, const std::vector<int
   }
   for (int c = 0; c < clusters; ++c) sum.row(c) /= count[c];
   return sum.cast<float>();
-}
-
-double mask_iou(const cv::Mat1b& a, const cv::Mat1b& b) {
-  const int both = cv::countNonZero(a & b);
-  if (both == 0) return 0.0;
-  return double(both) / (cv::countNonZero(a) + cv::countNonZero(b) - both);
 }
 
 // The constraints of same_view_cannot_links over points that each come from one mask.

@@ -29,4 +29,11 @@ struct MaskSet {
 
 GSLIFT_PORT_TYPE(MaskSet, "MaskSet");
 
+// Intersection over union of two binary masks of one size (nonzero = in); 0 when both are empty.
+inline double mask_iou(const cv::Mat1b& a, const cv::Mat1b& b) {
+  const int both = cv::countNonZero(a & b);
+  if (both == 0) return 0.0;
+  return double(both) / (cv::countNonZero(a) + cv::countNonZero(b) - both);
+}
+
 }  // namespace gslift
