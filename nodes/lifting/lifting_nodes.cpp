@@ -23,8 +23,9 @@ std::vector<PortSpec> lifting_outputs() {
            "the lifted 3D instances: clustered samples and one prototype per instance (Eq. 5)"}};
 }
 
-// The HDBSCAN params both nodes share, with each node's defaults, and the cannot-link threshold.
-std::vector<ParamSpec> hdbscan_params(const HdbscanParams& d) {
+// The params both lifting nodes share: HDBSCAN (with each node's defaults) and the cannot-link
+// threshold.
+std::vector<ParamSpec> lifting_params(const HdbscanParams& d) {
   return {int_param("min_cluster_size", d.min_cluster_size,
                     "HDBSCAN: smallest group of samples that counts as an instance", 2),
           int_param("min_samples", d.min_samples,
@@ -91,7 +92,7 @@ void add_cvp(Registry& registry) {
                 "draws per mask (with replacement, then deduplicated)", 1),
       int_param("max_samples", d.max_samples, "cap on all draws (HDBSCAN is O(n^2))", 2,
                 static_cast<double>(kHdbscanMaxPoints))};
-  for (ParamSpec& p : hdbscan_params(d.hdbscan)) params.push_back(std::move(p));
+  for (ParamSpec& p : lifting_params(d.hdbscan)) params.push_back(std::move(p));
   NodeSpec spec{"lifting.cvp",
                 "cross-view pixel lifting (LangOR Eq. 4-5): Gaussian-weighted pixel samples of "
                 "every training mask, HDBSCAN over their rendered features, one prototype per "
@@ -124,7 +125,7 @@ void add_mask_level(Registry& registry) {
   NodeSpec spec{"lifting.mask_level",
                 "mask-level lifting (LangOR's w/o CVP-L ablation, LaGa-style): HDBSCAN over one "
                 "masked-mean feature per training mask",
-                lifting_inputs(), lifting_outputs(), hdbscan_params(mask_level_hdbscan())};
+                lifting_inputs(), lifting_outputs(), lifting_params(mask_level_hdbscan())};
   registry.add(std::move(spec), [](NodeContext& ctx) {
     const HdbscanParams p = read_hdbscan(ctx);
     const double cannot_link_iou = ctx.param_float("cannot_link_iou");
