@@ -349,7 +349,7 @@ int cmd_nodes(int argc, char** argv, const Registry& registry) {
     const std::string hint = suggest(type, registry.types());
     throw UsageError("unknown node type '" + type + "'" + (hint.empty() ? "" : " (" + hint + ")"));
   }
-  std::printf("%s", node_type_text(*spec).c_str());
+  std::printf("%s", node_type_text(*spec, registry.source(type)).c_str());
   return exit_code::kOk;
 }
 

@@ -50,8 +50,9 @@ std::string catalogue_text(const Registry& registry) {
   return out;
 }
 
-std::string node_type_text(const NodeSpec& spec) {
+std::string node_type_text(const NodeSpec& spec, const std::string& source) {
   std::string out = spec.type + ": " + spec.doc + "\n";
+  if (!source.empty()) out += "source: " + source + "\n";
   out += ports_text("inputs", spec.inputs);
   out += ports_text("outputs", spec.outputs);
   out += "params:\n";

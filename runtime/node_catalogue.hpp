@@ -10,8 +10,9 @@ namespace gslift {
 // One line per registered type, sorted: "<type padded>  <doc>".
 std::string catalogue_text(const Registry& registry);
 
-// One type in full: doc, inputs and outputs (name, type, optional, doc), and params (name, type,
-// default or "required", range, choices, doc).
-std::string node_type_text(const NodeSpec& spec);
+// One type in full: doc, the file that registers it (when given, so that a reader goes from the
+// catalogue to the code in one hop), inputs and outputs (name, type, optional, doc), and params
+// (name, type, default or "required", range, choices, doc).
+std::string node_type_text(const NodeSpec& spec, const std::string& source = {});
 
 }  // namespace gslift

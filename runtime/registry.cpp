@@ -4,8 +4,23 @@
 
 namespace gslift {
 
-void Registry::add(NodeSpec spec, NodeFn fn) {
+namespace {
+
+// The registering file relative to the repository root: compilers (and ccache's base_dir) give
+// it absolute or relative to the build folder.
+std::string repository_path(std::string file) {
+  const std::string root = std::string(GSLIFT_SOURCE_DIR) + "/";
+  if (file.compare(0, root.size(), root) == 0) return file.substr(root.size());
+  while (file.compare(0, 3, "../") == 0 || file.compare(0, 2, "./") == 0)
+    file.erase(0, file[1] == '/' ? 2 : 3);
+  return file;
+}
+
+}  // namespace
+
+void Registry::add(NodeSpec spec, NodeFn fn, const char* source) {
   const std::string type = spec.type;
+
   if (entries_.count(type)) throw std::logic_error("node type '" + type + "' registered twice");
   for (const auto& p : spec.params) {
     if (!p.default_value) continue;
@@ -13,7 +28,7 @@ void Registry::add(NodeSpec spec, NodeFn fn) {
     if (!err.empty())
       throw std::logic_error("node type '" + type + "': default of param '" + p.name + "': " + err);
   }
-  entries_.emplace(type, Entry{std::move(spec), std::move(fn)});
+  entries_.emplace(type, Entry{std::move(spec), std::move(fn), repository_path(source)});
 }
 
 const NodeSpec* Registry::find(const std::string& type) const {
@@ -25,6 +40,12 @@ std::vector<std::string> Registry::types() const {
   std::vector<std::string> out;
   for (const auto& [k, v] : entries_) out.push_back(k);
   return out;
+}
+
+const std::string& Registry::source(const std::string& type) const {
+  auto it = entries_.find(type);
+  if (it == entries_.end()) throw std::logic_error("unknown node type '" + type + "'");
+  return it->second.source;
 }
 
 const NodeFn& Registry::body(const std::string& type) const {

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "graph/node_spec.hpp"
+#include "graph/param_table.hpp"
 #include "runtime/node.hpp"
 
 namespace gslift {
@@ -15,16 +16,39 @@ namespace gslift {
 class Registry : public NodeCatalog {
  public:
   // Throws std::logic_error on a duplicate type or an inconsistent spec (bad default, etc.).
-  void add(NodeSpec spec, NodeFn fn);
+  // `source` is the file that registers the node (`gslift nodes TYPE` prints it); the default
+  // argument takes the caller's file.
+  void add(NodeSpec spec, NodeFn fn, const char* source = __builtin_FILE());
+
+  // A node whose params are the fields of `table`: the spec's params are generated from the
+  // table with `defaults`' values, and `body(ctx, options)` receives them read into an Options
+  // struct, so a param is declared once and never read by name. `spec.params` must be empty.
+  template <class Options, class Body>
+  void add(NodeSpec spec, const ParamTable<Options>& table, Body body,
+           const Options& defaults = Options{}, const char* source = __builtin_FILE()) {
+    if (!spec.params.empty())
+      throw std::logic_error("node type '" + spec.type + "' declares params beside its table");
+    spec.params = table.specs(defaults);
+    add(
+        std::move(spec),
+        [table, defaults, body](NodeContext& ctx) {
+          const Options options = table.read(ctx.node().params, defaults);
+          body(ctx, options);
+        },
+        source);
+  }
 
   const NodeSpec* find(const std::string& type) const override;
   std::vector<std::string> types() const override;  // sorted
   const NodeFn& body(const std::string& type) const;
+  // The file that registers `type`, relative to the repository root.
+  const std::string& source(const std::string& type) const;
 
  private:
   struct Entry {
     NodeSpec spec;
     NodeFn fn;
+    std::string source;
   };
   std::map<std::string, Entry> entries_;
 };
