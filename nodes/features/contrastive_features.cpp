@@ -225,4 +225,21 @@ ContrastiveResult train_contrastive_features(const GaussianModel& model, const C
   return result;
 }
 
+const ParamTable<ContrastiveOptions>& contrastive_param_table() {
+  using O = ContrastiveOptions;
+  static const ParamTable<O> table =
+      ParamTable<O>()
+          .add("iterations", &O::iterations, "Adam steps (LangOR: 300)", 1, 1e6)
+          .add("lambda", &O::lambda, "weight of the outside-mask repulsion (LangOR: 0.2)", 0)
+          .add("dim", &O::dim, "feature channels per Gaussian", 1, 512)
+          .add("lr", &O::lr, "Adam learning rate of the features", 1e-9, 10)
+          .add("pixels_per_iteration", &O::pixels_per_iteration,
+               "pixels sampled inside each mask per step, and as many outside", 1, 1e6)
+          .add("init_std", &O::init_std, "standard deviation of the random initial features", 1e-9,
+               100)
+          .add("min_weight", &O::min_weight,
+               "blend weights below this are dropped from the stored rows (memory)", 0, 1);
+  return table;
+}
+
 }  // namespace gslift

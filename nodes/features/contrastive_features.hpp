@@ -40,6 +40,7 @@
 #include <cstdint>
 #include <functional>
 
+#include "graph/param_table.hpp"
 #include "nodes/scene/capture.hpp"
 #include "nodes/scene/gaussian_model.hpp"
 #include "nodes/scene/masks.hpp"
@@ -61,8 +62,11 @@ struct ContrastiveOptions {
   // Blend weights below this are left out of the stored rows [decision, measured above: 6x less
   // memory than all weights, same separability].
   double min_weight = 1e-2;
-  uint64_t seed = 0;
+  uint64_t seed = 0;  // not a param: the node's seed
 };
+
+// The params of features.contrastive: one entry per field above.
+const ParamTable<ContrastiveOptions>& contrastive_param_table();
 
 struct ContrastiveResult {
   GaussianModel model;  // the input geometry, features = the trained N x dim features
