@@ -10,6 +10,7 @@
 
 #include "nodes/features/contrastive_loss.hpp"
 #include "nodes/splat/adam.hpp"
+#include "nodes/splat/pixel_rows.hpp"
 #include "nodes/splat/rasterizer.hpp"
 #include "nodes/splat/render_cache.hpp"
 #include "runtime/node.hpp"
@@ -17,37 +18,6 @@
 
 namespace gslift {
 namespace {
-
-// The per-pixel rows of one view's RenderCache without the contributions below min_weight, and
-// without the cache's per-Gaussian transpose: only sampled pixels are ever rendered or
-// back-propagated, so the transpose is never needed, and dropping it and the faint tail of each
-// blend list cuts the memory several times (measured in contrastive_features.hpp).
-struct PixelRows {
-  std::vector<uint32_t> offsets;  // pixels + 1
-  std::vector<uint32_t> ids;
-  std::vector<float> weights;
-
-  PixelRows(const RenderCache& cache, float min_weight) {
-    const auto& off = cache.pixel_offsets();
-    const auto& all_ids = cache.ids();
-    const auto& all_w = cache.weights();
-    offsets.reserve(off.size());
-    offsets.push_back(0);
-    for (size_t p = 0; p + 1 < off.size(); ++p) {
-      for (uint32_t e = off[p]; e < off[p + 1]; ++e)
-        if (all_w[e] >= min_weight) {
-          ids.push_back(all_ids[e]);
-          weights.push_back(all_w[e]);
-        }
-      offsets.push_back(static_cast<uint32_t>(ids.size()));
-    }
-    ids.shrink_to_fit();
-    weights.shrink_to_fit();
-  }
-  size_t bytes() const {
-    return sizeof(uint32_t) * (offsets.size() + ids.size()) + sizeof(float) * weights.size();
-  }
-};
 
 // One mask of one training view: the pixels inside it (row-major indices) and the mask itself,
 // for the outside test.
@@ -71,38 +41,6 @@ void validate(const GaussianModel& model, const ContrastiveOptions& o) {
     throw InputError(
         "features.contrastive: iterations, dim, pixels_per_iteration, lr and init_std must be "
         "positive, lambda and min_weight non-negative");
-}
-
-// Renders the features of `pixels` from the cached blend weights (LangOR Eq. 1).
-void render_pixels(const PixelRows& rows, const std::vector<float>& features, int dim,
-                   const std::vector<uint32_t>& pixels, float* out) {
-  const auto& off = rows.offsets;
-  const auto& ids = rows.ids;
-  const auto& w = rows.weights;
-  for (size_t k = 0; k < pixels.size(); ++k) {
-    float* o = out + k * dim;
-    std::fill(o, o + dim, 0.f);
-    for (uint32_t e = off[pixels[k]]; e < off[pixels[k] + 1]; ++e) {
-      const float* f = features.data() + size_t(ids[e]) * dim;
-      for (int c = 0; c < dim; ++c) o[c] += w[e] * f[c];
-    }
-  }
-}
-
-// Adds W^T grad of the sampled pixels to grad_features (the transposed product, restricted to
-// the samples).
-void backward_pixels(const PixelRows& rows, const std::vector<uint32_t>& pixels, const float* grad,
-                     int dim, std::vector<float>& grad_features) {
-  const auto& off = rows.offsets;
-  const auto& ids = rows.ids;
-  const auto& w = rows.weights;
-  for (size_t k = 0; k < pixels.size(); ++k) {
-    const float* g = grad + k * dim;
-    for (uint32_t e = off[pixels[k]]; e < off[pixels[k] + 1]; ++e) {
-      float* d = grad_features.data() + size_t(ids[e]) * dim;
-      for (int c = 0; c < dim; ++c) d[c] += w[e] * g[c];
-    }
-  }
 }
 
 // n pixels uniformly inside the mask, then up to n uniformly outside it (rejection sampling over
@@ -197,7 +135,7 @@ ContrastiveResult train_contrastive_features(const GaussianModel& model, const C
       const int n_out = sample_pixels(m, o.pixels_per_iteration, rng, s.pixels);
       const int n_in = o.pixels_per_iteration;
       std::vector<float> rendered(s.pixels.size() * dim);
-      render_pixels(view_rows[m.rows], features, dim, s.pixels, rendered.data());
+      view_rows[m.rows].render(features.data(), dim, s.pixels, rendered.data());
       s.grad.resize(rendered.size());
       s.loss =
           mask_contrastive_loss(rendered.data(), n_in, rendered.data() + size_t(n_in) * dim, n_out,
@@ -208,8 +146,7 @@ ContrastiveResult train_contrastive_features(const GaussianModel& model, const C
     std::fill(grad.begin(), grad.end(), 0.f);
     for (size_t k = 0; k < training.size(); ++k) {
       loss += steps[k].loss;
-      backward_pixels(view_rows[training[k].rows], steps[k].pixels, steps[k].grad.data(), dim,
-                      grad);
+      view_rows[training[k].rows].backward(steps[k].pixels, steps[k].grad.data(), dim, grad.data());
     }
     loss /= training.size();
     if (it == 0) result.loss_start = loss;

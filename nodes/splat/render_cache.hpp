@@ -16,6 +16,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "nodes/splat/pixel_rows.hpp"
 #include "nodes/splat/rasterizer.hpp"
 
 namespace gslift {
@@ -44,11 +45,23 @@ class RenderCache {
   // Gaussians; every sum runs in a fixed order, so the result does not depend on the thread count.
   void backward(const float* grad_out, int channels, float* grad_attributes) const;
 
+  // The same products restricted to sampled pixels (row-major indices): out (pixels.size() x
+  // channels) = W_S attributes, and its adjoint grad_attributes += W_S^T grad.
+  void render_pixels(const float* attributes, int channels, const std::vector<uint32_t>& pixels,
+                     float* out) const {
+    render_sampled_pixels(pixel_rows(), attributes, channels, pixels, out);
+  }
+  void backward_pixels(const std::vector<uint32_t>& pixels, const float* grad, int channels,
+                       float* grad_attributes) const {
+    backward_sampled_pixels(pixel_rows(), pixels, grad, channels, grad_attributes);
+  }
+
   // Per-pixel rows: pixel p owns [pixel_offsets[p], pixel_offsets[p+1]) of ids/weights, front to
   // back.
   const std::vector<uint32_t>& pixel_offsets() const { return pixel_offsets_; }
   const std::vector<uint32_t>& ids() const { return ids_; }
   const std::vector<float>& weights() const { return weights_; }
+  PixelRowsView pixel_rows() const { return {pixel_offsets_.data(), ids_.data(), weights_.data()}; }
 
  private:
   template <class Index>

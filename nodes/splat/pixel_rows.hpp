@@ -1,0 +1,62 @@
+// Rendering at sampled pixels only. Training on frozen geometry (LangOR's contrastive features,
+// Proto-SaGa's view classifiers, SAGA's correspondence loss) renders a few hundred sampled pixels
+// per step, not whole views: the rows S of the sparse product F = W A (LangOR Eq. 1) and its
+// adjoint dL/dA += W_S^T dL/dF_S. The per-pixel rows are CSR: pixel p owns
+// [offsets[p], offsets[p+1]) of ids / weights, front to back.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace gslift {
+
+class RenderCache;
+
+// The CSR arrays of some view's per-pixel blend weights, borrowed.
+struct PixelRowsView {
+  const uint32_t* offsets = nullptr;
+  const uint32_t* ids = nullptr;
+  const float* weights = nullptr;
+};
+
+// out (pixels.size() x channels, row-major) = the rows `pixels` of W times attributes
+// (N x channels, row-major).
+void render_sampled_pixels(const PixelRowsView& rows, const float* attributes, int channels,
+                           const std::vector<uint32_t>& pixels, float* out);
+// The adjoint: grad_attributes (N x channels) += W_S^T grad (pixels.size() x channels), summed in
+// sample order (deterministic).
+void backward_sampled_pixels(const PixelRowsView& rows, const std::vector<uint32_t>& pixels,
+                             const float* grad, int channels, float* grad_attributes);
+
+// A compact copy of a RenderCache's per-pixel rows without the pairs below `min_weight` and
+// without the cache's tile lists and per-Gaussian transpose, which sampled-pixel training never
+// needs: dropping them and the faint tail of each blend list cuts the memory several times
+// (measured for LangOR's features in nodes/features/contrastive_features.hpp).
+class PixelRows {
+ public:
+  explicit PixelRows(const RenderCache& cache, float min_weight = 0.f);
+
+  size_t pixel_count() const { return offsets_.size() - 1; }
+  size_t entries() const { return ids_.size(); }
+  size_t bytes() const {
+    return sizeof(uint32_t) * (offsets_.size() + ids_.size()) + sizeof(float) * weights_.size();
+  }
+  PixelRowsView view() const { return {offsets_.data(), ids_.data(), weights_.data()}; }
+
+  void render(const float* attributes, int channels, const std::vector<uint32_t>& pixels,
+              float* out) const {
+    render_sampled_pixels(view(), attributes, channels, pixels, out);
+  }
+  void backward(const std::vector<uint32_t>& pixels, const float* grad, int channels,
+                float* grad_attributes) const {
+    backward_sampled_pixels(view(), pixels, grad, channels, grad_attributes);
+  }
+
+ private:
+  std::vector<uint32_t> offsets_;  // pixels + 1
+  std::vector<uint32_t> ids_;
+  std::vector<float> weights_;
+};
+
+}  // namespace gslift
