@@ -2,6 +2,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "nodes/inference/filter_3d.hpp"
 #include "nodes/inference/query_files.hpp"
 #include "nodes/inference/text_query.hpp"
 #include "nodes/splat/ply_io.hpp"
@@ -41,9 +42,37 @@ std::vector<int32_t> query_class_ids(const GaussianModel& model, const TextQuery
   return ids;
 }
 
+void run_filter_3d(NodeContext& ctx, const Filter3dOptions& o) {
+  const auto model = ctx.input<GaussianModel>("model");
+  if (model->instance_ids.size() != model->size())
+    throw InputError("inference.filter_3d: the model has " +
+                     std::to_string(model->instance_ids.size()) + " instance ids for " +
+                     std::to_string(model->size()) + " Gaussians (run an association first)");
+  Filter3dResult r = filter_instances_3d(model->means, model->instance_ids, o);
+  ctx.record("outliers", static_cast<double>(r.outliers));
+  ctx.record("component_dropped", static_cast<double>(r.component_dropped));
+  ctx.record("grown", static_cast<double>(r.grown));
+  ctx.record("restored", static_cast<double>(r.restored));
+  GaussianModel out = *model;
+  out.instance_ids = std::move(r.instance_ids);
+  ctx.output("model", std::move(out));
+}
+
+void add_filter_3d(Registry& registry) {
+  NodeSpec spec{
+      "inference.filter_3d",
+      "3D post-processing of segmented Gaussians (SAGA): statistical outlier filter, "
+      "connected components, ball-query growth",
+      {{"model", PortTypeName<GaussianModel>::value, "segmented Gaussians (instance_ids set)"}},
+      {{"model", PortTypeName<GaussianModel>::value,
+        "the same Gaussians; removed ones unassigned (-1), grown ones joined"}}};
+  registry.add(std::move(spec), filter_3d_param_table(), run_filter_3d);
+}
+
 }  // namespace
 
 void register_inference_nodes(Registry& registry) {
+  add_filter_3d(registry);
   const TextQueryOptions d;
   ParamSpec queries;
   queries.name = "queries";

@@ -1,0 +1,207 @@
+#include "nodes/inference/filter_3d.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <numeric>
+#include <stdexcept>
+#include <string>
+
+#include <open3d/geometry/KDTreeFlann.h>
+#include <tbb/parallel_for.h>
+
+namespace gslift {
+namespace {
+
+Eigen::MatrixXd centres(const std::vector<float>& means, const std::vector<size_t>& members) {
+  Eigen::MatrixXd m(3, members.size());
+  for (size_t j = 0; j < members.size(); ++j)
+    for (int c = 0; c < 3; ++c) m(c, j) = means[3 * members[j] + c];
+  return m;
+}
+
+// Mean distance of every point to its k nearest other points (the point itself left out, also
+// when another point sits at the same place).
+std::vector<double> mean_knn_distance(const Eigen::MatrixXd& pts, int k) {
+  const open3d::geometry::KDTreeFlann tree(pts);
+  std::vector<double> mean(pts.cols());
+  tbb::parallel_for(Eigen::Index(0), pts.cols(), [&](Eigen::Index i) {
+    std::vector<int> idx;
+    std::vector<double> d2;
+    tree.SearchKNN(Eigen::Vector3d(pts.col(i)), k + 1, idx, d2);
+    double sum = 0;
+    int used = 0;
+    bool self_skipped = false;
+    for (size_t j = 0; j < idx.size() && used < k; ++j) {
+      if (!self_skipped && idx[j] == i) {
+        self_skipped = true;
+        continue;
+      }
+      sum += std::sqrt(d2[j]);
+      ++used;
+    }
+    mean[i] = used ? sum / used : 0.0;
+  });
+  return mean;
+}
+
+// The largest distance from a point to its nearest other point.
+double largest_nn_distance(const Eigen::MatrixXd& pts) {
+  if (pts.cols() < 2) return 0;
+  const std::vector<double> nn = mean_knn_distance(pts, 1);
+  return *std::max_element(nn.begin(), nn.end());
+}
+
+int find_root(std::vector<int>& parent, int i) {
+  while (parent[i] != i) i = parent[i] = parent[parent[i]];
+  return i;
+}
+
+// Component index per point: points at most r apart are linked (union-find over radius searches;
+// the search itself is strict, so r is widened by a relative 1e-9 to keep the pair that defines
+// r linked).
+std::vector<int> components_within(const Eigen::MatrixXd& pts, double r) {
+  r *= 1 + 1e-9;
+  const int n = static_cast<int>(pts.cols());
+  std::vector<int> parent(n);
+  std::iota(parent.begin(), parent.end(), 0);
+  const open3d::geometry::KDTreeFlann tree(pts);
+  std::vector<int> idx;
+  std::vector<double> d2;
+  for (int i = 0; i < n; ++i) {
+    tree.SearchRadius(Eigen::Vector3d(pts.col(i)), r, idx, d2);
+    for (const int j : idx) {
+      const int a = find_root(parent, i), b = find_root(parent, j);
+      if (a != b) parent[std::max(a, b)] = std::min(a, b);  // the smaller index is the root
+    }
+  }
+  std::vector<int> label(n);
+  for (int i = 0; i < n; ++i) label[i] = find_root(parent, i);
+  return label;
+}
+
+}  // namespace
+
+Filter3dResult filter_instances_3d(const std::vector<float>& means,
+                                   const std::vector<int32_t>& instance_ids,
+                                   const Filter3dOptions& o) {
+  filter_3d_param_table().validate(o, "inference.filter_3d");
+  if (means.size() != 3 * instance_ids.size())
+    throw std::invalid_argument("filter_3d: " + std::to_string(means.size() / 3) +
+                                " Gaussians but " + std::to_string(instance_ids.size()) +
+                                " instance ids");
+  Filter3dResult result;
+  result.instance_ids = instance_ids;
+  std::map<int32_t, std::vector<size_t>> members;  // ordered: results do not depend on hashing
+  for (size_t g = 0; g < instance_ids.size(); ++g)
+    if (instance_ids[g] >= 0) members[instance_ids[g]].push_back(g);
+
+  // The kept Gaussians of every instance, and each instance's growth radius.
+  std::vector<size_t> kept_all;
+  std::vector<int32_t> kept_instance;
+  std::map<int32_t, double> radius;
+  for (auto& [id, list] : members) {
+    if (static_cast<int>(list.size()) < o.min_instance_size) continue;
+    std::vector<size_t> kept = list;
+    if (o.statistical) {
+      const int k = std::max(1, static_cast<int>(std::lround(std::sqrt(double(list.size())))));
+      const std::vector<double> d = mean_knn_distance(centres(means, list), k);
+      double mu = 0, var = 0;
+      for (const double x : d) mu += x;
+      mu /= d.size();
+      for (const double x : d) var += (x - mu) * (x - mu);
+      const double limit = mu + o.std_ratio * std::sqrt(var / d.size());
+      kept.clear();
+      for (size_t j = 0; j < list.size(); ++j) {
+        if (d[j] <= limit) {
+          kept.push_back(list[j]);
+        } else {
+          result.instance_ids[list[j]] = -1;
+          ++result.outliers;
+        }
+      }
+    }
+    const Eigen::MatrixXd pts = centres(means, kept);
+    const double r = largest_nn_distance(pts);
+    if (o.components && kept.size() > 1) {
+      const std::vector<int> label = components_within(pts, r);
+      std::map<int, size_t> size;
+      for (const int l : label) ++size[l];
+      size_t largest = 0;
+      for (const auto& [l, s] : size) largest = std::max(largest, s);
+      std::vector<size_t> in_kept_components;
+      for (size_t j = 0; j < kept.size(); ++j) {
+        const size_t s = size[label[j]];
+        if (s == largest || s >= o.min_component_fraction * kept.size()) {
+          in_kept_components.push_back(kept[j]);
+        } else {
+          result.instance_ids[kept[j]] = -1;
+          ++result.component_dropped;
+        }
+      }
+      kept = std::move(in_kept_components);
+    }
+    radius[id] = r;
+    for (const size_t g : kept) {
+      kept_all.push_back(g);
+      kept_instance.push_back(id);
+    }
+  }
+
+  // Growth reaches the Gaussians unassigned on input and those the steps above took from the
+  // same instance (SAGA's ball query runs over the whole scene, so it restores the edge that the
+  // one-sided mu + sigma cut clips off even a clean surface), never another instance's.
+  if (o.grow && !kept_all.empty()) {
+    std::vector<char> is_kept(instance_ids.size(), 0);
+    for (const size_t g : kept_all) is_kept[g] = 1;
+    const open3d::geometry::KDTreeFlann tree(centres(means, kept_all));
+    std::vector<int32_t> joined(instance_ids.size(), -1);
+    tbb::parallel_for(size_t(0), instance_ids.size(), [&](size_t g) {
+      if (is_kept[g]) return;
+      std::vector<int> idx;
+      std::vector<double> d2;
+      const Eigen::Vector3d p(means[3 * g], means[3 * g + 1], means[3 * g + 2]);
+      // The nearest kept Gaussian (among the 8 nearest) whose instance may take this one and
+      // whose radius reaches it.
+      tree.SearchKNN(p, 8, idx, d2);
+      for (size_t j = 0; j < idx.size(); ++j) {
+        const int32_t id = kept_instance[idx[j]];
+        if (instance_ids[g] >= 0 && instance_ids[g] != id) continue;
+        if (std::sqrt(d2[j]) <= radius.at(id)) {
+          joined[g] = id;
+          break;
+        }
+      }
+    });
+    for (size_t g = 0; g < joined.size(); ++g)
+      if (joined[g] >= 0) {
+        result.instance_ids[g] = joined[g];
+        ++(instance_ids[g] < 0 ? result.grown : result.restored);
+      }
+  }
+  return result;
+}
+
+const ParamTable<Filter3dOptions>& filter_3d_param_table() {
+  using O = Filter3dOptions;
+  static const ParamTable<O> table =
+      ParamTable<O>()
+          .add("statistical", &O::statistical,
+               "drop Gaussians whose mean distance to their sqrt(n) nearest instance neighbours "
+               "exceeds mu + std_ratio sigma")
+          .add("std_ratio", &O::std_ratio, "sigmas above the mean distance (SAGA: 1)", 0)
+          .add("components", &O::components,
+               "keep only the connected components (link: the largest nearest-neighbour distance) "
+               "that hold the instance's mass")
+          .add("min_component_fraction", &O::min_component_fraction,
+               "a component besides the largest is kept with at least this fraction of the "
+               "instance's Gaussians",
+               0, 1)
+          .add("grow", &O::grow,
+               "unassigned Gaussians within the growth radius of an instance join it (ball query)")
+          .add("min_instance_size", &O::min_instance_size,
+               "instances with fewer Gaussians are left as they are", 2);
+  return table;
+}
+
+}  // namespace gslift

@@ -1,0 +1,52 @@
+// 3D post-processing of segmented Gaussians (SAGA §4.3, "3D post-processing"; shared by every
+// method that labels Gaussians). A 2D-supervised selection keeps floaters far from the object and
+// misses parts that no training view separated; three steps on the Gaussian centres clean it:
+//  1. statistical outlier filter: k = sqrt(n) nearest neighbours within the instance; a Gaussian
+//     whose mean neighbour distance exceeds mu + std_ratio * sigma (over the instance) is dropped;
+//  2. connected components of the kept Gaussians, two being linked when closer than r, the largest
+//     nearest-neighbour distance in the filtered set: components holding the instance's mass are
+//     kept (the largest, and any other with at least `min_component_fraction` of its Gaussians);
+//  3. ball-query growth: a Gaussian within r of the kept set joins the instance, when it was
+//     unassigned or removed from this same instance by steps 1-2.
+// Gaussians removed from an instance and not restored become unassigned (-1), never another
+// instance's.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "graph/param_table.hpp"
+
+namespace gslift {
+
+struct Filter3dOptions {
+  bool statistical = true;
+  double std_ratio = 1.0;  // SAGA: mu + sigma
+  bool components = true;
+  // A component other than the largest is kept when it holds at least this fraction of the
+  // instance's filtered Gaussians [decision: a second piece of one object, e.g. a table's far
+  // edge behind a person, is kept; a speck of floaters is not].
+  double min_component_fraction = 0.2;
+  bool grow = true;
+  // Instances with fewer Gaussians than this are left as they are: sqrt(n) neighbours and a
+  // mean / std over a handful of points say nothing.
+  int min_instance_size = 8;
+};
+
+const ParamTable<Filter3dOptions>& filter_3d_param_table();
+
+struct Filter3dResult {
+  std::vector<int32_t> instance_ids;  // per Gaussian, -1 = unassigned
+  int64_t outliers = 0;               // removed by the statistical filter
+  int64_t component_dropped = 0;      // removed with a small connected component
+  int64_t grown = 0;                  // unassigned Gaussians that joined an instance
+  int64_t restored = 0;               // removed by steps 1-2, then within r of the kept set
+};
+
+// means: N x 3 centres (row-major); instance_ids: N ids, -1 = unassigned. Deterministic at any
+// thread count. Throws std::invalid_argument on inconsistent sizes.
+Filter3dResult filter_instances_3d(const std::vector<float>& means,
+                                   const std::vector<int32_t>& instance_ids,
+                                   const Filter3dOptions& options);
+
+}  // namespace gslift
