@@ -35,3 +35,14 @@ TEST_CASE("one type's page shows ports and params with defaults, ranges and choi
   CHECK(fail.find("  kind: string = \"other\" one of {input, other}\n") != std::string::npos);
   CHECK(node_type_text(*reg.find("debug.random")).find("inputs:\n  (none)\n") != std::string::npos);
 }
+
+TEST_CASE("one type's page names the file that registers it", "[catalogue]") {
+  const Registry reg = test::debug_registry();
+  // The debug nodes are registered in tests/runtime/debug_nodes.cpp: the registry keeps the
+  // caller's file, relative to the repository root.
+  CHECK(reg.source("debug.sleep") == "tests/runtime/debug_nodes.cpp");
+  CHECK(node_type_text(*reg.find("debug.sleep"), reg.source("debug.sleep"))
+            .rfind("debug.sleep: sleeps, polling cancellation\n"
+                   "source: tests/runtime/debug_nodes.cpp\ninputs:\n",
+                   0) == 0);
+}
