@@ -1,0 +1,146 @@
+#include "nodes/splat/view_geometry.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include <tbb/parallel_for.h>
+
+#include "nodes/splat/rasterizer.hpp"
+#include "nodes/splat/reconstruct.hpp"
+#include "runtime/node.hpp"
+
+namespace gslift {
+namespace {
+
+cv::Mat1f ground_truth_depth(const View& v) {
+  const cv::Mat d = v.gt_depth.load();
+  if (d.empty() || d.type() != CV_32FC1 || d.cols != v.camera.width || d.rows != v.camera.height)
+    throw InputError("view '" + v.name + "' has no ground-truth depth of its camera size");
+  return d;
+}
+
+double ratio(double num, double den) {
+  return den > 0 ? num / den : ViewGeometry::kNone;
+}
+
+}  // namespace
+
+cv::Mat1b covered_pixels(const Capture& capture, int view, const std::vector<int>& train,
+                         double tolerance) {
+  const View& ref = capture.views[view];
+  const cv::Mat1f depth = ground_truth_depth(ref);
+  std::vector<cv::Mat1f> train_depth;
+  for (const int t : train) train_depth.push_back(ground_truth_depth(capture.views[t]));
+  const Camera& c = ref.camera;
+  cv::Mat1b covered(depth.size(), uchar(0));
+  tbb::parallel_for(0, depth.rows, [&](int y) {
+    for (int x = 0; x < depth.cols; ++x) {
+      const float d = depth(y, x);
+      if (!(d > 0)) continue;
+      const Eigen::Vector3d cam((x + 0.5 - c.cx) / c.fx * d, (y + 0.5 - c.cy) / c.fy * d, d);
+      const Eigen::Vector3d world = ref.pose.R.transpose() * (cam - ref.pose.t);
+      for (size_t k = 0; k < train.size(); ++k) {
+        const View& tv = capture.views[train[k]];
+        const Eigen::Vector3d p = tv.pose.to_camera(world);
+        if (p.z() <= 0) continue;
+        const double u = tv.camera.fx * p.x() / p.z() + tv.camera.cx;
+        const double v = tv.camera.fy * p.y() / p.z() + tv.camera.cy;
+        const int iu = static_cast<int>(std::floor(u)), iv = static_cast<int>(std::floor(v));
+        if (iu < 0 || iv < 0 || iu >= tv.camera.width || iv >= tv.camera.height) continue;
+        const float seen = train_depth[k](iv, iu);
+        if (seen > 0 && std::abs(seen - p.z()) <= tolerance * p.z()) {
+          covered(y, x) = 1;
+          break;
+        }
+      }
+    }
+  });
+  return covered;
+}
+
+ViewGeometry view_geometry(const GaussianModel& model, const Capture& capture, int view,
+                           const std::vector<int>& train) {
+  const View& v = capture.views[view];
+  const cv::Mat1f truth = ground_truth_depth(v);
+  const cv::Mat1b covered = covered_pixels(capture, view, train);
+  RenderSettings settings;
+  settings.depth = true;
+  settings.alpha = true;
+  settings.normalize_depth = true;
+  RenderOutput out = render(model, v.camera, v.pose, settings);
+  const cv::Mat rgb(out.height, out.width, CV_32FC3, out.rgb.data());
+  const cv::Mat target = v.rgb.load();
+
+  ViewGeometry g;
+  g.psnr = psnr(rgb, target);
+  double surface = 0, n_covered = 0, within = 0, floaters = 0, holes = 0, holes_covered = 0;
+  std::vector<double> abs_rel;
+  for (int y = 0; y < truth.rows; ++y)
+    for (int x = 0; x < truth.cols; ++x) {
+      const double t = truth(y, x);
+      if (!(t > 0)) continue;
+      const size_t p = size_t(y) * truth.cols + x;
+      const bool drawn = out.alpha[p] >= 0.5f;
+      const double d = out.depth[p];
+      surface += 1;
+      n_covered += covered(y, x);
+      holes += !drawn;
+      holes_covered += !drawn && covered(y, x);
+      if (!drawn) continue;
+      const double rel = std::abs(d - t) / t;
+      abs_rel.push_back(rel);
+      within += rel < 0.05;
+      floaters += d < 0.9 * t;
+    }
+  g.coverage = ratio(n_covered, surface);
+  g.depth_within_5pct = ratio(within, surface);
+  g.floaters = ratio(floaters, surface);
+  g.holes = ratio(holes, surface);
+  g.holes_covered = ratio(holes_covered, n_covered);
+  if (!abs_rel.empty()) {
+    auto mid = abs_rel.begin() + abs_rel.size() / 2;
+    std::nth_element(abs_rel.begin(), mid, abs_rel.end());
+    g.depth_abs_rel_median = *mid;
+  }
+  // PSNR over the covered pixels: the squared error summed where covered, as psnr() would.
+  cv::Mat clamped, target_f;
+  cv::min(cv::max(rgb, 0.0), 1.0, clamped);
+  target.convertTo(target_f, CV_32FC3, 1.0 / 255);
+  double se = 0;
+  for (int y = 0; y < truth.rows; ++y)
+    for (int x = 0; x < truth.cols; ++x) {
+      if (!covered(y, x)) continue;
+      const cv::Vec3f a = clamped.at<cv::Vec3f>(y, x), b = target_f.at<cv::Vec3f>(y, x);
+      for (int ch = 0; ch < 3; ++ch) se += double(a[ch] - b[ch]) * (a[ch] - b[ch]);
+    }
+  if (n_covered > 0) {
+    const double mse = se / (3 * n_covered);
+    g.psnr_covered = mse > 0 ? 10 * std::log10(1.0 / mse) : std::numeric_limits<double>::infinity();
+  }
+  return g;
+}
+
+ViewGeometry mean_view_geometry(const GaussianModel& model, const Capture& capture,
+                                const std::vector<int>& views, const std::vector<int>& train) {
+  double ViewGeometry::*fields[] = {&ViewGeometry::psnr,
+                                    &ViewGeometry::psnr_covered,
+                                    &ViewGeometry::coverage,
+                                    &ViewGeometry::depth_abs_rel_median,
+                                    &ViewGeometry::depth_within_5pct,
+                                    &ViewGeometry::floaters,
+                                    &ViewGeometry::holes,
+                                    &ViewGeometry::holes_covered};
+  ViewGeometry mean;
+  std::vector<ViewGeometry> all;
+  for (const int v : views) all.push_back(view_geometry(model, capture, v, train));
+  for (auto f : fields) {
+    double sum = 0;
+    int n = 0;
+    for (const auto& g : all)
+      if (!std::isnan(g.*f)) sum += g.*f, ++n;
+    mean.*f = n ? sum / n : ViewGeometry::kNone;
+  }
+  return mean;
+}
+
+}  // namespace gslift

@@ -1,0 +1,46 @@
+// How right a reconstruction's geometry is in one view, against that view's ground-truth depth:
+// the held-out view is where every method here is judged, and where a few training views leave
+// holes and floaters that training PSNR never shows.
+#pragma once
+
+#include <limits>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "nodes/scene/capture.hpp"
+#include "nodes/scene/gaussian_model.hpp"
+
+namespace gslift {
+
+struct ViewGeometry {
+  static constexpr double kNone = std::numeric_limits<double>::quiet_NaN();
+  // PSNR (dB) over every pixel, and over the covered pixels only.
+  double psnr = kNone, psnr_covered = kNone;
+  // Fraction of the view's surface pixels whose surface point some training view sees.
+  double coverage = kNone;
+  // Over surface pixels (ground-truth depth > 0), d = rendered depth (divided by alpha), d* = true:
+  double depth_abs_rel_median = kNone;  // median |d - d*| / d* where the model draws (alpha >= 0.5)
+  double depth_within_5pct = kNone;     // |d - d*| < 0.05 d* and drawn, over all surface pixels
+  double floaters = kNone;              // drawn and d < 0.9 d* (more than 10% in front)
+  double holes = kNone;                 // alpha < 0.5
+  double holes_covered = kNone;         // alpha < 0.5 among the covered surface pixels
+};
+
+// Pixels of view `view` whose ground-truth surface point is seen by one of `train` views: it
+// projects inside that view, in front of its camera, and its depth there agrees with that view's
+// ground-truth depth within `tolerance` (relative), i.e. nothing occludes it. Pixels without a
+// ground-truth depth are 0. Needs gt_depth on every view involved (throws InputError otherwise).
+cv::Mat1b covered_pixels(const Capture& capture, int view, const std::vector<int>& train,
+                         double tolerance = 0.01);
+
+// Renders the model at `view` (RGB, depth, alpha) and scores it; throws InputError when the view
+// has no ground-truth depth.
+ViewGeometry view_geometry(const GaussianModel& model, const Capture& capture, int view,
+                           const std::vector<int>& train);
+
+// The mean of each field over the given views (NaN fields are left out of their mean).
+ViewGeometry mean_view_geometry(const GaussianModel& model, const Capture& capture,
+                                const std::vector<int>& views, const std::vector<int>& train);
+
+}  // namespace gslift

@@ -1,0 +1,90 @@
+// Held-out geometry metrics: coverage from ground-truth depth on a hand-built plane scene, and the
+// depth / hole / floater fractions of a hand-placed model.
+#include "nodes/splat/view_geometry.hpp"
+
+#include "runtime/node.hpp"
+#include "tests/test_support.hpp"
+
+using namespace gslift;
+
+namespace {
+
+// A 40 x 30 pinhole with fx = fy = 20: at depth 2 it sees x in [-2, 2], y in [-1.5, 1.5].
+Camera small_camera() {
+  Camera c;
+  c.width = 40;
+  c.height = 30;
+  c.fx = c.fy = 20;
+  c.cx = 20;
+  c.cy = 15;
+  return c;
+}
+
+// A view looking down +z from (cx, 0, 0) at the plane z = 2, with that plane as its ground truth.
+View plane_view(const std::string& name, double centre_x) {
+  View v;
+  v.name = name;
+  v.camera = small_camera();
+  v.pose.t = Eigen::Vector3d(-centre_x, 0, 0);  // x_cam = x_world - centre
+  v.gt_depth = ImageSource::in_memory(cv::Mat1f(30, 40, 2.f));
+  v.rgb = ImageSource::in_memory(cv::Mat3b(30, 40, cv::Vec3b(128, 128, 128)));
+  return v;
+}
+
+}  // namespace
+
+TEST_CASE("covered pixels: seen by a training view, inside it and not occluded there",
+          "[splat][geometry]") {
+  Capture capture;
+  capture.views = {plane_view("test", 0), plane_view("train", 1)};
+  capture.views[0].held_out = true;
+  SECTION("a training camera 1 m to the right sees the test view's columns 10..39") {
+    // Test pixel u has its centre at x = (u + 0.5 - 20) / 20 * 2; the training view sees x >= -1,
+    // so u >= 10: 30 of 40 columns.
+    const cv::Mat1b covered = covered_pixels(capture, 0, {1});
+    CHECK(cv::countNonZero(covered) == 30 * 30);
+    CHECK(covered(5, 9) == 0);
+    CHECK(covered(5, 10) == 1);
+  }
+  SECTION("an occluder in front of the plane in the training view's top rows hides them") {
+    cv::Mat1f occluded(30, 40, 2.f);
+    occluded(cv::Rect(0, 0, 40, 10)) = 1.f;  // rows 0..9 see something at 1 m
+    capture.views[1].gt_depth = ImageSource::in_memory(occluded);
+    const cv::Mat1b covered = covered_pixels(capture, 0, {1});
+    CHECK(cv::countNonZero(covered) == 30 * 20);
+    CHECK(covered(9, 20) == 0);
+    CHECK(covered(10, 20) == 1);
+  }
+  SECTION("a view without ground-truth depth is refused") {
+    capture.views[1].gt_depth = ImageSource();
+    CHECK_THROWS_AS(covered_pixels(capture, 0, {1}), InputError);
+  }
+}
+
+TEST_CASE("view geometry: an empty model is all holes; a front plane is all floaters",
+          "[splat][geometry]") {
+  Capture capture;
+  capture.views = {plane_view("test", 0), plane_view("train", 0)};
+  capture.views[0].held_out = true;
+  GaussianModel empty;
+  const ViewGeometry none = view_geometry(empty, capture, 0, {1});
+  CHECK(none.coverage == 1.0);
+  CHECK(none.holes == 1.0);
+  CHECK(none.holes_covered == 1.0);
+  CHECK(none.depth_within_5pct == 0.0);
+  CHECK(none.floaters == 0.0);
+  CHECK(std::isnan(none.depth_abs_rel_median));
+
+  // One large opaque flat Gaussian at z = 1.5 covering the view: every pixel is drawn 25% in
+  // front of the true surface.
+  GaussianModel front;
+  front.resize(1);
+  front.means = {0.f, 0.f, 1.5f};
+  front.log_scales = {std::log(20.f), std::log(20.f), std::log(0.001f)};
+  front.opacity_logits = {10.f};
+  const ViewGeometry g = view_geometry(front, capture, 0, {1});
+  CHECK(g.holes == 0.0);
+  CHECK(g.floaters == 1.0);
+  CHECK(g.depth_within_5pct == 0.0);
+  CHECK(g.depth_abs_rel_median == Approx(0.25).epsilon(1e-3));
+}
