@@ -288,6 +288,11 @@ ReconstructResult reconstruct(const Capture& capture, const ReconstructOptions& 
   result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   result.train_psnr = mean_psnr(model, capture, train);
   result.test_psnr = mean_psnr(model, capture, capture.test_views());
+  const std::vector<int> test = capture.test_views();
+  const bool gt_depth = std::all_of(capture.views.begin(), capture.views.end(),
+                                    [](const View& v) { return v.gt_depth.present(); });
+  if (!test.empty() && gt_depth)
+    result.test_geometry = mean_view_geometry(model, capture, test, train);
   result.model = std::move(model);
   return result;
 }

@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <vector>
 
 #include "nodes/scene/capture.hpp"
@@ -12,6 +13,7 @@
 #include "nodes/splat/adam.hpp"
 #include "nodes/splat/density_control.hpp"
 #include "nodes/splat/initialise.hpp"
+#include "nodes/splat/view_geometry.hpp"
 
 namespace gslift {
 
@@ -88,6 +90,9 @@ struct ReconstructResult {
   std::vector<double> loss_history;  // total loss per step
   // Mean PSNR (dB) of the final model over the training / held-out views; NaN without such views.
   double train_psnr = 0, test_psnr = 0;
+  // Held-out geometry against ground-truth depth (mean over the held-out views), when every view
+  // has ground-truth depth (synthetic captures).
+  std::optional<ViewGeometry> test_geometry;
 };
 
 // Called after every step with (step index, total steps, current total loss, Gaussian count). It

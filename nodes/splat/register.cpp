@@ -101,6 +101,20 @@ void add_reconstruct(Registry& registry) {
     ctx.record("loss_flatness", r.final_loss.flatness);
     ctx.record("train_psnr", r.train_psnr);
     if (!std::isnan(r.test_psnr)) ctx.record("test_psnr", r.test_psnr);
+    if (r.test_geometry) {
+      // NaN (no such pixel) is left out: run.json holds numbers only.
+      const ViewGeometry& g = *r.test_geometry;
+      const std::pair<const char*, double> geometry[] = {
+          {"test_psnr_covered", g.psnr_covered},
+          {"test_coverage", g.coverage},
+          {"test_depth_abs_rel_median", g.depth_abs_rel_median},
+          {"test_depth_within_5pct", g.depth_within_5pct},
+          {"test_floaters", g.floaters},
+          {"test_holes", g.holes},
+          {"test_holes_covered", g.holes_covered}};
+      for (const auto& [key, value] : geometry)
+        if (std::isfinite(value)) ctx.record(key, value);
+    }
     const auto dir = ctx.out_dir();
     if (!dir.empty()) write_ply(r.model, dir / "model.ply");
     ctx.output("model", std::move(r.model));
