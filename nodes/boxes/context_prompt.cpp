@@ -63,12 +63,6 @@ EntityContext parse_entity(const std::string& source, const YAML::Node& entry,
 
 }  // namespace
 
-std::vector<std::string> Vocabulary::class_names() const {
-  std::vector<std::string> names;
-  for (const auto& e : entities) names.push_back(e.name);
-  return names;
-}
-
 Vocabulary parse_vocabulary(const std::string& yaml_text, const std::string& source) {
   YAML::Node root;
   try {

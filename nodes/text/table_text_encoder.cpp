@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "base/errors.hpp"
+#include "nodes/text/normalise_text.hpp"
 
 namespace gslift {
 namespace {
