@@ -7,7 +7,7 @@
 
 #include <Eigen/Core>
 
-#include "runtime/value.hpp"
+#include "base/port_type.hpp"
 
 namespace gslift {
 

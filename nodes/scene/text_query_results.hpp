@@ -8,7 +8,7 @@
 #include <Eigen/Core>
 #include <opencv2/core.hpp>
 
-#include "runtime/value.hpp"
+#include "base/port_type.hpp"
 
 namespace gslift {
 
