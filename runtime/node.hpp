@@ -7,19 +7,15 @@
 #include <functional>
 #include <map>
 #include <memory>
+#include <stdexcept>
 #include <string>
 
+#include "base/errors.hpp"
 #include "graph/graph.hpp"
 #include "graph/node_spec.hpp"
 #include "runtime/value.hpp"
 
 namespace gslift {
-
-// Thrown by a node for bad input data (unreadable file, wrong size, ...). The runtime reports it
-// with the node id, type and YAML line, and the CLI exits with the "unreadable input" code.
-struct InputError : std::runtime_error {
-  using std::runtime_error::runtime_error;
-};
 
 // Thrown (by NodeContext::check_cancelled) when the run was cancelled or interrupted.
 struct Cancelled : std::runtime_error {

@@ -1,6 +1,6 @@
 // Type-erased, immutable, shared values passed between nodes (MediaPipe's packet idea): fan-out
 // copies a pointer, never the data. Each C++ type that travels on a port is bound to the type name
-// ports declare with GSLIFT_PORT_TYPE(T, "Name").
+// ports declare with GSLIFT_PORT_TYPE(T, "Name") (base/port_type.hpp).
 #pragma once
 
 #include <memory>
@@ -8,16 +8,9 @@
 #include <string>
 #include <typeindex>
 
+#include "base/port_type.hpp"
+
 namespace gslift {
-
-template <class T>
-struct PortTypeName;  // specialised by GSLIFT_PORT_TYPE
-
-#define GSLIFT_PORT_TYPE(T, NAME)              \
-  template <>                                  \
-  struct PortTypeName<T> {                     \
-    static constexpr const char* value = NAME; \
-  }
 
 class Value {
  public:

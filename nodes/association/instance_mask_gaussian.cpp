@@ -6,8 +6,8 @@
 
 #include <tbb/parallel_for.h>
 
+#include "base/errors.hpp"
 #include "nodes/association/instance_semantics.hpp"
-#include "runtime/node.hpp"
 
 namespace gslift {
 namespace {

@@ -18,11 +18,12 @@
 
 #include <Eigen/Core>
 
-#include "nodes/lifting/cvp_lifting.hpp"
+#include "nodes/scene/feature_map.hpp"
 #include "nodes/scene/gaussian_model.hpp"
 #include "nodes/scene/instances.hpp"
+#include "nodes/scene/lifted_instances.hpp"
 #include "nodes/scene/masks.hpp"
-#include "nodes/text/text_encoder.hpp"
+#include "nodes/scene/text_encoder.hpp"
 
 namespace gslift {
 

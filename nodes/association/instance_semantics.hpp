@@ -7,7 +7,7 @@
 
 #include <Eigen/Core>
 
-#include "nodes/text/text_encoder.hpp"
+#include "nodes/scene/text_encoder.hpp"
 
 namespace gslift {
 

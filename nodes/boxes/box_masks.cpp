@@ -10,8 +10,8 @@
 #include <tbb/parallel_for.h>
 #include <opencv2/imgproc.hpp>
 
+#include "base/errors.hpp"
 #include "nodes/ingest/capture_annotations.hpp"
-#include "runtime/node.hpp"
 
 namespace gslift {
 namespace {

@@ -7,7 +7,7 @@
 
 #include <yaml-cpp/yaml.h>
 
-#include "runtime/node.hpp"
+#include "base/errors.hpp"
 
 namespace gslift {
 namespace {
@@ -62,12 +62,6 @@ EntityContext parse_entity(const std::string& source, const YAML::Node& entry,
 }
 
 }  // namespace
-
-std::vector<std::string> Vocabulary::class_names() const {
-  std::vector<std::string> names;
-  for (const auto& e : entities) names.push_back(e.name);
-  return names;
-}
 
 Vocabulary parse_vocabulary(const std::string& yaml_text, const std::string& source) {
   YAML::Node root;

@@ -14,27 +14,9 @@
 #include <string>
 #include <vector>
 
-#include "runtime/value.hpp"
+#include "nodes/scene/vocabulary.hpp"
 
 namespace gslift {
-
-struct EntityContext {
-  std::string name;        // class name, lower case, unique in the vocabulary
-  bool person = false;     // kind: person (has a behaviour context) or object
-  std::string spatial;     // where the entity is in the room
-  std::string behaviour;   // what the person does; empty for objects
-  std::string appearance;  // what it looks like
-};
-
-struct Vocabulary {
-  std::string source;                   // the file it came from (for messages)
-  std::vector<EntityContext> entities;  // in file order
-  std::string prompt;                   // build_prompt(*this), filled by the loaders
-
-  std::vector<std::string> class_names() const;
-};
-
-GSLIFT_PORT_TYPE(Vocabulary, "Vocabulary");
 
 // Parses YAML text; `source` names it in errors. Throws InputError "<source>:<line>:<col>: ..."
 // for a missing or empty context, behaviour on an object, an unknown key or kind, a duplicate or

@@ -4,7 +4,7 @@
 #include <cstdio>
 #include <sstream>
 
-#include "runtime/node.hpp"
+#include "base/errors.hpp"
 
 namespace gslift {
 namespace {

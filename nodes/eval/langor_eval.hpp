@@ -8,8 +8,8 @@
 #include <vector>
 
 #include "nodes/eval/langor_metrics.hpp"
-#include "nodes/inference/text_query.hpp"
 #include "nodes/scene/capture.hpp"
+#include "nodes/scene/text_query_results.hpp"
 
 namespace gslift {
 

@@ -8,12 +8,12 @@
 
 #include <tbb/parallel_for.h>
 
+#include "base/errors.hpp"
 #include "nodes/features/contrastive_loss.hpp"
 #include "nodes/splat/adam.hpp"
 #include "nodes/splat/pixel_rows.hpp"
 #include "nodes/splat/rasterizer.hpp"
 #include "nodes/splat/render_cache.hpp"
-#include "runtime/node.hpp"
 #include "runtime/node_seed.hpp"
 
 namespace gslift {

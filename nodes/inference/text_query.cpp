@@ -5,8 +5,8 @@
 #include <tbb/parallel_for.h>
 #include <opencv2/core.hpp>
 
+#include "base/errors.hpp"
 #include "nodes/splat/rasterizer.hpp"
-#include "runtime/node.hpp"
 
 namespace gslift {
 namespace {

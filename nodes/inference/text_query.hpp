@@ -28,9 +28,9 @@
 #include "nodes/scene/capture.hpp"
 #include "nodes/scene/gaussian_model.hpp"
 #include "nodes/scene/instances.hpp"
+#include "nodes/scene/text_encoder.hpp"
+#include "nodes/scene/text_query_results.hpp"
 #include "nodes/splat/render_cache.hpp"
-#include "nodes/text/text_encoder.hpp"
-#include "runtime/value.hpp"
 
 namespace gslift {
 
@@ -80,21 +80,6 @@ struct TextQueryOptions {
   // Extra closed-set vocabulary entries that compete with the queries (e.g. every class name).
   std::vector<std::string> vocabulary;
 };
-
-// What text queries answered, per query and per view: everything eval.langor needs.
-struct TextQueryResults {
-  std::vector<std::string> queries;
-  std::vector<std::vector<int>> instances;  // per query: the selected instances
-  std::vector<Eigen::VectorXf> relevancy;   // per query: relevancy of every instance
-  struct ViewAnswers {
-    std::string view;                  // view name in the capture
-    std::vector<cv::Mat1b> masks;      // per query, 255 = selected
-    std::vector<cv::Mat1f> relevancy;  // per query, per-pixel relevancy in [0, 1]
-  };
-  std::vector<ViewAnswers> views;
-};
-
-GSLIFT_PORT_TYPE(TextQueryResults, "TextQueryResults");
 
 // Selection only (no rendering): instances and their relevancies for every query. Throws
 // InputError when the instances' semantics do not match the encoder's width.

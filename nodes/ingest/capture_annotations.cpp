@@ -6,10 +6,10 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "base/errors.hpp"
 #include "nodes/ingest/capture_manifest.hpp"
 #include "nodes/ingest/sam_masks.hpp"
 #include "nodes/ingest/vlm_reply.hpp"
-#include "runtime/node.hpp"
 
 namespace gslift {
 namespace {

@@ -4,11 +4,11 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include "base/errors.hpp"
 #include "nodes/ingest/capture_manifest.hpp"
 #include "nodes/ingest/colmap_capture.hpp"
 #include "nodes/ingest/nerf_transforms.hpp"
 #include "nodes/ingest/rgbd_folders.hpp"
-#include "runtime/node.hpp"
 
 namespace gslift {
 namespace {

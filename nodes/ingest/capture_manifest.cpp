@@ -2,7 +2,7 @@
 
 #include <yaml-cpp/yaml.h>
 
-#include "runtime/node.hpp"
+#include "base/errors.hpp"
 
 namespace gslift {
 

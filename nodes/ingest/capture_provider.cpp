@@ -3,7 +3,7 @@
 #include <map>
 #include <mutex>
 
-#include "runtime/node.hpp"
+#include "base/errors.hpp"
 
 namespace gslift {
 namespace {

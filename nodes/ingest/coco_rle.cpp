@@ -2,7 +2,7 @@
 
 #include <algorithm>
 
-#include "runtime/node.hpp"
+#include "base/errors.hpp"
 
 namespace gslift {
 

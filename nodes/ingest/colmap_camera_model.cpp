@@ -3,7 +3,7 @@
 #include <array>
 #include <stdexcept>
 
-#include "runtime/node.hpp"
+#include "base/errors.hpp"
 
 namespace gslift {
 namespace {

@@ -2,8 +2,8 @@
 
 #include <spdlog/spdlog.h>
 
+#include "base/errors.hpp"
 #include "nodes/ingest/colmap_model.hpp"
-#include "runtime/node.hpp"
 
 namespace gslift {
 

@@ -8,10 +8,10 @@
 #include <set>
 #include <sstream>
 
+#include "base/errors.hpp"
 #include "nodes/ingest/colmap_camera_model.hpp"
 #include "nodes/ingest/numeric_text.hpp"
 #include "runtime/atomic_file.hpp"
-#include "runtime/node.hpp"
 
 namespace gslift {
 namespace {

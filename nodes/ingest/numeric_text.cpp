@@ -4,7 +4,7 @@
 #include <locale>
 #include <sstream>
 
-#include "runtime/node.hpp"
+#include "base/errors.hpp"
 
 namespace gslift {
 

@@ -7,8 +7,8 @@
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 
+#include "base/errors.hpp"
 #include "nodes/ingest/numeric_text.hpp"
-#include "runtime/node.hpp"
 
 namespace gslift {
 namespace {

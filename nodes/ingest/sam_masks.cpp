@@ -4,8 +4,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "base/errors.hpp"
 #include "nodes/ingest/coco_rle.hpp"
-#include "runtime/node.hpp"
 
 namespace gslift {
 namespace {

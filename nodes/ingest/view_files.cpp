@@ -9,8 +9,8 @@
 #include <opencv2/core/eigen.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "base/errors.hpp"
 #include "nodes/scene/image_io.hpp"
-#include "runtime/node.hpp"
 
 namespace gslift {
 namespace {

@@ -6,7 +6,7 @@
 #include <spdlog/spdlog.h>
 #include <nlohmann/json.hpp>
 
-#include "runtime/node.hpp"
+#include "base/errors.hpp"
 
 namespace gslift {
 namespace {

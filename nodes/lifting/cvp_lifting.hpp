@@ -16,29 +16,11 @@
 #include <Eigen/Core>
 
 #include "nodes/lifting/hdbscan.hpp"
+#include "nodes/scene/feature_map.hpp"
+#include "nodes/scene/lifted_instances.hpp"
 #include "nodes/scene/masks.hpp"
-#include "runtime/value.hpp"
 
 namespace gslift {
-
-// One view's rendered feature image F(p) (LangOR Eq. 1), row-major, `dim` floats per pixel.
-struct FeatureMap {
-  int width = 0;
-  int height = 0;
-  int dim = 0;
-  std::vector<float> values;  // height * width * dim
-
-  const float* at(int x, int y) const {
-    return values.data() + (static_cast<size_t>(y) * width + x) * dim;
-  }
-};
-
-struct SampledPixel {
-  int view = 0;  // index into the views / MaskSet::views
-  int mask = 0;  // index into that view's masks
-  int x = 0;
-  int y = 0;
-};
 
 // HDBSCAN settings for instance features [decisions]: cosine, since the contrastive loss (Eq. 3)
 // shapes features by cosine; min_cluster_size 10 (LaGa/SAGA use 5..10); epsilon 0; min_samples 3
@@ -74,17 +56,6 @@ struct CvpLiftingParams {
   double cannot_link_iou = 0.5;
   uint64_t seed = 0;
 };
-
-struct LiftedInstances {
-  // CVP: the distinct drawn pixels and their HDBSCAN labels (-1 noise).
-  // Mask level: one entry per mask (x = y = -1) and the mask's label.
-  std::vector<SampledPixel> samples;
-  std::vector<int> labels;
-  // Eq. 5: one row per instance, the mean feature of its members (noise excluded).
-  Eigen::MatrixXf prototypes;
-};
-
-GSLIFT_PORT_TYPE(LiftedInstances, "LiftedInstances");
 
 // views[i] goes with masks.views[i]. Throws std::invalid_argument when the counts differ, a mask
 // does not match its feature map's size, or there are no mask pixels at all.

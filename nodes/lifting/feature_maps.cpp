@@ -2,9 +2,9 @@
 
 #include <string>
 
+#include "base/errors.hpp"
 #include "nodes/splat/rasterizer.hpp"
 #include "nodes/splat/render_cache.hpp"
-#include "runtime/node.hpp"
 
 namespace gslift {
 

@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "runtime/value.hpp"
+#include "base/port_type.hpp"
 
 namespace gslift {
 

@@ -11,9 +11,9 @@
 
 #include <Eigen/Core>
 
+#include "base/port_type.hpp"
 #include "nodes/scene/camera.hpp"
 #include "nodes/scene/image_source.hpp"
-#include "runtime/value.hpp"
 
 namespace gslift {
 

@@ -4,10 +4,11 @@
 // opacity logits, unnormalised quaternions (w, x, y, z).
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
-#include "runtime/value.hpp"
+#include "base/port_type.hpp"
 
 namespace gslift {
 

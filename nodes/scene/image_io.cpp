@@ -8,8 +8,8 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "base/errors.hpp"
 #include "runtime/atomic_file.hpp"
-#include "runtime/node.hpp"
 
 namespace gslift {
 namespace {

@@ -8,7 +8,7 @@
 
 #include <Eigen/Core>
 
-#include "runtime/value.hpp"
+#include "base/port_type.hpp"
 
 namespace gslift {
 

@@ -6,7 +6,7 @@
 
 #include <opencv2/core.hpp>
 
-#include "runtime/value.hpp"
+#include "base/port_type.hpp"
 
 namespace gslift {
 

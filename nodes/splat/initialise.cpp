@@ -7,8 +7,8 @@
 #include <open3d/geometry/PointCloud.h>
 #include <Eigen/Geometry>
 
+#include "base/errors.hpp"
 #include "nodes/splat/depth_normals.hpp"
-#include "runtime/node.hpp"
 
 namespace gslift {
 namespace {

@@ -8,8 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "base/errors.hpp"
 #include "runtime/atomic_file.hpp"
-#include "runtime/node.hpp"
 
 namespace gslift {
 namespace {

@@ -10,10 +10,10 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include "base/errors.hpp"
 #include "nodes/splat/depth_normals.hpp"
 #include "nodes/splat/losses.hpp"
 #include "nodes/splat/rasterizer.hpp"
-#include "runtime/node.hpp"
 
 namespace gslift {
 namespace {

@@ -13,8 +13,8 @@
 #include <tbb/parallel_for.h>
 #include <Eigen/Core>
 
+#include "base/errors.hpp"
 #include "nodes/splat/raster_state.hpp"
-#include "runtime/node.hpp"
 
 namespace gslift {
 

@@ -5,9 +5,9 @@
 
 #include <tbb/parallel_for.h>
 
+#include "base/errors.hpp"
 #include "nodes/splat/rasterizer.hpp"
 #include "nodes/splat/reconstruct.hpp"
-#include "runtime/node.hpp"
 
 namespace gslift {
 namespace {

@@ -4,7 +4,7 @@
 #include <cstdlib>
 #include <stdexcept>
 
-#include "runtime/node.hpp"
+#include "base/errors.hpp"
 
 namespace gslift::synth {
 

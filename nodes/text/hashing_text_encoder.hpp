@@ -11,7 +11,7 @@
 
 #include <cstdint>
 
-#include "nodes/text/text_encoder.hpp"
+#include "nodes/scene/text_encoder.hpp"
 
 namespace gslift {
 

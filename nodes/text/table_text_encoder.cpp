@@ -7,7 +7,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "runtime/node.hpp"
+#include "base/errors.hpp"
+#include "nodes/text/normalise_text.hpp"
 
 namespace gslift {
 namespace {

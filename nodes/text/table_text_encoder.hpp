@@ -16,7 +16,7 @@
 #include <map>
 #include <vector>
 
-#include "nodes/text/text_encoder.hpp"
+#include "nodes/scene/text_encoder.hpp"
 
 namespace gslift {
 

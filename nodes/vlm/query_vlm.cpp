@@ -6,9 +6,9 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
+#include "base/errors.hpp"
 #include "nodes/vlm/chat_request.hpp"
 #include "nodes/vlm/http_post.hpp"
-#include "runtime/node.hpp"
 
 namespace gslift {
 

@@ -7,10 +7,10 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include "nodes/boxes/context_prompt.hpp"
 #include "nodes/ingest/vlm_reply.hpp"
 #include "nodes/scene/boxes.hpp"
 #include "nodes/scene/capture.hpp"
+#include "nodes/scene/vocabulary.hpp"
 #include "nodes/vlm/query_vlm.hpp"
 #include "runtime/atomic_file.hpp"
 

@@ -4,7 +4,7 @@
 #include <map>
 #include <string>
 
-#include "nodes/text/text_encoder.hpp"
+#include "nodes/scene/text_encoder.hpp"
 
 namespace gslift::test {
 

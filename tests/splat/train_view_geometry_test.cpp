@@ -2,7 +2,7 @@
 // depth / hole / floater fractions of a hand-placed model.
 #include "nodes/splat/view_geometry.hpp"
 
-#include "runtime/node.hpp"
+#include "base/errors.hpp"
 #include "tests/test_support.hpp"
 
 using namespace gslift;

@@ -1,6 +1,6 @@
 // text.encoder as a graph node, run through the inline-graph harness.
+#include "nodes/scene/text_encoder.hpp"
 #include "nodes/text/register.hpp"
-#include "nodes/text/text_encoder.hpp"
 #include "runtime/executor.hpp"
 #include "tests/test_support.hpp"
 

@@ -1,4 +1,4 @@
-#include "nodes/text/text_encoder.hpp"
+#include "nodes/text/normalise_text.hpp"
 
 #include <cctype>
 
@@ -18,11 +18,6 @@ std::string normalise_text(const std::string& text) {
     out.push_back(static_cast<char>(std::tolower(c)));
   }
   return out;
-}
-
-float cosine(const Eigen::VectorXf& a, const Eigen::VectorXf& b) {
-  const float na = a.norm(), nb = b.norm();
-  return na > 0 && nb > 0 ? a.dot(b) / (na * nb) : 0.f;
 }
 
 }  // namespace gslift

@@ -1,12 +1,13 @@
-// Text encoders behind one interface (LangOR §1.1): cluster labels and user queries go through
-// the same encoder, so retrieval is text-to-text cosine similarity.
+// The text encoder that travels on ports (LangOR §1.1): cluster labels and user queries go through
+// the same encoder, so retrieval is text-to-text cosine similarity. The encoders themselves live
+// in nodes/text/; association and inference only need this interface.
 #pragma once
 
 #include <string>
 
 #include <Eigen/Core>
 
-#include "runtime/value.hpp"
+#include "base/port_type.hpp"
 
 namespace gslift {
 
@@ -21,10 +22,6 @@ class TextEncoder {
 };
 
 GSLIFT_PORT_TYPE(TextEncoder, "TextEncoder");
-
-// The canonical form both encoders look texts up by: lower case, runs of whitespace collapsed to
-// one space, no leading or trailing space.
-std::string normalise_text(const std::string& text);
 
 // Cosine similarity of two embeddings (0 when either is zero).
 float cosine(const Eigen::VectorXf& a, const Eigen::VectorXf& b);
