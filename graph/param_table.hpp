@@ -112,10 +112,13 @@ class ParamTable {
         [m](const O& o) { return ParamValue{o.*m}; },
         [m](O& o, const ParamValue& v) { o.*m = std::get<std::vector<double>>(v); });
   }
-  ParamTable& add(std::string name, std::vector<std::string> O::*m, std::string doc) {
+  // A list of free strings, or of `choices` when they are given.
+  ParamTable& add(std::string name, std::vector<std::string> O::*m, std::string doc,
+                  std::vector<std::string> choices = {}) {
+    ParamSpec s = spec(std::move(name), ParamType::StringList, std::move(doc));
+    s.choices = std::move(choices);
     return push(
-        spec(std::move(name), ParamType::StringList, std::move(doc)),
-        [m](const O& o) { return ParamValue{o.*m}; },
+        std::move(s), [m](const O& o) { return ParamValue{o.*m}; },
         [m](O& o, const ParamValue& v) { o.*m = std::get<std::vector<std::string>>(v); });
   }
   template <class T, std::enable_if_t<std::is_integral_v<T>, int> = 0>

@@ -150,16 +150,33 @@ std::vector<int32_t> match_gaussians(const GaussianModel& model,
   return out;
 }
 
-InstanceAssociation associate_instances(const std::vector<FeatureMap>& maps, const MaskSet& masks,
+InstanceAssociation associate_instances(const TrainingFeatureMaps& views, const MaskSet& masks,
                                         const LiftedInstances& lifted, const GaussianModel& model,
-                                        const std::vector<float>& contribution,
                                         const TextEncoder& encoder,
                                         const AssociationParams& params) {
+  const std::vector<int>& index = views.mask_views;  // training view i is masks.views[index[i]]
+  bool from_masks = index.size() == views.masks.views.size();
+  for (size_t i = 0; from_masks && i < index.size(); ++i)
+    from_masks = index[i] >= 0 && index[i] < static_cast<int>(masks.views.size()) &&
+                 masks.views[index[i]].masks.size() == views.masks.views[i].masks.size();
+  if (!from_masks)
+    throw InputError("association: the training feature maps do not come from the masks given");
+
   InstanceAssociation out;
   InstanceSet& set = out.instances;
   set.prototypes = lifted.prototypes;
-  set.mask_instance = match_masks(maps, masks, lifted);
-  out.gaussian_instance = match_gaussians(model, contribution, lifted.prototypes, params);
+  const std::vector<std::vector<int>> matched = match_masks(views.maps, views.masks, lifted);
+  set.mask_instance.resize(masks.views.size());
+  for (size_t v = 0; v < masks.views.size(); ++v)
+    set.mask_instance[v].assign(masks.views[v].masks.size(), -1);
+  for (size_t i = 0; i < index.size(); ++i) {
+    set.mask_instance[index[i]] = matched[i];
+    for (const int k : matched[i]) {
+      out.matched_masks += k >= 0;
+      ++out.training_masks;
+    }
+  }
+  out.gaussian_instance = match_gaussians(model, views.contribution, lifted.prototypes, params);
 
   std::vector<std::vector<std::string>> labels(set.size());
   for (size_t v = 0; v < masks.views.size(); ++v)
@@ -173,6 +190,21 @@ InstanceAssociation associate_instances(const std::vector<FeatureMap>& maps, con
     set.semantics.row(k) = s.embedding.transpose();
   }
   return out;
+}
+
+const ParamTable<AssociationParams>& association_param_table() {
+  using O = AssociationParams;
+  static const ParamTable<O> table =
+      ParamTable<O>()
+          .add("min_similarity", &O::min_similarity,
+               "a Gaussian joins its most similar instance only at this cosine or above (0.5: "
+               "midway between Eq. 3's hinge targets 1 and 0); -1 = always",
+               -1, 1)
+          .add("min_contribution", &O::min_contribution,
+               "Gaussians whose blend weight summed over the training pixels is below this stay "
+               "unassigned (their features were never trained)",
+               0);
+  return table;
 }
 
 }  // namespace gslift

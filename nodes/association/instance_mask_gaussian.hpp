@@ -18,6 +18,8 @@
 
 #include <Eigen/Core>
 
+#include "graph/param_table.hpp"
+#include "nodes/lifting/feature_maps.hpp"
 #include "nodes/scene/feature_map.hpp"
 #include "nodes/scene/gaussian_model.hpp"
 #include "nodes/scene/instances.hpp"
@@ -39,6 +41,9 @@ struct AssociationParams {
   float min_similarity = 0.5f;
 };
 
+// The params of association.instance_mask_gaussian: one entry per field above.
+const ParamTable<AssociationParams>& association_param_table();
+
 // For each view of `masks`, for each of its masks: the instance it matches (steps 1-2), -1 when
 // none of its pixels votes. maps[i] goes with masks.views[i]; `lifted` must come from these maps
 // and masks (its samples index them). Throws InputError when sizes or indices disagree.
@@ -56,12 +61,16 @@ std::vector<int32_t> match_gaussians(const GaussianModel& model,
 struct InstanceAssociation {
   InstanceSet instances;                   // mask_instance indexed like the `masks` given
   std::vector<int32_t> gaussian_instance;  // per Gaussian, -1 unassigned
+  int training_masks = 0;                  // masks of the training views, each matched or not
+  int matched_masks = 0;                   // those that matched an instance
 };
 
-// Steps 1-4 together.
-InstanceAssociation associate_instances(const std::vector<FeatureMap>& maps, const MaskSet& masks,
+// Steps 1-4 together on the training views of `masks` (render_training_feature_maps of these
+// masks; `lifted` comes from them, and their contribution, if any, is step 3's). mask_instance
+// is indexed like `masks`: the masks of held-out views are not matched (-1). Throws InputError
+// when `views` does not come from `masks`.
+InstanceAssociation associate_instances(const TrainingFeatureMaps& views, const MaskSet& masks,
                                         const LiftedInstances& lifted, const GaussianModel& model,
-                                        const std::vector<float>& contribution,
                                         const TextEncoder& encoder,
                                         const AssociationParams& params);
 

@@ -32,10 +32,39 @@ std::string instances_json(const InstanceSet& set, const MaskSet& masks,
   return out.dump(2) + "\n";
 }
 
+void run_association(NodeContext& ctx, const AssociationParams& p) {
+  const auto model = ctx.input<GaussianModel>("model");
+  const auto capture = ctx.input<Capture>("capture");
+  const auto masks = ctx.input<MaskSet>("masks");
+  const TrainingFeatureMaps views =
+      render_training_feature_maps(*model, *capture, *masks, /*with_contribution=*/true);
+  ctx.check_cancelled();
+  InstanceAssociation a =
+      associate_instances(views, *masks, *ctx.input<LiftedInstances>("instances"), *model,
+                          *ctx.input<TextEncoder>("encoder"), p);
+  int labelled = 0, assigned = 0;
+  for (const auto& label : a.instances.labels) labelled += !label.empty();
+  for (const int32_t k : a.gaussian_instance) assigned += k >= 0;
+  ctx.record("instances", static_cast<double>(a.instances.size()));
+  ctx.record("labelled_instances", static_cast<double>(labelled));
+  ctx.record("training_masks", static_cast<double>(a.training_masks));
+  ctx.record("matched_masks", static_cast<double>(a.matched_masks));
+  ctx.record("assigned_gaussian_fraction",
+             model->size() ? static_cast<double>(assigned) / model->size() : 0.0);
+  const auto dir = ctx.out_dir();
+  if (!dir.empty())
+    write_file_atomically(dir / "instances.json",
+                          instances_json(a.instances, *masks, a.gaussian_instance));
+
+  GaussianModel out = *model;
+  out.instance_ids = std::move(a.gaussian_instance);
+  ctx.output("model", std::move(out));
+  ctx.output("instances", std::move(a.instances));
+}
+
 }  // namespace
 
 void register_association_nodes(Registry& registry) {
-  const AssociationParams d;
   NodeSpec spec{
       "association.instance_mask_gaussian",
       "LangOR 3.3 matching: training-mask pixels and masks to lifted instances, Gaussians to "
@@ -50,64 +79,8 @@ void register_association_nodes(Registry& registry) {
         "the input model with instance_ids (-1: background or unseen Gaussian)"},
        {"instances", PortTypeName<InstanceSet>::value,
         "prototypes, labels (\"\" = no mask, keep out of retrieval), text embeddings; "
-        "mask_instance indexed like the input masks (-1 for held-out views)"}},
-      {float_param("min_similarity", d.min_similarity,
-                   "a Gaussian joins its most similar instance only at this cosine or above "
-                   "(0.5: midway between Eq. 3's hinge targets 1 and 0); -1 = always",
-                   -1, 1),
-       float_param("min_contribution", d.min_contribution,
-                   "Gaussians whose blend weight summed over the training pixels is below this "
-                   "stay unassigned (their features were never trained)",
-                   0)}};
-  registry.add(std::move(spec), [](NodeContext& ctx) {
-    const auto model = ctx.input<GaussianModel>("model");
-    const auto capture = ctx.input<Capture>("capture");
-    const auto masks = ctx.input<MaskSet>("masks");
-    const auto lifted = ctx.input<LiftedInstances>("instances");
-    const auto encoder = ctx.input<TextEncoder>("encoder");
-    AssociationParams p;
-    p.min_similarity = static_cast<float>(ctx.param_float("min_similarity"));
-    p.min_contribution = ctx.param_float("min_contribution");
-
-    const TrainingFeatureMaps views =
-        render_training_feature_maps(*model, *capture, *masks, /*with_contribution=*/true);
-    ctx.check_cancelled();
-    InstanceAssociation a = associate_instances(views.maps, views.masks, *lifted, *model,
-                                                views.contribution, *encoder, p);
-
-    // Back to the input MaskSet's indexing: held-out views' masks were not matched.
-    std::vector<std::vector<int>> mask_instance(masks->views.size());
-    for (size_t v = 0; v < masks->views.size(); ++v)
-      mask_instance[v].assign(masks->views[v].masks.size(), -1);
-    int matched = 0, training_masks = 0;
-    for (size_t i = 0; i < views.mask_views.size(); ++i) {
-      mask_instance[views.mask_views[i]] = a.instances.mask_instance[i];
-      for (const int k : a.instances.mask_instance[i]) {
-        matched += k >= 0;
-        ++training_masks;
-      }
-    }
-    a.instances.mask_instance = std::move(mask_instance);
-
-    int labelled = 0, assigned = 0;
-    for (const auto& label : a.instances.labels) labelled += !label.empty();
-    for (const int32_t k : a.gaussian_instance) assigned += k >= 0;
-    ctx.record("instances", static_cast<double>(a.instances.size()));
-    ctx.record("labelled_instances", static_cast<double>(labelled));
-    ctx.record("training_masks", static_cast<double>(training_masks));
-    ctx.record("matched_masks", static_cast<double>(matched));
-    ctx.record("assigned_gaussian_fraction",
-               model->size() ? static_cast<double>(assigned) / model->size() : 0.0);
-    const auto dir = ctx.out_dir();
-    if (!dir.empty())
-      write_file_atomically(dir / "instances.json",
-                            instances_json(a.instances, *masks, a.gaussian_instance));
-
-    GaussianModel out = *model;
-    out.instance_ids = std::move(a.gaussian_instance);
-    ctx.output("model", std::move(out));
-    ctx.output("instances", std::move(a.instances));
-  });
+        "mask_instance indexed like the input masks (-1 for held-out views)"}}};
+  registry.add(std::move(spec), association_param_table(), run_association);
 }
 
 }  // namespace gslift

@@ -105,4 +105,15 @@ std::string langor_table_markdown(const LangorSummary& s) {
   return out.str();
 }
 
+const ParamTable<LangorEvalOptions>& langor_eval_param_table() {
+  using O = LangorEvalOptions;
+  static const ParamTable<O> table =
+      ParamTable<O>()
+          .add("min_gt_pixels", &O::min_gt_pixels,
+               "a class is present in a view (hence queried) from this many GT pixels on", 1)
+          .add("loc_box", &O::loc_box,
+               "box filter width of LangSplat's localisation variant (mLocAcc_box)", 1, 1000);
+  return table;
+}
+
 }  // namespace gslift

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "graph/param_table.hpp"
 #include "nodes/eval/langor_metrics.hpp"
 #include "nodes/scene/capture.hpp"
 #include "nodes/scene/text_query_results.hpp"
@@ -17,6 +18,9 @@ struct LangorEvalOptions {
   int min_gt_pixels = 100;  // a class counts as present in a view from this many pixels on
   int loc_box = 30;         // LangSplat's box filter width for mLocAcc_box
 };
+
+// The params of eval.langor: one entry per field above.
+const ParamTable<LangorEvalOptions>& langor_eval_param_table();
 
 // Scores every (held-out view, present class). Throws InputError when the capture has no
 // held-out view with ground truth, or when the predictions lack a needed view or class query.

@@ -79,21 +79,12 @@ ContrastiveResult train_contrastive_features(const GaussianModel& model, const C
   RenderSettings weights_only;
   weights_only.rgb = false;
   weights_only.alpha = true;
-  for (const ViewMasks& vm : masks.views) {
-    const int vi = capture.find_view(vm.view);
-    if (vi < 0)
-      throw InputError("features.contrastive: masks name view '" + vm.view +
-                       "' that the capture '" + capture.name + "' lacks");
-    const View& view = capture.views[vi];
-    if (view.held_out) continue;
+  for (const MaskView& mv : training_mask_views(capture, masks)) {
+    const ViewMasks& vm = masks.views[mv.mask_view];
+    const View& view = capture.views[mv.capture_view];
     const int rows_index = static_cast<int>(view_rows.size());
     for (size_t k = 0; k < vm.masks.size(); ++k) {
       const cv::Mat1b& px = vm.masks[k].pixels;
-      if (px.cols != view.camera.width || px.rows != view.camera.height)
-        throw InputError(
-            "features.contrastive: mask " + std::to_string(k) + " of view '" + vm.view + "' is " +
-            std::to_string(px.cols) + "x" + std::to_string(px.rows) + ", the view is " +
-            std::to_string(view.camera.width) + "x" + std::to_string(view.camera.height));
       TrainingMask m;
       m.rows = rows_index;
       m.pixels = px.isContinuous() ? px : px.clone();

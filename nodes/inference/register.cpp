@@ -11,14 +11,6 @@
 namespace gslift {
 namespace {
 
-std::vector<int> select_views(const Capture& capture, const std::string& which) {
-  if (which == "train") return capture.train_views();
-  if (which == "test") return capture.test_views();
-  std::vector<int> all(capture.views.size());
-  for (size_t i = 0; i < all.size(); ++i) all[i] = static_cast<int>(i);
-  return all;
-}
-
 std::vector<std::string> class_names(const Capture& capture) {
   std::vector<std::string> names;
   for (const auto& [id, name] : capture.classes)
@@ -40,6 +32,51 @@ std::vector<int32_t> query_class_ids(const GaussianModel& model, const TextQuery
     if (k >= 0 && static_cast<size_t>(k) < instance_class.size()) ids[g] = instance_class[k];
   }
   return ids;
+}
+
+// The node's params: the queries, the views to answer in, and the answering options.
+struct TextQueryNodeOptions {
+  std::vector<std::string> queries;  // empty = the capture's ground-truth class names
+  ViewSet views = ViewSet::Test;
+  TextQueryOptions answer;
+};
+
+const ParamTable<TextQueryNodeOptions>& text_query_node_table() {
+  using O = TextQueryNodeOptions;
+  static const ParamTable<O> table =
+      ParamTable<O>()
+          .add("queries", &O::queries,
+               "query texts; empty = the capture's ground-truth class names (the eval query set)")
+          .add("views", &O::views, view_set_names(), "views to answer in")
+          .nest(&O::answer, text_query_param_table());
+  return table;
+}
+
+void run_text_query(NodeContext& ctx, TextQueryNodeOptions o) {
+  const auto model = ctx.input<GaussianModel>("model");
+  const auto capture = ctx.input<Capture>("capture");
+  o.answer.vocabulary = class_names(*capture);
+  if (o.queries.empty()) o.queries = o.answer.vocabulary;
+  if (o.queries.empty())
+    throw InputError("inference.text_query: no queries given and the capture '" + capture->name +
+                     "' has no ground-truth class names to use instead");
+  const std::vector<int> views = capture->views_named(o.views);
+  TextQueryResults results =
+      answer_text_queries(*model, *ctx.input<InstanceSet>("instances"),
+                          *ctx.input<TextEncoder>("encoder"), *capture, views, o.queries, o.answer);
+  ctx.record("queries", static_cast<double>(o.queries.size()));
+  ctx.record("views", static_cast<double>(views.size()));
+  size_t answered = 0;
+  for (const auto& s : results.instances) answered += s.empty() ? 0 : 1;
+  ctx.record("queries_with_instances", static_cast<double>(answered));
+  const auto dir = ctx.out_dir();
+  if (!dir.empty()) {
+    write_query_files(results, *capture, dir);
+    GaussianModel segmented = *model;
+    segmented.class_ids = query_class_ids(segmented, results);
+    write_ply(segmented, dir / "segmented.ply");
+  }
+  ctx.output("predictions", std::move(results));
 }
 
 void run_filter_3d(NodeContext& ctx, const Filter3dOptions& o) {
@@ -73,12 +110,6 @@ void add_filter_3d(Registry& registry) {
 
 void register_inference_nodes(Registry& registry) {
   add_filter_3d(registry);
-  const TextQueryOptions d;
-  ParamSpec queries;
-  queries.name = "queries";
-  queries.type = ParamType::StringList;
-  queries.default_value = std::vector<std::string>{};
-  queries.doc = "query texts; empty = the capture's ground-truth class names (the eval query set)";
   NodeSpec spec{
       "inference.text_query",
       "text query -> instances -> Gaussians -> a mask and a relevancy map per view (LangOR 3.3)",
@@ -89,59 +120,8 @@ void register_inference_nodes(Registry& registry) {
       {{"predictions", PortTypeName<TextQueryResults>::value,
         "per query the selected instances; per view and query a mask and a relevancy map "
         "(files: query_files.hpp; segmented.ply: the model with class_ids = 1 + index of the "
-        "query that selected each Gaussian)"}},
-      {queries, string_param("views", "test", "views to answer in", {"test", "train", "all"}),
-       string_param("selection", d.selection,
-                    "closed_set: argmax over the query vocabulary (plus the capture's class "
-                    "names), beating the canonical negatives; relevancy: relevancy > "
-                    "relevancy_threshold",
-                    {"closed_set", "relevancy"}),
-       float_param("relevancy_threshold", d.relevancy_threshold,
-                   "selection=relevancy: minimum LangSplat relevancy of a selected instance", 0, 1),
-       float_param("mask_threshold", d.mask_threshold,
-                   "accumulated alpha of the selected Gaussians that puts a pixel in the mask", 0,
-                   1),
-       bool_param("normalise_relevancy", d.normalise_relevancy,
-                  "relevancy map = weighted mean of instance relevancies (divided by the "
-                  "accumulated alpha) instead of the weighted sum"),
-       float_param("softmax_scale", d.softmax_scale,
-                   "temperature of the relevancy softmax "
-                   "(LangSplat: 10)",
-                   0.1, 1000)}};
-  registry.add(std::move(spec), [](NodeContext& ctx) {
-    const auto model = ctx.input<GaussianModel>("model");
-    const auto instances = ctx.input<InstanceSet>("instances");
-    const auto encoder = ctx.input<TextEncoder>("encoder");
-    const auto capture = ctx.input<Capture>("capture");
-    TextQueryOptions o;
-    o.selection = ctx.param_string("selection");
-    o.relevancy_threshold = static_cast<float>(ctx.param_float("relevancy_threshold"));
-    o.mask_threshold = static_cast<float>(ctx.param_float("mask_threshold"));
-    o.softmax_scale = static_cast<float>(ctx.param_float("softmax_scale"));
-    o.normalise_relevancy = ctx.param_bool("normalise_relevancy");
-    o.vocabulary = class_names(*capture);
-    std::vector<std::string> queries = ctx.param_strings("queries");
-    if (queries.empty()) queries = o.vocabulary;
-    if (queries.empty())
-      throw InputError("inference.text_query: no queries given and the capture '" + capture->name +
-                       "' has no ground-truth class names to use instead");
-    const std::vector<int> views = select_views(*capture, ctx.param_string("views"));
-    TextQueryResults results =
-        answer_text_queries(*model, *instances, *encoder, *capture, views, queries, o);
-    ctx.record("queries", static_cast<double>(queries.size()));
-    ctx.record("views", static_cast<double>(views.size()));
-    size_t answered = 0;
-    for (const auto& s : results.instances) answered += s.empty() ? 0 : 1;
-    ctx.record("queries_with_instances", static_cast<double>(answered));
-    const auto dir = ctx.out_dir();
-    if (!dir.empty()) {
-      write_query_files(results, *capture, dir);
-      GaussianModel segmented = *model;
-      segmented.class_ids = query_class_ids(segmented, results);
-      write_ply(segmented, dir / "segmented.ply");
-    }
-    ctx.output("predictions", std::move(results));
-  });
+        "query that selected each Gaussian)"}}};
+  registry.add(std::move(spec), text_query_node_table(), run_text_query);
 }
 
 }  // namespace gslift

@@ -112,7 +112,7 @@ void select_instances(const InstanceSet& instances, const TextEncoder& encoder,
   for (const auto& q : results.queries)
     results.relevancy.push_back(
         instance_relevancy(semantics, encoder.encode(q), negatives, options.softmax_scale));
-  if (options.selection == "relevancy") {
+  if (options.selection == QuerySelection::Relevancy) {
     results.instances.clear();
     for (const auto& r : results.relevancy)
       results.instances.push_back(relevancy_selection(r, options.relevancy_threshold));
@@ -163,6 +163,31 @@ TextQueryResults answer_text_queries(const GaussianModel& model, const InstanceS
     results.views.push_back(std::move(answers));
   }
   return results;
+}
+
+const EnumNames<QuerySelection>& query_selection_names() {
+  static const EnumNames<QuerySelection> names = {{QuerySelection::ClosedSet, "closed_set"},
+                                                  {QuerySelection::Relevancy, "relevancy"}};
+  return names;
+}
+
+const ParamTable<TextQueryOptions>& text_query_param_table() {
+  using O = TextQueryOptions;
+  static const ParamTable<O> table =
+      ParamTable<O>()
+          .add("selection", &O::selection, query_selection_names(),
+               "closed_set: argmax over the query vocabulary (plus the capture's class names), "
+               "beating the canonical negatives; relevancy: relevancy > relevancy_threshold")
+          .add("relevancy_threshold", &O::relevancy_threshold,
+               "selection=relevancy: minimum LangSplat relevancy of a selected instance", 0, 1)
+          .add("mask_threshold", &O::mask_threshold,
+               "accumulated alpha of the selected Gaussians that puts a pixel in the mask", 0, 1)
+          .add("normalise_relevancy", &O::normalise_relevancy,
+               "relevancy map = weighted mean of instance relevancies (divided by the accumulated "
+               "alpha) instead of the weighted sum")
+          .add("softmax_scale", &O::softmax_scale,
+               "temperature of the relevancy softmax (LangSplat: 10)", 0.1, 1000);
+  return table;
 }
 
 }  // namespace gslift

@@ -24,6 +24,7 @@
 #include <Eigen/Core>
 #include <opencv2/core.hpp>
 
+#include "graph/param_table.hpp"
 #include "nodes/inference/instance_retrieval.hpp"
 #include "nodes/scene/capture.hpp"
 #include "nodes/scene/gaussian_model.hpp"
@@ -65,10 +66,14 @@ std::vector<float> gaussian_values(const std::vector<int32_t>& instance_ids,
 std::vector<float> selection_indicator(const std::vector<int32_t>& instance_ids, int instance_count,
                                        const std::vector<int>& instances);
 
+// How a query picks its instances. ClosedSet: argmax over the vocabulary of queries
+// (instance_retrieval.hpp); Relevancy: every instance whose relevancy exceeds
+// relevancy_threshold.
+enum class QuerySelection { ClosedSet, Relevancy };
+const EnumNames<QuerySelection>& query_selection_names();  // closed_set, relevancy
+
 struct TextQueryOptions {
-  // closed_set: argmax over the vocabulary of queries (instance_retrieval.hpp);
-  // relevancy: every instance whose relevancy exceeds relevancy_threshold.
-  std::string selection = "closed_set";
+  QuerySelection selection = QuerySelection::ClosedSet;
   float relevancy_threshold = 0.5f;
   float mask_threshold = 0.5f;  // accumulated alpha of the selection that makes a pixel "in"
   float softmax_scale = 10.f;   // LangSplat's temperature in the relevancy softmax
@@ -80,6 +85,11 @@ struct TextQueryOptions {
   // Extra closed-set vocabulary entries that compete with the queries (e.g. every class name).
   std::vector<std::string> vocabulary;
 };
+
+// The params of inference.text_query that configure the answering: selection,
+// relevancy_threshold, mask_threshold, normalise_relevancy, softmax_scale (negatives and
+// vocabulary are not params).
+const ParamTable<TextQueryOptions>& text_query_param_table();
 
 // Selection only (no rendering): instances and their relevancies for every query. Throws
 // InputError when the instances' semantics do not match the encoder's width.

@@ -83,6 +83,13 @@ HdbscanParams default_lifting_hdbscan() {
   return p;
 }
 
+HdbscanParams mask_level_hdbscan() {
+  HdbscanParams p = default_lifting_hdbscan();
+  p.min_cluster_size = 2;
+  p.min_samples = 1;
+  return p;
+}
+
 LiftedInstances cvp_lifting(const std::vector<FeatureMap>& views, const MaskSet& masks,
                             const CvpLiftingParams& params) {
   check_inputs(views, masks);
@@ -125,7 +132,7 @@ LiftedInstances cvp_lifting(const std::vector<FeatureMap>& views, const MaskSet&
 }
 
 LiftedInstances mask_level_lifting(const std::vector<FeatureMap>& views, const MaskSet& masks,
-                                   const HdbscanParams& hdbscan_params, double cannot_link_iou) {
+                                   const MaskLevelLiftingParams& params) {
   check_inputs(views, masks);
   LiftedInstances out;
   std::vector<std::vector<double>> rows;
@@ -150,11 +157,61 @@ LiftedInstances mask_level_lifting(const std::vector<FeatureMap>& views, const M
   PointMatrix features(static_cast<int64_t>(rows.size()), views.front().dim);
   for (size_t i = 0; i < rows.size(); ++i)
     for (size_t k = 0; k < rows[i].size(); ++k) features(static_cast<int64_t>(i), k) = rows[i][k];
-  const HdbscanResult clusters =
-      hdbscan(features, hdbscan_params, cannot_link_for(out.samples, masks, cannot_link_iou));
+  const HdbscanResult clusters = hdbscan(
+      features, params.hdbscan, cannot_link_for(out.samples, masks, params.cannot_link_iou));
   out.labels = clusters.labels;
   out.prototypes = prototypes_of(features, out.labels, clusters.clusters);
   return out;
+}
+
+namespace {
+
+// The HDBSCAN fields both lifting nodes expose, and the cannot-link threshold, for any params
+// struct with `hdbscan` and `cannot_link_iou` members.
+template <class O>
+ParamTable<O> with_clustering_params(ParamTable<O> table) {
+  using H = HdbscanParams;
+  static const ParamTable<H> hdbscan_table =
+      ParamTable<H>()
+          .add("min_cluster_size", &H::min_cluster_size,
+               "HDBSCAN: smallest group of samples that counts as an instance", 2)
+          .add("min_samples", &H::min_samples,
+               "HDBSCAN: core-distance neighbourhood, not counting the point itself (Python "
+               "hdbscan's convention); 0 = min_cluster_size",
+               0)
+          .add("epsilon", &H::cluster_selection_epsilon,
+               "HDBSCAN cluster_selection_epsilon (LaGa 0.1, SAGA 0.01); 0 = off", 0)
+          .add("metric", &H::metric, hdbscan_metric_names(),
+               "feature distance: cosine (the contrastive loss shapes features by cosine) or "
+               "euclidean");
+  return table.nest(&O::hdbscan, hdbscan_table)
+      .add("cannot_link_iou", &O::cannot_link_iou,
+           "masks of one view overlapping less than this are different objects: no instance may "
+           "take most samples of two of them (gslift addition; 0 = off, the paper's plain "
+           "HDBSCAN)",
+           0, 1);
+}
+
+}  // namespace
+
+const ParamTable<CvpLiftingParams>& cvp_lifting_param_table() {
+  using O = CvpLiftingParams;
+  static const ParamTable<O> table = with_clustering_params(
+      ParamTable<O>()
+          .add("sigma", &O::sigma,
+               "Eq. 4 sampling width in units of each mask's RMS radius (paper 0.5; ablation 0.7)",
+               1e-3)
+          .add("samples_per_mask", &O::samples_per_mask,
+               "draws per mask (with replacement, then deduplicated)", 1)
+          .add("max_samples", &O::max_samples, "cap on all draws (HDBSCAN is O(n^2))", 2,
+               static_cast<double>(kHdbscanMaxPoints)));
+  return table;
+}
+
+const ParamTable<MaskLevelLiftingParams>& mask_level_lifting_param_table() {
+  static const ParamTable<MaskLevelLiftingParams> table =
+      with_clustering_params(ParamTable<MaskLevelLiftingParams>());
+  return table;
 }
 
 }  // namespace gslift

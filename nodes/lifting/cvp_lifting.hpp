@@ -15,6 +15,7 @@
 
 #include <Eigen/Core>
 
+#include "graph/param_table.hpp"
 #include "nodes/lifting/hdbscan.hpp"
 #include "nodes/scene/feature_map.hpp"
 #include "nodes/scene/lifted_instances.hpp"
@@ -54,8 +55,24 @@ struct CvpLiftingParams {
   HdbscanParams hdbscan = default_lifting_hdbscan();
   // same_view_cannot_links; 0 = off (the paper's plain HDBSCAN).
   double cannot_link_iou = 0.5;
-  uint64_t seed = 0;
+  uint64_t seed = 0;  // not a param: the node's seed
 };
+
+// Mask-level HDBSCAN settings [decision]: an instance is a handful of masks (one per training view
+// that sees it, 4 in LangOR's split), not hundreds of pixels, so CVP's min_cluster_size 10 would
+// leave everything noise. 2 masks make an instance; min_samples 1 makes the core distance the
+// nearest other mask's. The rest as default_lifting_hdbscan().
+HdbscanParams mask_level_hdbscan();
+
+struct MaskLevelLiftingParams {
+  HdbscanParams hdbscan = mask_level_hdbscan();
+  double cannot_link_iou = 0.5;  // as CvpLiftingParams
+};
+
+// The params of lifting.cvp and lifting.mask_level: one entry per field above (the HDBSCAN
+// fields they expose and cannot_link_iou are shared).
+const ParamTable<CvpLiftingParams>& cvp_lifting_param_table();
+const ParamTable<MaskLevelLiftingParams>& mask_level_lifting_param_table();
 
 // views[i] goes with masks.views[i]. Throws std::invalid_argument when the counts differ, a mask
 // does not match its feature map's size, or there are no mask pixels at all.
@@ -64,6 +81,6 @@ LiftedInstances cvp_lifting(const std::vector<FeatureMap>& views, const MaskSet&
 
 // Masks without pixels are skipped (no entry).
 LiftedInstances mask_level_lifting(const std::vector<FeatureMap>& views, const MaskSet& masks,
-                                   const HdbscanParams& hdbscan, double cannot_link_iou);
+                                   const MaskLevelLiftingParams& params);
 
 }  // namespace gslift

@@ -15,26 +15,11 @@ TrainingFeatureMaps render_training_feature_maps(const GaussianModel& model, con
         "the model has no feature channels (train them first, e.g. "
         "features.contrastive)");
   TrainingFeatureMaps out;
-  for (size_t v = 0; v < masks.views.size(); ++v) {
-    const ViewMasks& vm = masks.views[v];
-    const int index = capture.find_view(vm.view);
-    if (index < 0)
-      throw InputError("masks name the view '" + vm.view + "', which is not in the capture '" +
-                       capture.name + "'");
-    const View& view = capture.views[index];
-    for (const Mask& m : vm.masks)
-      if (m.pixels.cols != view.camera.width || m.pixels.rows != view.camera.height)
-        throw InputError("a mask of view '" + vm.view + "' is " + std::to_string(m.pixels.cols) +
-                         "x" + std::to_string(m.pixels.rows) + " but the view is " +
-                         std::to_string(view.camera.width) + "x" +
-                         std::to_string(view.camera.height));
-    if (view.held_out) continue;
-    out.mask_views.push_back(static_cast<int>(v));
-    out.capture_views.push_back(index);
-    out.masks.views.push_back(vm);
+  for (const MaskView& mv : training_mask_views(capture, masks)) {
+    out.mask_views.push_back(mv.mask_view);
+    out.capture_views.push_back(mv.capture_view);
+    out.masks.views.push_back(masks.views[mv.mask_view]);
   }
-  if (out.masks.views.empty())
-    throw InputError("no training view of the capture '" + capture.name + "' has masks");
 
   if (with_contribution) out.contribution.assign(model.size(), 0.f);
   RenderSettings settings;

@@ -24,11 +24,10 @@ struct TrainingFeatureMaps {
   std::vector<float> contribution;
 };
 
-// Keeps the views of `masks` that are training views of `capture` (matched by name) and renders
-// the model's features there (F(p) = sum_i w_i f_i, Eq. 1); the contribution comes from each
-// view's render cache (W^T 1). Throws InputError when the
-// model has no feature channels, a mask view is not in the capture, a mask's size differs from
-// its view's camera, or no training view has masks.
+// Keeps the views of `masks` that are training views of `capture` (training_mask_views, which
+// also checks the masks against the capture) and renders the model's features there
+// (F(p) = sum_i w_i f_i, Eq. 1); the contribution comes from each view's render cache (W^T 1).
+// Throws InputError when the model has no feature channels or training_mask_views does.
 TrainingFeatureMaps render_training_feature_maps(const GaussianModel& model, const Capture& capture,
                                                  const MaskSet& masks, bool with_contribution);
 

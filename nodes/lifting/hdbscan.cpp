@@ -5,10 +5,14 @@
 
 namespace gslift {
 
+const EnumNames<HdbscanMetric>& hdbscan_metric_names() {
+  static const EnumNames<HdbscanMetric> names = {{HdbscanMetric::Cosine, "cosine"},
+                                                 {HdbscanMetric::Euclidean, "euclidean"}};
+  return names;
+}
+
 HdbscanMetric parse_hdbscan_metric(const std::string& name) {
-  if (name == "euclidean") return HdbscanMetric::Euclidean;
-  if (name == "cosine") return HdbscanMetric::Cosine;
-  throw std::invalid_argument("unknown HDBSCAN metric '" + name + "' (euclidean, cosine)");
+  return parse_enum(name, hdbscan_metric_names(), "HDBSCAN metric");
 }
 
 ClusterSelection parse_cluster_selection(const std::string& name) {

@@ -19,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include "graph/param_table.hpp"
 #include "nodes/lifting/condensed_tree.hpp"
 #include "nodes/lifting/single_linkage.hpp"
 
@@ -49,8 +50,10 @@ struct HdbscanParams {
   bool match_reference_implementation = false;
 };
 
-// "euclidean"/"cosine" and "eom"/"leaf" <-> enums, for node params. Throw std::invalid_argument
-// naming the valid values.
+// "cosine"/"euclidean": the names of the metrics, for node params.
+const EnumNames<HdbscanMetric>& hdbscan_metric_names();
+// Name -> enum ("euclidean"/"cosine", "eom"/"leaf"). Throw std::invalid_argument naming the valid
+// values.
 HdbscanMetric parse_hdbscan_metric(const std::string& name);
 ClusterSelection parse_cluster_selection(const std::string& name);
 

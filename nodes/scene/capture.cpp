@@ -16,12 +16,22 @@ std::vector<int> Capture::test_views() const {
   return out;
 }
 
-std::vector<int> Capture::views_named(const std::string& which) const {
-  if (which == "train") return train_views();
-  if (which == "test") return test_views();
+const EnumNames<ViewSet>& view_set_names() {
+  static const EnumNames<ViewSet> names = {
+      {ViewSet::Train, "train"}, {ViewSet::Test, "test"}, {ViewSet::All, "all"}};
+  return names;
+}
+
+std::vector<int> Capture::views_named(ViewSet which) const {
+  if (which == ViewSet::Train) return train_views();
+  if (which == ViewSet::Test) return test_views();
   std::vector<int> all(views.size());
   for (size_t i = 0; i < all.size(); ++i) all[i] = static_cast<int>(i);
   return all;
+}
+
+std::vector<int> Capture::views_named(const std::string& which) const {
+  return views_named(parse_enum(which, view_set_names(), "views"));
 }
 
 int Capture::find_view(const std::string& n) const {

@@ -12,6 +12,7 @@
 #include <Eigen/Core>
 
 #include "base/port_type.hpp"
+#include "graph/param_table.hpp"
 #include "nodes/scene/camera.hpp"
 #include "nodes/scene/image_source.hpp"
 
@@ -32,6 +33,10 @@ struct View {
   ImageSource gt_normal;    // CV_32FC3 world-space unit normals
 };
 
+// The views a node works on (its `views` param): the training views, the held-out ones, or all.
+enum class ViewSet { Train, Test, All };
+const EnumNames<ViewSet>& view_set_names();  // train, test, all
+
 struct SparsePoints {
   std::vector<Eigen::Vector3f> xyz;
   std::vector<Eigen::Matrix<uint8_t, 3, 1>> rgb;
@@ -50,8 +55,9 @@ struct Capture {
 
   std::vector<int> train_views() const;  // indices of views with held_out == false
   std::vector<int> test_views() const;
-  // The views a node's `views` param names: "train", "test", or anything else (the params
-  // restrict it to "all") for every view.
+  // Indices of the views in `which`, in capture order.
+  std::vector<int> views_named(ViewSet which) const;
+  // The same for a name of view_set_names(); throws std::invalid_argument for any other.
   std::vector<int> views_named(const std::string& which) const;
   int find_view(const std::string& name) const;  // index or -1
 };

@@ -7,6 +7,7 @@
 #include <opencv2/core.hpp>
 
 #include "base/port_type.hpp"
+#include "nodes/scene/capture.hpp"
 
 namespace gslift {
 
@@ -28,6 +29,19 @@ struct MaskSet {
 };
 
 GSLIFT_PORT_TYPE(MaskSet, "MaskSet");
+
+// A view of a MaskSet and the capture view it names.
+struct MaskView {
+  int mask_view = 0;     // index into MaskSet::views
+  int capture_view = 0;  // index into Capture::views
+};
+
+// The views of `masks` that are training views of `capture`, in MaskSet order: every stage that
+// learns from masks (feature training, lifting, association) uses these only, so masks of
+// held-out views never leak into what evaluation scores. Throws InputError when a view of `masks`
+// (held out or not) is not in the capture, one of its masks differs in size from the view's
+// camera, or no training view has masks.
+std::vector<MaskView> training_mask_views(const Capture& capture, const MaskSet& masks);
 
 // Intersection over union of two binary masks of one size (nonzero = in); 0 when both are empty.
 inline double mask_iou(const cv::Mat1b& a, const cv::Mat1b& b) {

@@ -130,10 +130,16 @@ GaussianModel gaussians_from_points(const ColouredPoints& points, double voxel,
   return model;
 }
 
+const EnumNames<InitSource>& init_source_names() {
+  static const EnumNames<InitSource> names = {
+      {InitSource::Auto, "auto"}, {InitSource::Depth, "depth"}, {InitSource::Points, "points"}};
+  return names;
+}
+
 GaussianModel initialise_gaussians(const Capture& capture, const InitialiseOptions& options) {
   const std::vector<int> train = capture.train_views();
-  bool use_depth = options.source == "depth";
-  if (options.source == "auto") use_depth = has_depth(capture, train);
+  bool use_depth = options.source == InitSource::Depth;
+  if (options.source == InitSource::Auto) use_depth = has_depth(capture, train);
   const std::string where = "capture '" + capture.name + "': ";
   if (use_depth) {
     const ColouredPoints points = backproject_depth(capture, train, options.pixel_stride);

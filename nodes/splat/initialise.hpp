@@ -9,6 +9,7 @@
 
 #include <Eigen/Core>
 
+#include "graph/param_table.hpp"
 #include "nodes/scene/capture.hpp"
 #include "nodes/scene/gaussian_model.hpp"
 
@@ -25,10 +26,14 @@ struct ColouredPoints {
   double median_footprint = 0;
 };
 
+// Where the initial Gaussians come from. Depth: back-project the depth prior of the training
+// views; Points: the capture's sparse points; Auto: depth when every training view has a depth
+// prior, else points.
+enum class InitSource { Auto, Depth, Points };
+const EnumNames<InitSource>& init_source_names();  // auto, depth, points
+
 struct InitialiseOptions {
-  // "depth": back-project the depth prior of the training views; "points": the capture's sparse
-  // points; "auto": depth when every training view has a depth prior, else points.
-  std::string source = "auto";
+  InitSource source = InitSource::Auto;
   // Keep every stride-th pixel in x and y when back-projecting (1 = all). The voxel filter below
   // decides the final density; the stride only bounds the work before it.
   int pixel_stride = 2;

@@ -297,4 +297,48 @@ ReconstructResult reconstruct(const Capture& capture, const ReconstructOptions& 
   return result;
 }
 
+const ParamTable<ReconstructOptions>& reconstruct_param_table() {
+  using O = ReconstructOptions;
+  using D = DensityControlOptions;
+  using I = InitialiseOptions;
+  static const ParamTable<O> table =
+      ParamTable<O>()
+          .add("iterations", &O::iterations, "optimisation steps (LangOR: 500)", 1, 1e6)
+          .add("sh_degree", &O::sh_degree, "highest SH degree, raised one every 100 steps", 0, 3)
+          .add("ssim_lambda", &O::ssim_lambda, "weight of D-SSIM in the photometric loss", 0, 1)
+          .add("depth_weight", &O::depth_weight,
+               "depth log-L1 against the depth prior (DN-Splatter 0.2); 0 = off", 0)
+          .add("normal_weight", &O::normal_weight,
+               "1 - cos between rendered normals and depth-prior normals; 0 = off", 0)
+          .add("scale_weight", &O::scale_weight,
+               "flatness regulariser, mean smallest scale in metres; 0 = off", 0)
+          .add("coarse_fraction", &O::coarse_fraction,
+               "fraction of the steps trained at half resolution first; 0 = off", 0, 1)
+          .add("densify", &O::densify, "clone/split/prune on the compressed schedule")
+          .nest(&O::density, ParamTable<D>().add("max_gaussians", &D::max_gaussians,
+                                                 "Gaussian budget for densification", 1))
+          .add("feature_dim", &O::feature_dim,
+               "feature channels allocated (zero) for later stages, not trained here", 0, 512)
+          .nest(&O::init,
+                ParamTable<I>()
+                    .add("init", &I::source, init_source_names(),
+                         "initial points: depth prior, sparse points, or auto (depth when every "
+                         "training view has one)")
+                    .add("footprint_factor", &I::footprint_factor,
+                         "initial voxel = this x the median pixel footprint (larger = fewer "
+                         "Gaussians)",
+                         0.1, 100)
+                    .add("normal_thickness", &I::normal_thickness,
+                         "initial scale along the depth prior's normal / in-plane scale (1 = "
+                         "isotropic)",
+                         0.01, 1))
+          .add("plateau_window", &O::plateau_window,
+               "early stop when a window of this many steps improves the mean loss by less than "
+               "plateau_tolerance; 0 = off",
+               0)
+          .add("plateau_tolerance", &O::plateau_tolerance,
+               "relative improvement per window below which the run stops", 0, 1);
+  return table;
+}
+
 }  // namespace gslift

@@ -8,6 +8,7 @@
 #include <optional>
 #include <vector>
 
+#include "graph/param_table.hpp"
 #include "nodes/scene/capture.hpp"
 #include "nodes/scene/gaussian_model.hpp"
 #include "nodes/splat/adam.hpp"
@@ -59,8 +60,12 @@ struct ReconstructOptions {
   LearningRates rates;
   AdamSettings adam;
   InitialiseOptions init;
-  uint64_t seed = 0;  // view order and split sampling
+  uint64_t seed = 0;  // view order and split sampling; not a param: the node's seed
 };
+
+// The params of splat.reconstruct: the fields above that a graph may set, the budget of
+// `density` and the initialisation's source, footprint_factor and normal_thickness among them.
+const ParamTable<ReconstructOptions>& reconstruct_param_table();
 
 // Mean of each loss term over the last 10% of the steps (at least one step).
 struct LossSummary {

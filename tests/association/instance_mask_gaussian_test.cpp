@@ -77,6 +77,15 @@ Scene scene() {
   return s;
 }
 
+// The scene's views as the training views mask_views of some MaskSet.
+TrainingFeatureMaps training_views(const Scene& s, std::vector<int> mask_views) {
+  TrainingFeatureMaps views;
+  views.mask_views = std::move(mask_views);
+  views.masks = s.masks;
+  views.maps = s.maps;
+  return views;
+}
+
 test::FixedTextEncoder encoder() {
   return test::FixedTextEncoder({{"table", vec3(1, 0, 0)},
                                  {"chair", vec3(0, 1, 0)},
@@ -131,7 +140,11 @@ TEST_CASE("association: instance labels from the masks, unmatched instance unlab
   const Scene s = scene();
   const auto enc = encoder();
   const GaussianModel model = six_gaussians();
-  const InstanceAssociation a = associate_instances(s.maps, s.masks, s.lifted, model, {}, enc, {});
+  // The two views are training views 0 and 2 of a MaskSet whose view 1 is held out.
+  const TrainingFeatureMaps views = training_views(s, {0, 2});
+  MaskSet all = s.masks;
+  all.views.insert(all.views.begin() + 1, ViewMasks{"held_out", {box(0, 4, 0, kH, "lamp")}});
+  const InstanceAssociation a = associate_instances(views, all, s.lifted, model, enc, {});
   const InstanceSet& set = a.instances;
   REQUIRE(set.size() == 3);
   // Instance 0's masks: table, box, table, lamp. Summed cosines: table 0 + 1 + 0 = 1 (twice),
@@ -144,9 +157,24 @@ TEST_CASE("association: instance labels from the masks, unmatched instance unlab
   // Instance 2: no mask chose it.
   CHECK(set.labels[2].empty());
   CHECK(set.semantics.row(2).norm() == 0.f);
-  CHECK(set.mask_instance == std::vector<std::vector<int>>{{0, 1, 0}, {0, 1, 0}});
+  // Indexed like the MaskSet given: the held-out view's mask is not matched.
+  CHECK(set.mask_instance == std::vector<std::vector<int>>{{0, 1, 0}, {-1}, {0, 1, 0}});
+  CHECK(a.training_masks == 6);
+  CHECK(a.matched_masks == 6);
   CHECK(set.prototypes.isApprox(s.lifted.prototypes));
   CHECK(a.gaussian_instance == std::vector<int32_t>{0, 1, -1, 0, -1, 2});
+}
+
+TEST_CASE("association rejects feature maps that do not come from the masks given") {
+  const Scene s = scene();
+  TrainingFeatureMaps views = training_views(s, {0, 1});
+  MaskSet other = s.masks;
+  other.views[1].masks.pop_back();
+  CHECK_THROWS_AS(associate_instances(views, other, s.lifted, six_gaussians(), encoder(), {}),
+                  InputError);
+  views.mask_views = {0, 2};
+  CHECK_THROWS_AS(associate_instances(views, s.masks, s.lifted, six_gaussians(), encoder(), {}),
+                  InputError);
 }
 
 TEST_CASE("association rejects lifted instances that do not come from the masks") {

@@ -104,6 +104,23 @@ TEST_CASE("param table: check names every violated field; validate throws with a
   }
 }
 
+TEST_CASE("param table: a string list may name its choices") {
+  struct Lists {
+    std::vector<std::string> free{"a"};
+    std::vector<std::string> picked{"rgb"};
+  };
+  const auto specs = ParamTable<Lists>()
+                         .add("free", &Lists::free, "anything")
+                         .add("picked", &Lists::picked, "channels", {"rgb", "depth"})
+                         .specs();
+  REQUIRE(specs.size() == 2);
+  CHECK(specs[0].type == ParamType::StringList);
+  CHECK(specs[0].choices.empty());
+  CHECK(specs[1].choices == std::vector<std::string>{"rgb", "depth"});
+  CHECK(std::get<std::vector<std::string>>(*specs[1].default_value) ==
+        std::vector<std::string>{"rgb"});
+}
+
 TEST_CASE("enum names: a string that is not a mode is an error naming the accepted ones") {
   CHECK(parse_enum("exact", mode_names(), "mode") == Mode::Exact);
   CHECK(enum_name(Mode::Fast, mode_names()) == "fast");

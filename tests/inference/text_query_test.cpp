@@ -96,14 +96,24 @@ TEST_CASE("unassigned Gaussians and out-of-range ids") {
                   InputError);
 }
 
+namespace {
+
+// Two instances whose semantics are the embeddings of "patient" and "monitor".
+InstanceSet patient_and_monitor(const TextEncoder& enc) {
+  InstanceSet instances;
+  instances.prototypes = Eigen::MatrixXf::Zero(2, 1);
+  instances.semantics.resize(2, enc.dim());
+  instances.semantics.row(0) = enc.encode("patient").transpose();
+  instances.semantics.row(1) = enc.encode("monitor").transpose();
+  return instances;
+}
+
+}  // namespace
+
 TEST_CASE("normalised relevancy maps divide the blend by the accumulated alpha") {
   const GaussianModel model = test::two_blobs();
   const HashingTextEncoder enc(64);
-  InstanceSet instances;
-  instances.prototypes = Eigen::MatrixXf::Zero(2, 1);
-  instances.semantics.resize(2, 64);
-  instances.semantics.row(0) = enc.encode("patient").transpose();
-  instances.semantics.row(1) = enc.encode("monitor").transpose();
+  const InstanceSet instances = patient_and_monitor(enc);
   Capture capture;
   View view;
   view.name = "v";
@@ -124,4 +134,23 @@ TEST_CASE("normalised relevancy maps divide the blend by the accumulated alpha")
   CHECK(mean.views[0].relevancy[0](20, 15) == Approx(r0));
   CHECK(sum.views[0].relevancy[0](20, 15) < 0.9f * r0);
   CHECK(sum.views[0].masks[0](24, 17) == 255);
+}
+
+TEST_CASE("selection: closed set takes the argmax query, relevancy every instance above the bar") {
+  const HashingTextEncoder enc(64);
+  const InstanceSet instances = patient_and_monitor(enc);
+  TextQueryOptions o = text_query_param_table().read({{"selection", std::string("closed_set")}});
+  o.vocabulary = {"patient", "monitor"};
+  TextQueryResults r;
+  r.queries = {"patient"};
+  select_instances(instances, enc, o, r);
+  CHECK(r.instances[0] == std::vector<int>{0});
+  // Relevancy with a bar of 0: every instance with a relevancy (a softmax, > 0) is selected.
+  o = text_query_param_table().read(
+      {{"selection", std::string("relevancy")}, {"relevancy_threshold", 0.0}}, o);
+  CHECK(o.selection == QuerySelection::Relevancy);
+  select_instances(instances, enc, o, r);
+  CHECK(r.instances[0] == std::vector<int>{0, 1});
+  CHECK_THROWS_AS(text_query_param_table().read({{"selection", std::string("top_k")}}),
+                  std::invalid_argument);
 }

@@ -97,13 +97,39 @@ TEST_CASE("CVP sampling concentrates on mask centres (Eq. 4)") {
 
 TEST_CASE("mask-level lifting: one prototype per mask, clustered across views") {
   const Scene s = two_objects(3);
-  HdbscanParams h;
-  h.min_cluster_size = 2;
-  h.min_samples = 1;
-  const LiftedInstances r = mask_level_lifting(s.views, s.masks, h, 0.5);
+  const LiftedInstances r = mask_level_lifting(s.views, s.masks, MaskLevelLiftingParams{});
   REQUIRE(r.samples.size() == 6);
   CHECK(same_partition(r.labels, {0, 1, 0, 1, 0, 1}));
   CHECK(r.prototypes.rows() == 2);
+}
+
+TEST_CASE("lifting params: each node's defaults are its options' own, a wrong metric an error") {
+  // Mask level: an instance is a few masks (2, nearest other mask); cosine as CVP.
+  const MaskLevelLiftingParams m;
+  CHECK(m.hdbscan.min_cluster_size == 2);
+  CHECK(m.hdbscan.min_samples == 1);
+  CHECK(m.hdbscan.metric == HdbscanMetric::Cosine);
+  CHECK(m.cannot_link_iou == 0.5);
+  const auto specs = mask_level_lifting_param_table().specs();
+  REQUIRE(specs.size() == 5);
+  CHECK(specs[0].name == "min_cluster_size");
+  CHECK(std::get<int64_t>(*specs[0].default_value) == 2);
+  CHECK(specs[3].name == "metric");
+  CHECK(std::get<std::string>(*specs[3].default_value) == "cosine");
+  // CVP: its three sampling params, then the same clustering params with CVP's defaults.
+  const auto cvp = cvp_lifting_param_table().specs();
+  REQUIRE(cvp.size() == 8);
+  CHECK(cvp[3].name == "min_cluster_size");
+  CHECK(std::get<int64_t>(*cvp[3].default_value) == 10);
+  CHECK(cvp_lifting_param_table()
+            .read({{"metric", std::string("euclidean")}, {"sigma", 0.7}})
+            .hdbscan.metric == HdbscanMetric::Euclidean);
+  CHECK_THROWS_AS(mask_level_lifting_param_table().read({{"metric", std::string("manhattan")}}),
+                  std::invalid_argument);
+  CvpLiftingParams bad;
+  bad.sigma = 0;
+  bad.hdbscan.min_cluster_size = 1;
+  CHECK(cvp_lifting_param_table().check(bad).size() == 2);
 }
 
 TEST_CASE("lifting rejects mismatched inputs") {
@@ -112,7 +138,7 @@ TEST_CASE("lifting rejects mismatched inputs") {
   CHECK_THROWS_AS(cvp_lifting(s.views, s.masks, CvpLiftingParams{}), std::invalid_argument);
   Scene t = two_objects(1);
   t.masks.views[0].masks[0].pixels = cv::Mat1b::zeros(3, 3);
-  CHECK_THROWS_AS(mask_level_lifting(t.views, t.masks, HdbscanParams{}, 0.5),
+  CHECK_THROWS_AS(mask_level_lifting(t.views, t.masks, MaskLevelLiftingParams{}),
                   std::invalid_argument);
 }
 

@@ -111,6 +111,24 @@ TEST_CASE("points initialisation takes scales from the 3 nearest neighbours") {
                     Catch::Contains("neither sparse points nor a depth prior"));
 }
 
+TEST_CASE("the initialisation source: auto takes the depth prior, points the sparse points") {
+  Capture capture = plane_capture();
+  for (auto [x, y] : {std::pair{0, 0}, {1, 0}, {0, 1}, {1, 1}}) {
+    capture.points.xyz.emplace_back(x, y, 3);
+    capture.points.rgb.emplace_back(255, 0, 0);
+  }
+  InitialiseOptions options;
+  options.footprint_factor = 3.7;
+  options.pixel_stride = 1;
+  CHECK(initialise_gaussians(capture, options).size() == 252);  // as the voxel test above
+  options.source = InitSource::Points;
+  const GaussianModel m = initialise_gaussians(capture, options);
+  REQUIRE(m.size() == 4);
+  for (size_t i = 0; i < 4; ++i) CHECK(m.means[i * 3 + 2] == 3.f);
+  CHECK(parse_enum("depth", init_source_names(), "init") == InitSource::Depth);
+  CHECK_THROWS_AS(parse_enum("mvs", init_source_names(), "init"), std::invalid_argument);
+}
+
 TEST_CASE("density control clones small, splits large, prunes transparent and huge Gaussians") {
   GaussianModel m;
   m.resize(5);
