@@ -21,8 +21,11 @@ struct VlmLoadOptions {
   int rounds = 0;
 };
 
-// One ViewBoxes per capture view, in view order; a view without replies has no boxes.
-BoxSet load_vlm_boxes(const Capture& capture, const VlmLoadOptions& options = {});
+// One ViewBoxes per capture view, in view order; a view without replies has no boxes. Replies
+// that do not parse are skipped as parse_view_replies (vlm_reply.hpp) says; their count goes to
+// `rounds_unparsed` when given.
+BoxSet load_vlm_boxes(const Capture& capture, const VlmLoadOptions& options = {},
+                      int* rounds_unparsed = nullptr);
 
 // Box-prompted SAM masks for `boxes` (from load_vlm_boxes): the mask at position j of
 // round_<k>.json belongs to the box with round k and source_index j; Mask::box_index is that

@@ -70,8 +70,10 @@ void add_vlm(Registry& registry) {
     VlmLoadOptions o;
     o.coords = ctx.param_string("coords");
     o.rounds = static_cast<int>(ctx.param_int("rounds"));
-    BoxSet boxes = load_vlm_boxes(*ctx.input<Capture>("capture"), o);
+    int unparsed = 0;
+    BoxSet boxes = load_vlm_boxes(*ctx.input<Capture>("capture"), o, &unparsed);
     ctx.record("boxes", count_boxes(boxes));
+    ctx.record("rounds_unparsed", static_cast<double>(unparsed));
     ctx.output("boxes", std::move(boxes));
   });
 }

@@ -121,4 +121,28 @@ std::vector<Box> parse_vlm_reply(const std::string& text, const VlmFrame& frame,
   return boxes;
 }
 
+ViewReplies parse_view_replies(const std::string& view, const std::vector<std::string>& replies,
+                               const VlmFrame& frame,
+                               const std::function<std::string(int round)>& source) {
+  ViewReplies out;
+  out.boxes.view = view;
+  out.boxes.rounds = static_cast<int>(replies.size());
+  std::string last_error;
+  for (size_t k = 0; k < replies.size(); ++k) {
+    const int round = static_cast<int>(k);
+    try {
+      for (Box& b : parse_vlm_reply(replies[k], frame, round, source(round)))
+        out.boxes.boxes.push_back(std::move(b));
+    } catch (const InputError& e) {
+      ++out.unparsed;
+      last_error = e.what();
+      spdlog::warn("VLM round skipped: {}", last_error);
+    }
+  }
+  if (!replies.empty() && out.unparsed == static_cast<int>(replies.size()))
+    throw InputError("view '" + view + "': none of its " + std::to_string(replies.size()) +
+                     " replies holds a box list (last: " + last_error + ")");
+  return out;
+}
+
 }  // namespace gslift

@@ -6,6 +6,7 @@
 // (inside the first fence when there is one) is taken.
 #pragma once
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -39,5 +40,19 @@ struct VlmFrame {
 // `source` (the file name).
 std::vector<Box> parse_vlm_reply(const std::string& text, const VlmFrame& frame, int round,
                                  const std::string& source);
+
+// The boxes of one view's grounding replies, replies[k] being round k's (the one loop behind
+// ingest.vlm and vlm.query, so that a capture vlm.query writes reads back the same).
+// [decision] A reply the parser rejects costs its round only: it is skipped with a warning and
+// counted in `unparsed`, because a VLM answering nonsense once is what multi-round clustering is
+// there for. A view with replies none of which parses has nothing left to cluster: InputError.
+// ViewBoxes::rounds = replies.size(); `source(k)` names round k's reply in messages.
+struct ViewReplies {
+  ViewBoxes boxes;
+  int unparsed = 0;  // rounds skipped
+};
+ViewReplies parse_view_replies(const std::string& view, const std::vector<std::string>& replies,
+                               const VlmFrame& frame,
+                               const std::function<std::string(int round)>& source);
 
 }  // namespace gslift

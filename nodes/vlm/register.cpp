@@ -47,6 +47,10 @@ std::filesystem::path reply_root(NodeContext& ctx, const Capture& capture) {
   return ctx.out_dir();
 }
 
+std::string round_name(int k) {
+  return "round_" + std::to_string(k) + ".txt";
+}
+
 }  // namespace
 
 void register_vlm_nodes(Registry& registry) {
@@ -128,34 +132,21 @@ void register_vlm_nodes(Registry& registry) {
     size_t unparsed = 0, retried = 0, count = 0;
     for (size_t i = 0; i < views.size(); ++i) {
       const View& view = capture.views[views[i]];
-      ViewBoxes& vb = boxes.views[views[i]];
-      vb.rounds = o.rounds;
       frame.image_width = view.camera.width;
       frame.image_height = view.camera.height;
-      int parsed_rounds = 0;
+      std::vector<std::string> contents;
       for (int k = 0; k < o.rounds; ++k) {
         const VlmRoundReply& reply = replies[i][k];
         retried += reply.attempts > 1;
-        const std::string name = "round_" + std::to_string(k) + ".txt";
-        if (!dir.empty()) write_file_atomically(dir / "vlm" / view.name / name, reply.content);
-        // [decision] A reply the parser rejects costs its round only: a VLM answering nonsense
-        // once is what multi-round clustering is there for.
-        try {
-          for (Box& b : parse_vlm_reply(reply.content, frame, k, view.name + "/" + name)) {
-            vb.boxes.push_back(std::move(b));
-            ++count;
-          }
-          ++parsed_rounds;
-        } catch (const InputError& e) {
-          ++unparsed;
-          spdlog::warn("vlm.query: round skipped: {}", e.what());
-        }
+        contents.push_back(reply.content);
+        if (!dir.empty())
+          write_file_atomically(dir / "vlm" / view.name / round_name(k), reply.content);
       }
-      if (parsed_rounds == 0)
-        throw InputError(
-            "vlm.query: view '" + view.name + "': none of its " + std::to_string(o.rounds) +
-            " replies holds a box list (see " +
-            (dir.empty() ? std::string("the log") : (dir / "vlm" / view.name).string()) + ")");
+      ViewReplies parsed = parse_view_replies(
+          view.name, contents, frame, [&](int k) { return view.name + "/" + round_name(k); });
+      unparsed += parsed.unparsed;
+      count += parsed.boxes.boxes.size();
+      boxes.views[views[i]] = std::move(parsed.boxes);
     }
     ctx.record("boxes", static_cast<double>(count));
     ctx.record("requests", static_cast<double>(views.size() * o.rounds));
