@@ -18,21 +18,29 @@
 
 #include <opencv2/core.hpp>
 
+#include "graph/param_table.hpp"
 #include "nodes/scene/boxes.hpp"
 #include "nodes/scene/capture.hpp"
 #include "nodes/scene/masks.hpp"
 
 namespace gslift {
 
+// Where a box's mask comes from (see above).
+enum class BoxMaskSource { Sam, Grabcut, Auto };
+const EnumNames<BoxMaskSource>& box_mask_source_names();  // sam, grabcut, auto
+
 struct BoxMaskOptions {
-  std::string source = "auto";  // sam | grabcut | auto
-  int grabcut_iterations = 5;   // paper 002: 5
+  BoxMaskSource source = BoxMaskSource::Auto;
+  int grabcut_iterations = 5;  // paper 002: 5
   // [decision] GrabCut runs on the box grown by this fraction of its width/height on each side
   // (at least 8 pixels), not on the whole image: the colour models of the background then
   // describe the object's surroundings, and a 640x480 view costs a crop instead of the image.
   float context = 0.5f;
   bool use_depth = true;  // also run GrabCut on the depth prior when the view has one
 };
+
+// The params of boxes.to_masks: one entry per field above.
+const ParamTable<BoxMaskOptions>& box_mask_param_table();
 
 struct GrabCutMask {
   cv::Mat1b pixels;    // image size, 255 inside
@@ -56,8 +64,7 @@ struct BoxMaskResult {
 
 // Masks for every clustered box of every view, training and held-out. Parallel over views and,
 // within a view, over boxes (one view's images in memory per running view). Throws InputError
-// when a view is unknown to the capture, when source = sam and a box has no SAM mask, or when
-// the source is not one of sam | grabcut | auto.
+// when a view is unknown to the capture or when source = sam and a box has no SAM mask.
 BoxMaskResult box_masks(const BoxSet& clusters, const Capture& capture,
                         const BoxMaskOptions& options);
 

@@ -57,10 +57,13 @@ BoxSet load_vlm_boxes(const Capture& capture, const VlmLoadOptions& options, int
   const CaptureManifest m = read_capture_manifest(capture.root);
   const fs::path folder = capture.root / m.vlm;
   VlmFrame frame;
-  try {
-    frame.coords = vlm_coords_from_string(options.coords == "auto" ? m.vlm_coords : options.coords);
-  } catch (const std::invalid_argument& e) {
-    throw InputError(folder.string() + ": " + e.what());
+  frame.coords = options.coords;
+  if (frame.coords == VlmCoords::Auto) {
+    try {
+      frame.coords = parse_enum(m.vlm_coords, vlm_coords_names(), "vlm.coords");
+    } catch (const std::invalid_argument& e) {
+      throw InputError(folder.string() + ": " + e.what());
+    }
   }
   frame.input_width = m.vlm_input_width;
   frame.input_height = m.vlm_input_height;
@@ -137,6 +140,22 @@ MaskSet load_sam_auto_masks(const Capture& capture) {
     set.views.push_back(std::move(vm));
   }
   return set;
+}
+
+const ParamTable<VlmLoadOptions>& vlm_load_param_table() {
+  using O = VlmLoadOptions;
+  static const EnumNames<VlmCoords> coords = [] {
+    EnumNames<VlmCoords> names = {{VlmCoords::Auto, "auto"}};
+    for (const auto& entry : vlm_coords_names()) names.push_back(entry);
+    return names;
+  }();
+  static const ParamTable<O> table =
+      ParamTable<O>()
+          .add("coords", &O::coords, coords,
+               "the VLM's coordinate space; auto = capture.yaml vlm.coords (norm1000 without one)")
+          .add("rounds", &O::rounds, "rounds to read per view; 0 = all found, n = exactly 0..n-1",
+               0);
+  return table;
 }
 
 }  // namespace gslift

@@ -7,6 +7,8 @@
 
 #include <string>
 
+#include "graph/param_table.hpp"
+#include "nodes/ingest/vlm_reply.hpp"
 #include "nodes/scene/boxes.hpp"
 #include "nodes/scene/capture.hpp"
 #include "nodes/scene/masks.hpp"
@@ -14,12 +16,15 @@
 namespace gslift {
 
 struct VlmLoadOptions {
-  // norm1000 | resized_abs | pixels, or "auto" = capture.yaml's vlm.coords (norm1000 without).
-  std::string coords = "auto";
+  // The VLM's coordinate space; Auto = capture.yaml's vlm.coords (norm1000 without one).
+  VlmCoords coords = VlmCoords::Auto;
   // Rounds to read per view: 0 = every round_<k>.txt found (k = 0, 1, ... until one is absent);
   // n > 0 = exactly rounds 0..n-1, a missing file being an InputError.
   int rounds = 0;
 };
+
+// The params of ingest.vlm: one entry per field above.
+const ParamTable<VlmLoadOptions>& vlm_load_param_table();
 
 // One ViewBoxes per capture view, in view order; a view without replies has no boxes. Replies
 // that do not parse are skipped as parse_view_replies (vlm_reply.hpp) says; their count goes to

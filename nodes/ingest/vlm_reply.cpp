@@ -51,12 +51,11 @@ std::string first_json_value(const std::string& s, const std::string& where) {
 
 }  // namespace
 
-VlmCoords vlm_coords_from_string(const std::string& s) {
-  if (s == "norm1000") return VlmCoords::Norm1000;
-  if (s == "resized_abs") return VlmCoords::ResizedAbs;
-  if (s == "pixels") return VlmCoords::Pixels;
-  throw std::invalid_argument("unknown VLM coordinate space '" + s +
-                              "' (norm1000, resized_abs or pixels)");
+const EnumNames<VlmCoords>& vlm_coords_names() {
+  static const EnumNames<VlmCoords> names = {{VlmCoords::Norm1000, "norm1000"},
+                                             {VlmCoords::ResizedAbs, "resized_abs"},
+                                             {VlmCoords::Pixels, "pixels"}};
+  return names;
 }
 
 std::vector<Box> parse_vlm_reply(const std::string& text, const VlmFrame& frame, int round,
@@ -85,6 +84,8 @@ std::vector<Box> parse_vlm_reply(const std::string& text, const VlmFrame& frame,
     case VlmCoords::Pixels:
       sx = sy = frame.pixel_scale;
       break;
+    case VlmCoords::Auto:
+      throw std::logic_error("parse_vlm_reply: coordinate space 'auto' was not resolved");
   }
   std::vector<Box> boxes;
   int degenerate = 0;

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "graph/param_table.hpp"
 #include "nodes/scene/boxes.hpp"
 
 namespace gslift {
@@ -19,10 +20,13 @@ enum class VlmCoords {
   Norm1000,    // 0..1000 relative to the image (Qwen2-VL, Qwen3-VL): x * W / 1000
   ResizedAbs,  // absolute pixels of the model's resized input (Qwen2.5-VL): x * W / input_w
   Pixels,      // pixels of the original image: x * pixel_scale
+  // Not a space: "as the capture's capture.yaml says" (ingest.vlm's default); the parser rejects
+  // it, a reader replaces it first.
+  Auto,
 };
 
-// "norm1000" | "resized_abs" | "pixels"; throws std::invalid_argument otherwise.
-VlmCoords vlm_coords_from_string(const std::string& s);
+// The names of the three spaces: norm1000, resized_abs, pixels (Auto left out).
+const EnumNames<VlmCoords>& vlm_coords_names();
 
 struct VlmFrame {
   VlmCoords coords = VlmCoords::Norm1000;

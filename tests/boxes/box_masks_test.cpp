@@ -141,7 +141,7 @@ TEST_CASE("box masks: SAM lookup of the representatives on a synthetic capture",
   const MaskSet raw_masks = load_sam_box_masks(capture, raw);
 
   BoxMaskOptions o;
-  o.source = "sam";
+  o.source = BoxMaskSource::Sam;
   const BoxMaskResult sam = box_masks(clusters, capture, o);
   REQUIRE(sam.masks.views.size() == capture.views.size());
   int total = 0;
@@ -171,9 +171,9 @@ TEST_CASE("box masks: SAM lookup of the representatives on a synthetic capture",
   CHECK(sam.from_sam == total);
 
   // auto takes the same SAM masks; grabcut makes masks of its own that mostly agree with them.
-  o.source = "auto";
+  o.source = BoxMaskSource::Auto;
   CHECK(box_masks(clusters, capture, o).from_sam == total);
-  o.source = "grabcut";
+  o.source = BoxMaskSource::Grabcut;
   const BoxMaskResult cut = box_masks(clusters, capture, o);
   CHECK(cut.from_sam == 0);
   CHECK(cut.from_grabcut + cut.from_box == total);
@@ -204,14 +204,15 @@ TEST_CASE("box masks: bad input", "[boxes]") {
   BoxSet clusters;
   clusters.views.push_back({"v", 1, {box_around_disc()}});
   BoxMaskOptions o;
-  o.source = "sam";
+  o.source = BoxMaskSource::Sam;
   CHECK_THROWS_WITH(box_masks(clusters, capture, o), Catch::Contains("no SAM mask"));
-  o.source = "auto";  // falls back to GrabCut
+  o.source = BoxMaskSource::Auto;  // falls back to GrabCut
   const BoxMaskResult r = box_masks(clusters, capture, o);
   CHECK(r.from_grabcut + r.from_box == 1);
-  o.source = "magic";
-  CHECK_THROWS_AS(box_masks(clusters, capture, o), InputError);
-  o.source = "grabcut";
+  // A source that is not a mode is an error where it is read, never a fallback.
+  CHECK_THROWS_WITH(box_mask_param_table().read({{"source", std::string("magic")}}),
+                    Catch::Contains("'magic' is not one of {sam, grabcut, auto}"));
+  o.source = BoxMaskSource::Grabcut;
   clusters.views[0].view = "elsewhere";
   CHECK_THROWS_WITH(box_masks(clusters, capture, o), Catch::Contains("elsewhere"));
 }
