@@ -135,6 +135,13 @@ class ParamTable {
     fields_.back().required = true;
     return *this;
   }
+  // The last added field is a file or folder (ParamSpec::path); it must be a string field.
+  ParamTable& path() {
+    if (fields_.back().spec.type != ParamType::String)
+      throw std::logic_error("param '" + fields_.back().spec.name + "': only a string is a path");
+    fields_.back().spec.path = true;
+    return *this;
+  }
 
   // Every field of `sub`, reading and writing the member `m`; `doc_suffix` is appended to each
   // field's doc (what the node adds to the meaning, e.g. how a preset interacts).

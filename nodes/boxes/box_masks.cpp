@@ -10,7 +10,6 @@
 #include <tbb/parallel_for.h>
 #include <opencv2/imgproc.hpp>
 
-#include "nodes/ingest/capture_annotations.hpp"
 #include "runtime/node.hpp"
 
 namespace gslift {
@@ -80,7 +79,7 @@ GrabCutMask grabcut_box_mask(const cv::Mat& rgb, const cv::Mat& depth, const Box
   return result;
 }
 
-BoxMaskResult box_masks(const BoxSet& clusters, const Capture& capture,
+BoxMaskResult box_masks(const BoxSet& clusters, const Capture& capture, const MaskSet& sam_masks,
                         const BoxMaskOptions& options) {
   const BoxMaskSource source = options.source;
   for (const ViewBoxes& vb : clusters.views)
@@ -88,13 +87,23 @@ BoxMaskResult box_masks(const BoxSet& clusters, const Capture& capture,
       throw InputError("boxes.to_masks: boxes name view '" + vb.view + "' that the capture '" +
                        capture.name + "' lacks");
 
-  // SAM masks of the representatives, by (view, box index). In-memory captures have no folder
-  // and hence no SAM masks.
+  // SAM masks of the representatives, by (view, box index).
   std::vector<std::map<int, Mask>> sam(clusters.views.size());
-  if (source != BoxMaskSource::Grabcut && !capture.root.empty()) {
-    MaskSet loaded = load_sam_box_masks(capture, clusters);
-    for (size_t v = 0; v < loaded.views.size(); ++v)
-      for (Mask& m : loaded.views[v].masks) sam[v].emplace(m.box_index, std::move(m));
+  if (source != BoxMaskSource::Grabcut) {
+    for (size_t v = 0; v < clusters.views.size(); ++v) {
+      const ViewBoxes& vb = clusters.views[v];
+      for (const ViewMasks& vm : sam_masks.views) {
+        if (vm.view != vb.view) continue;
+        for (const Mask& m : vm.masks) {
+          if (m.box_index < 0 || m.box_index >= static_cast<int>(vb.boxes.size()))
+            throw InputError("boxes.to_masks: a SAM mask of view '" + vb.view + "' names box " +
+                             std::to_string(m.box_index) + " of " +
+                             std::to_string(vb.boxes.size()) +
+                             " (the sam input must be prompted with these clusters)");
+          sam[v].emplace(m.box_index, m);
+        }
+      }
+    }
   }
 
   BoxMaskResult result;
@@ -114,7 +123,7 @@ BoxMaskResult box_masks(const BoxSet& clusters, const Capture& capture,
                          std::to_string(b) + " of view '" + vb.view + "' (round " +
                          std::to_string(vb.boxes[b].round) + ", entry " +
                          std::to_string(vb.boxes[b].source_index) +
-                         " of sam_box/); source=auto falls back to GrabCut");
+                         " of sam_box/, input sam); source=auto falls back to GrabCut");
       needs_grabcut = true;
     }
     cv::Mat rgb, depth;

@@ -1,7 +1,8 @@
 // LangOR §3.1 (METHODS §1.1, §4): one instance mask per clustered representative box.
 //
-// source = sam: the capture's SAM mask prompted with the representative box itself (VLM round
-// and source_index -> sam_box/<stem>/round_<k>.json entry, read by nodes/ingest's loader).
+// source = sam: SAM's mask prompted with the representative box itself, given as a MaskSet linked
+// to the clusters by box_index (ingest.sam_masks kind box reads it for the clusters: VLM round and
+// source_index -> sam_box/<stem>/round_<k>.json entry).
 // source = grabcut: OpenCV GrabCut initialised with the box rectangle, on RGB and, when the view
 // has a depth prior, on the depth rendered as an 8-bit image; the two foregrounds are OR-ed and an
 // empty result keeps the box itself as the mask (paper 002, METHODS §4).
@@ -62,10 +63,12 @@ struct BoxMaskResult {
   int from_sam = 0, from_grabcut = 0, from_box = 0;  // how each mask was made
 };
 
-// Masks for every clustered box of every view, training and held-out. Parallel over views and,
+// Masks for every clustered box of every view, training and held-out. `sam`: SAM masks of the
+// clusters' boxes, matched by view name and box_index (empty = none). Parallel over views and,
 // within a view, over boxes (one view's images in memory per running view). Throws InputError
-// when a view is unknown to the capture or when source = sam and a box has no SAM mask.
-BoxMaskResult box_masks(const BoxSet& clusters, const Capture& capture,
+// when a view is unknown to the capture, when a SAM mask names a box the view lacks, or when
+// source = sam and a box has no SAM mask.
+BoxMaskResult box_masks(const BoxSet& clusters, const Capture& capture, const MaskSet& sam,
                         const BoxMaskOptions& options);
 
 }  // namespace gslift

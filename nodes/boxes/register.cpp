@@ -24,15 +24,19 @@ void add_cluster(Registry& registry) {
   registry.add(std::move(spec), box_clustering_param_table(), run_cluster);
 }
 
-// boxes.prompt's one param: the vocabulary file.
+// boxes.prompt's one param: the vocabulary file. Like every path param, a relative value written
+// in a graph file is relative to that file; the default is written in none, so it is relative to
+// the current directory (the repository root): a graph meant to run from anywhere sets it.
 struct PromptParams {
   std::string vocabulary = "graphs/vocabulary/or.yaml";
 };
 
 const ParamTable<PromptParams>& prompt_param_table() {
-  static const ParamTable<PromptParams> table = ParamTable<PromptParams>().add(
-      "vocabulary", &PromptParams::vocabulary,
-      "vocabulary file: classes with spatial, behaviour, appearance context");
+  static const ParamTable<PromptParams> table =
+      ParamTable<PromptParams>()
+          .add("vocabulary", &PromptParams::vocabulary,
+               "vocabulary file: classes with spatial, behaviour, appearance context")
+          .path();
   return table;
 }
 
@@ -51,7 +55,10 @@ void add_prompt(Registry& registry) {
 }
 
 void run_to_masks(NodeContext& ctx, const BoxMaskOptions& o) {
-  BoxMaskResult r = box_masks(*ctx.input<BoxSet>("clusters"), *ctx.input<Capture>("capture"), o);
+  const MaskSet none;
+  const MaskSet& sam = ctx.has_input("sam") ? *ctx.input<MaskSet>("sam") : none;
+  BoxMaskResult r =
+      box_masks(*ctx.input<BoxSet>("clusters"), *ctx.input<Capture>("capture"), sam, o);
   ctx.record("from_sam", r.from_sam);
   ctx.record("from_grabcut", r.from_grabcut);
   ctx.record("from_box", r.from_box);
@@ -63,7 +70,11 @@ void add_to_masks(Registry& registry) {
       "boxes.to_masks",
       "clustered boxes -> one instance mask each: SAM box-prompt masks, GrabCut fallback",
       {{"clusters", "BoxSet", "representative boxes of every view (boxes.cluster)"},
-       {"capture", "Capture", "views with RGB, optional depth prior and SAM box masks"}},
+       {"capture", "Capture", "views with RGB and optional depth prior (for GrabCut)"},
+       {"sam", "MaskSet",
+        "SAM masks prompted with these clusters' boxes, linked by box_index (ingest.sam_masks, "
+        "kind box, boxes = the clusters); unwired = none, so sam fails and auto is GrabCut",
+        true}},
       {{"masks", "MaskSet", "one mask per clustered box, label and box_index of its box"}}};
   registry.add(std::move(spec), box_mask_param_table(), run_to_masks);
 }

@@ -94,6 +94,11 @@ BoxSet load_vlm_boxes(const Capture& capture, const VlmLoadOptions& options, int
 }
 
 MaskSet load_sam_box_masks(const Capture& capture, const BoxSet& boxes) {
+  if (capture.root.empty()) {  // built in memory: no files beside it
+    MaskSet none;
+    for (const ViewBoxes& vb : boxes.views) none.views.push_back({vb.view, {}});
+    return none;
+  }
   const CaptureManifest m = read_capture_manifest(capture.root);
   const fs::path folder = capture.root / m.sam_box;
   MaskSet set;

@@ -32,10 +32,10 @@ const ParamTable<VlmLoadOptions>& vlm_load_param_table();
 BoxSet load_vlm_boxes(const Capture& capture, const VlmLoadOptions& options = {},
                       int* rounds_unparsed = nullptr);
 
-// Box-prompted SAM masks for `boxes` (from load_vlm_boxes): the mask at position j of
-// round_<k>.json belongs to the box with round k and source_index j; Mask::box_index is that
-// box's index in its ViewBoxes and Mask::label its label. Masks whose box was dropped (degenerate)
-// and null entries are left out.
+// Box-prompted SAM masks for `boxes` (from load_vlm_boxes, or clusters of them): the mask at
+// position j of round_<k>.json belongs to the box with round k and source_index j; Mask::box_index
+// is that box's index in its ViewBoxes and Mask::label its label. Masks whose box was dropped
+// (degenerate) and null entries are left out. A capture built in memory (no root folder) has none.
 MaskSet load_sam_box_masks(const Capture& capture, const BoxSet& boxes);
 
 // SAM automatic masks of every view that has a sam_auto/<stem>.json, in view order.

@@ -29,6 +29,7 @@ const ParamTable<CaptureNodeParams>& capture_node_param_table() {
       ParamTable<P>()
           .add("path", &P::path, "capture folder or file, or <scheme>:<spec> such as embedded:or")
           .required()
+          .path()
           .nest(&P::options, capture_param_table());
   return table;
 }
@@ -84,15 +85,24 @@ const ParamTable<SamMasksParams>& sam_masks_param_table() {
   return table;
 }
 
+// Every input it reads is a port: kind box reads the masks of the boxes wired to `boxes` (no
+// hidden load of the VLM replies), kind auto reads none, so a wired `boxes` would be ignored.
 void run_sam_masks(NodeContext& ctx, const SamMasksParams& p) {
   const Capture& capture = *ctx.input<Capture>("capture");
   MaskSet masks;
-  if (p.kind == SamMaskKind::Auto)
+  if (p.kind == SamMaskKind::Auto) {
+    if (ctx.has_input("boxes"))
+      throw InputError(
+          "ingest.sam_masks: kind auto reads the automatic masks and takes no boxes; unwire "
+          "'boxes' or set kind: box");
     masks = load_sam_auto_masks(capture);
-  else if (ctx.has_input("boxes"))
+  } else {
+    if (!ctx.has_input("boxes"))
+      throw InputError(
+          "ingest.sam_masks: kind box needs the input 'boxes' (the boxes the masks were "
+          "prompted with: ingest.vlm's boxes, or boxes.cluster's clusters)");
     masks = load_sam_box_masks(capture, *ctx.input<BoxSet>("boxes"));
-  else
-    masks = load_sam_box_masks(capture, load_vlm_boxes(capture));
+  }
   size_t n = 0;
   for (const auto& v : masks.views) n += v.masks.size();
   ctx.record("masks", static_cast<double>(n));
@@ -105,8 +115,9 @@ void add_sam_masks(Registry& registry) {
       "read the capture's SAM masks: automatic (sam_auto/) or box-prompted (sam_box/)",
       {capture_port("the capture the masks belong to"),
        {"boxes", PortTypeName<BoxSet>::value,
-        "kind box: the VLM boxes the masks were prompted with (default: ingest.vlm's, coords "
-        "auto)",
+        "kind box (needed there, refused by kind auto): the boxes the masks were prompted "
+        "with, each keeping its VLM round and reply position (ingest.vlm's boxes, or "
+        "boxes.cluster's clusters); masks link to them by box_index",
         true}},
       {{"masks", PortTypeName<MaskSet>::value, "masks per view at the views' resolution"}}};
   registry.add(std::move(spec), sam_masks_param_table(), run_sam_masks);

@@ -27,7 +27,8 @@ const ParamTable<TextEncoderParams>& text_encoder_param_table() {
                "hashing: built-in subword hashing; table: precomputed embeddings from `table`")
           .add("dim", &P::dim, "hashing: embedding width", 1, 65536)
           .add("table", &P::table,
-               "table: file of 'label<TAB>v1 .. vD' lines or a JSON {label: [..]} object");
+               "table: file of 'label<TAB>v1 .. vD' lines or a JSON {label: [..]} object")
+          .path();
   return table;
 }
 
