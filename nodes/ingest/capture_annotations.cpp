@@ -57,14 +57,7 @@ BoxSet load_vlm_boxes(const Capture& capture, const VlmLoadOptions& options, int
   const CaptureManifest m = read_capture_manifest(capture.root);
   const fs::path folder = capture.root / m.vlm;
   VlmFrame frame;
-  frame.coords = options.coords;
-  if (frame.coords == VlmCoords::Auto) {
-    try {
-      frame.coords = parse_enum(m.vlm_coords, vlm_coords_names(), "vlm.coords");
-    } catch (const std::invalid_argument& e) {
-      throw InputError(folder.string() + ": " + e.what());
-    }
-  }
+  frame.coords = options.coords == VlmCoords::Auto ? m.vlm_coords : options.coords;
   frame.input_width = m.vlm_input_width;
   frame.input_height = m.vlm_input_height;
   BoxSet set;
