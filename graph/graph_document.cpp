@@ -8,13 +8,17 @@ SourceLoc loc_of(const YAML::Node& node, const std::string& file) {
   return SourceLoc{file, m.line + 1, m.column + 1};  // yaml-cpp marks are 0-based
 }
 
-DocValue::DocValue(YAML::Node v, SourceLoc key, SourceLoc at)
-    : value(std::move(v)), key_loc(std::move(key)), value_loc(std::move(at)) {}
+DocValue::DocValue(YAML::Node v, SourceLoc key, SourceLoc at, std::filesystem::path folder)
+    : value(std::move(v)),
+      key_loc(std::move(key)),
+      value_loc(std::move(at)),
+      dir(std::move(folder)) {}
 
 DocValue& DocValue::operator=(const DocValue& other) {
   value.reset(other.value);
   key_loc = other.key_loc;
   value_loc = other.value_loc;
+  dir = other.dir;
   return *this;
 }
 

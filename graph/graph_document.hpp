@@ -3,6 +3,7 @@
 // written so that validation can point at the right file, line and column.
 #pragma once
 
+#include <filesystem>
 #include <map>
 #include <set>
 #include <string>
@@ -23,9 +24,13 @@ struct DocValue {
   YAML::Node value;
   SourceLoc key_loc;
   SourceLoc value_loc;
+  // The folder of the graph file the value was written in, which relative path params are
+  // resolved against; empty for the command line (--set, --input) and for text read without a
+  // folder, whose paths stay relative to the current directory.
+  std::filesystem::path dir;
 
   DocValue() = default;
-  DocValue(YAML::Node v, SourceLoc key, SourceLoc at);
+  DocValue(YAML::Node v, SourceLoc key, SourceLoc at, std::filesystem::path dir = {});
   DocValue(const DocValue&) = default;
   // yaml-cpp's Node::operator= writes through to the node it refers to (an alias of it, a base
   // file's node); rebinding instead keeps an override from changing any other value.

@@ -35,6 +35,9 @@ struct ParamSpec {
   // Allowed values for String params (an enum); empty = any string.
   std::vector<std::string> choices;
   std::string doc;
+  // A String param naming a file or folder: a relative value written in a graph file is taken
+  // relative to that file's folder, like `extends:` (validate.cpp, docs/graph_format.md).
+  bool path = false;
 };
 
 // Builders that keep node registrations short and readable.

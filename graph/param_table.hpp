@@ -138,12 +138,21 @@ class ParamTable {
     fields_.back().required = true;
     return *this;
   }
+  // The last added field is a file or folder (ParamSpec::path); it must be a string field.
+  ParamTable& path() {
+    if (fields_.back().spec.type != ParamType::String)
+      throw std::logic_error("param '" + fields_.back().spec.name + "': only a string is a path");
+    fields_.back().spec.path = true;
+    return *this;
+  }
 
-  // Every field of `sub`, reading and writing the member `m`.
+  // Every field of `sub`, reading and writing the member `m`; `doc_suffix` is appended to each
+  // field's doc (what the node adds to the meaning, e.g. how a preset interacts).
   template <class S>
-  ParamTable& nest(S O::*m, const ParamTable<S>& sub) {
+  ParamTable& nest(S O::*m, const ParamTable<S>& sub, const std::string& doc_suffix = {}) {
     for (const auto& f : sub.fields()) {
       Field field{f.spec, f.required, nullptr, nullptr};
+      field.spec.doc += doc_suffix;
       field.get = [m, get = f.get](const O& o) { return get(o.*m); };
       field.set = [m, set = f.set](O& o, const ParamValue& v) { set(o.*m, v); };
       fields_.push_back(std::move(field));

@@ -1,5 +1,6 @@
 #include "graph/substitute.hpp"
 
+#include <filesystem>
 #include <optional>
 #include <regex>
 
@@ -23,6 +24,21 @@ class Substitution {
   // The value with its ${} expanded, in a scalar or in the elements of a list (params hold no
   // deeper values; not descending also keeps recursive aliases harmless). The value itself when
   // there is nothing to expand or on error.
+  // The folder a path in `param` is relative to once ${} is expanded: that of the var the value
+  // starts with (a path's leading part decides what it is relative to): none for a command-line
+  // var, the graph param's file folder for a graph param; otherwise the param's own.
+  std::filesystem::path origin(const DocValue& param) const {
+    if (!param.value.IsScalar()) return param.dir;
+    const std::string& text = param.value.Scalar();
+    if (text.compare(0, 2, "${") != 0) return param.dir;
+    const size_t close = text.find('}');
+    if (close == std::string::npos) return param.dir;
+    const std::string name = text.substr(2, close - 2);
+    if (vars_.count(name)) return {};
+    if (auto p = doc_.params.find(name); p != doc_.params.end()) return p->second.dir;
+    return param.dir;
+  }
+
   YAML::Node apply(const YAML::Node& value, const SourceLoc& at) {
     if (!value.IsSequence()) return apply_scalar(value, at);
     YAML::Node out(YAML::NodeType::Sequence);
@@ -108,8 +124,10 @@ void substitute_vars(GraphDocument& doc, const std::map<std::string, std::string
                      Diagnostics& diagnostics) {
   Substitution substitution(doc, vars, diagnostics);
   for (auto& node : doc.nodes)
-    for (auto& [name, param] : node.params)
+    for (auto& [name, param] : node.params) {
+      param.dir = substitution.origin(param);
       param.value.reset(substitution.apply(param.value, param.value_loc));
+    }
 }
 
 }  // namespace gslift

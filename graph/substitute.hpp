@@ -2,6 +2,8 @@
 // then the graph's `params:`. A value that is exactly "${name}" becomes the source's YAML value,
 // so a number, bool or list keeps its type; inside longer text the source's text is inserted and
 // the result is a string. "$${" writes a literal "${". Graph params are not themselves expanded.
+// A value that starts with ${name} takes the folder its relative paths are resolved against
+// (DocValue::dir) from its source: none for a command-line var, the file's for a graph param.
 #pragma once
 
 #include <map>

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <regex>
 #include <set>
 
 #include "graph/suggest.hpp"
@@ -16,6 +17,18 @@ std::vector<std::string> names_of(const std::vector<T>& specs) {
   std::vector<std::string> names;
   for (const auto& s : specs) names.push_back(s.name);
   return names;
+}
+
+// A path param's value written in a graph file: a relative path becomes absolute against the
+// file's folder `dir`, like `extends:`. Kept as it is: an empty value, an absolute path, a value
+// with a scheme ("embedded:or", "https://...": two or more letters before the colon, so a drive
+// letter stays a path) and any value without a folder (command line, text read without one).
+std::string resolve_path(const std::string& value, const std::filesystem::path& dir) {
+  static const std::regex scheme("[A-Za-z][A-Za-z0-9+.-]+:.*");
+  if (dir.empty() || value.empty() || std::regex_match(value, scheme)) return value;
+  const std::filesystem::path p(value);
+  if (p.is_absolute()) return value;
+  return std::filesystem::absolute(dir / p).lexically_normal().string();
 }
 
 std::string describe(const DocNode& node) {
@@ -132,7 +145,7 @@ class Validator {
         continue;
       }
       std::string error;
-      const auto value = param_from_yaml(given.value, param->type, error);
+      auto value = param_from_yaml(given.value, param->type, error);
       if (!value) {
         diagnostics_.error(given.value_loc, "param-type",
                            "param '" + name + "' of " + describe(doc_node) + ": " + error);
@@ -143,6 +156,8 @@ class Validator {
                            "param '" + name + "' of " + describe(doc_node) + ": " + bad);
         continue;
       }
+      if (param->path)
+        if (auto* text = std::get_if<std::string>(&*value)) *text = resolve_path(*text, given.dir);
       node.params[name] = *value;
       node.param_locs[name] = given.value_loc;
     }

@@ -82,7 +82,7 @@ std::optional<std::string> scalar_text(const YAML::Node& value, const std::strin
 }
 
 DocNode read_node(const YAML::Node& key, const YAML::Node& value, const std::string& file,
-                  Diagnostics& diagnostics) {
+                  const fs::path& dir, Diagnostics& diagnostics) {
   DocNode node;
   node.id = key.Scalar();
   node.loc = loc_of(key, file);
@@ -108,7 +108,7 @@ DocNode read_node(const YAML::Node& key, const YAML::Node& value, const std::str
     } else if (name == "params") {
       if (!expect_map(v, "'params' of " + where, file, diagnostics)) continue;
       for (const auto& [param, pv] : unique_entries(v))
-        node.params[param.Scalar()] = DocValue(pv, loc_of(param, file), loc_of(pv, file));
+        node.params[param.Scalar()] = DocValue(pv, loc_of(param, file), loc_of(pv, file), dir);
     } else {
       node.unknown_keys[name] = DocValue(v, loc_of(k, file), loc_of(v, file));
     }
@@ -192,12 +192,12 @@ std::optional<GraphDocument> read(const std::string& text, const std::string& na
           diagnostics.error(
               loc_of(pk, name), "bad-id",
               "graph param '" + pk.Scalar() + "' is not of the form [A-Za-z_][A-Za-z0-9_]*");
-        own.params[pk.Scalar()] = DocValue(pv, loc_of(pk, name), loc_of(pv, name));
+        own.params[pk.Scalar()] = DocValue(pv, loc_of(pk, name), loc_of(pv, name), base_dir);
       }
     } else if (key == "nodes") {
       if (!expect_map(v, "'nodes'", name, diagnostics)) continue;
       for (const auto& [nk, nv] : unique_entries(v))
-        own.nodes.push_back(read_node(nk, nv, name, diagnostics));
+        own.nodes.push_back(read_node(nk, nv, name, base_dir, diagnostics));
     } else if (key == "extends") {
       base = read_base(v, name, base_dir, chain, diagnostics);
       base_failed = !base;

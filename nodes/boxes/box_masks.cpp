@@ -11,7 +11,6 @@
 #include <opencv2/imgproc.hpp>
 
 #include "base/errors.hpp"
-#include "nodes/ingest/capture_annotations.hpp"
 
 namespace gslift {
 namespace {
@@ -80,23 +79,31 @@ GrabCutMask grabcut_box_mask(const cv::Mat& rgb, const cv::Mat& depth, const Box
   return result;
 }
 
-BoxMaskResult box_masks(const BoxSet& clusters, const Capture& capture,
+BoxMaskResult box_masks(const BoxSet& clusters, const Capture& capture, const MaskSet& sam_masks,
                         const BoxMaskOptions& options) {
-  const std::string& source = options.source;
-  if (source != "sam" && source != "grabcut" && source != "auto")
-    throw InputError("boxes.to_masks: source '" + source + "' is not sam, grabcut or auto");
+  const BoxMaskSource source = options.source;
   for (const ViewBoxes& vb : clusters.views)
     if (capture.find_view(vb.view) < 0)
       throw InputError("boxes.to_masks: boxes name view '" + vb.view + "' that the capture '" +
                        capture.name + "' lacks");
 
-  // SAM masks of the representatives, by (view, box index). In-memory captures have no folder
-  // and hence no SAM masks.
+  // SAM masks of the representatives, by (view, box index).
   std::vector<std::map<int, Mask>> sam(clusters.views.size());
-  if (source != "grabcut" && !capture.root.empty()) {
-    MaskSet loaded = load_sam_box_masks(capture, clusters);
-    for (size_t v = 0; v < loaded.views.size(); ++v)
-      for (Mask& m : loaded.views[v].masks) sam[v].emplace(m.box_index, std::move(m));
+  if (source != BoxMaskSource::Grabcut) {
+    for (size_t v = 0; v < clusters.views.size(); ++v) {
+      const ViewBoxes& vb = clusters.views[v];
+      for (const ViewMasks& vm : sam_masks.views) {
+        if (vm.view != vb.view) continue;
+        for (const Mask& m : vm.masks) {
+          if (m.box_index < 0 || m.box_index >= static_cast<int>(vb.boxes.size()))
+            throw InputError("boxes.to_masks: a SAM mask of view '" + vb.view + "' names box " +
+                             std::to_string(m.box_index) + " of " +
+                             std::to_string(vb.boxes.size()) +
+                             " (the sam input must be prompted with these clusters)");
+          sam[v].emplace(m.box_index, m);
+        }
+      }
+    }
   }
 
   BoxMaskResult result;
@@ -111,12 +118,12 @@ BoxMaskResult box_masks(const BoxSet& clusters, const Capture& capture,
     bool needs_grabcut = false;
     for (size_t b = 0; b < vb.boxes.size(); ++b) {
       if (sam[v].count(static_cast<int>(b))) continue;
-      if (source == "sam")
+      if (source == BoxMaskSource::Sam)
         throw InputError("boxes.to_masks: capture '" + capture.name + "' has no SAM mask for box " +
                          std::to_string(b) + " of view '" + vb.view + "' (round " +
                          std::to_string(vb.boxes[b].round) + ", entry " +
                          std::to_string(vb.boxes[b].source_index) +
-                         " of sam_box/); source=auto falls back to GrabCut");
+                         " of sam_box/, input sam); source=auto falls back to GrabCut");
       needs_grabcut = true;
     }
     cv::Mat rgb, depth;
@@ -147,6 +154,28 @@ BoxMaskResult box_masks(const BoxSet& clusters, const Capture& capture,
   result.from_grabcut = from_grabcut;
   result.from_box = from_box;
   return result;
+}
+
+const EnumNames<BoxMaskSource>& box_mask_source_names() {
+  static const EnumNames<BoxMaskSource> names = {{BoxMaskSource::Sam, "sam"},
+                                                 {BoxMaskSource::Grabcut, "grabcut"},
+                                                 {BoxMaskSource::Auto, "auto"}};
+  return names;
+}
+
+const ParamTable<BoxMaskOptions>& box_mask_param_table() {
+  using O = BoxMaskOptions;
+  static const ParamTable<O> table =
+      ParamTable<O>()
+          .add("source", &O::source, box_mask_source_names(),
+               "sam: the capture's SAM mask of the box (missing = bad input); grabcut: GrabCut on "
+               "RGB and depth; auto: sam where present, else grabcut")
+          .add("grabcut_iterations", &O::grabcut_iterations, "GrabCut iterations (paper: 5)", 1,
+               100)
+          .add("context", &O::context,
+               "GrabCut crop: the box grown by this fraction of its size on each side", 0, 10)
+          .add("use_depth", &O::use_depth, "also run GrabCut on the depth prior, OR-ed");
+  return table;
 }
 
 }  // namespace gslift

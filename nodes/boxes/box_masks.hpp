@@ -1,7 +1,8 @@
 // LangOR §3.1 (METHODS §1.1, §4): one instance mask per clustered representative box.
 //
-// source = sam: the capture's SAM mask prompted with the representative box itself (VLM round
-// and source_index -> sam_box/<stem>/round_<k>.json entry, read by nodes/ingest's loader).
+// source = sam: SAM's mask prompted with the representative box itself, given as a MaskSet linked
+// to the clusters by box_index (ingest.sam_masks kind box reads it for the clusters: VLM round and
+// source_index -> sam_box/<stem>/round_<k>.json entry).
 // source = grabcut: OpenCV GrabCut initialised with the box rectangle, on RGB and, when the view
 // has a depth prior, on the depth rendered as an 8-bit image; the two foregrounds are OR-ed and an
 // empty result keeps the box itself as the mask (paper 002, METHODS §4).
@@ -18,21 +19,29 @@
 
 #include <opencv2/core.hpp>
 
+#include "graph/param_table.hpp"
 #include "nodes/scene/boxes.hpp"
 #include "nodes/scene/capture.hpp"
 #include "nodes/scene/masks.hpp"
 
 namespace gslift {
 
+// Where a box's mask comes from (see above).
+enum class BoxMaskSource { Sam, Grabcut, Auto };
+const EnumNames<BoxMaskSource>& box_mask_source_names();  // sam, grabcut, auto
+
 struct BoxMaskOptions {
-  std::string source = "auto";  // sam | grabcut | auto
-  int grabcut_iterations = 5;   // paper 002: 5
+  BoxMaskSource source = BoxMaskSource::Auto;
+  int grabcut_iterations = 5;  // paper 002: 5
   // [decision] GrabCut runs on the box grown by this fraction of its width/height on each side
   // (at least 8 pixels), not on the whole image: the colour models of the background then
   // describe the object's surroundings, and a 640x480 view costs a crop instead of the image.
   float context = 0.5f;
   bool use_depth = true;  // also run GrabCut on the depth prior when the view has one
 };
+
+// The params of boxes.to_masks: one entry per field above.
+const ParamTable<BoxMaskOptions>& box_mask_param_table();
 
 struct GrabCutMask {
   cv::Mat1b pixels;    // image size, 255 inside
@@ -54,11 +63,12 @@ struct BoxMaskResult {
   int from_sam = 0, from_grabcut = 0, from_box = 0;  // how each mask was made
 };
 
-// Masks for every clustered box of every view, training and held-out. Parallel over views and,
+// Masks for every clustered box of every view, training and held-out. `sam`: SAM masks of the
+// clusters' boxes, matched by view name and box_index (empty = none). Parallel over views and,
 // within a view, over boxes (one view's images in memory per running view). Throws InputError
-// when a view is unknown to the capture, when source = sam and a box has no SAM mask, or when
-// the source is not one of sam | grabcut | auto.
-BoxMaskResult box_masks(const BoxSet& clusters, const Capture& capture,
+// when a view is unknown to the capture, when a SAM mask names a box the view lacks, or when
+// source = sam and a box has no SAM mask.
+BoxMaskResult box_masks(const BoxSet& clusters, const Capture& capture, const MaskSet& sam,
                         const BoxMaskOptions& options);
 
 }  // namespace gslift

@@ -106,4 +106,20 @@ BoxSet cluster_box_set(const BoxSet& boxes, const BoxClusteringParams& params) {
   return out;
 }
 
+const ParamTable<BoxClusteringParams>& box_clustering_param_table() {
+  using P = BoxClusteringParams;
+  static const ParamTable<P> table =
+      ParamTable<P>()
+          .add("iou", &P::iou,
+               "boxes with the seed's label join its cluster when their IoU with it exceeds this",
+               0, 1)
+          .add("any_label_iou", &P::any_label_iou,
+               "boxes with another label join only above this IoU (1 = never; = iou: "
+               "label-blind, as in the paper)",
+               0, 1)
+          .add("min_support", &P::min_support,
+               "drop clusters seen in fewer distinct rounds (clamped to the rounds asked)", 1);
+  return table;
+}
+
 }  // namespace gslift

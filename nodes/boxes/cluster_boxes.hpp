@@ -20,6 +20,7 @@
 #include <string>
 #include <vector>
 
+#include "graph/param_table.hpp"
 #include "nodes/scene/boxes.hpp"
 
 namespace gslift {
@@ -54,6 +55,9 @@ struct BoxClusteringParams {
   // boxes.
   int min_support = 2;
 };
+
+// The params of boxes.cluster: one entry per field above.
+const ParamTable<BoxClusteringParams>& box_clustering_param_table();
 
 // LangOR Eq. 2 score of each candidate: mean IoU with the other t - 1 candidates (0 when t = 1).
 std::vector<double> consensus_scores(const std::vector<Box>& candidates);

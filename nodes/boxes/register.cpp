@@ -7,80 +7,76 @@
 namespace gslift {
 namespace {
 
+void run_cluster(NodeContext& ctx, const BoxClusteringParams& p) {
+  BoxSet clusters = cluster_box_set(*ctx.input<BoxSet>("boxes"), p);
+  size_t count = 0;
+  for (const auto& v : clusters.views) count += v.boxes.size();
+  ctx.record("clusters", static_cast<double>(count));
+  ctx.output("clusters", std::move(clusters));
+}
+
 void add_cluster(Registry& registry) {
-  const BoxClusteringParams d;
   NodeSpec spec{
       "boxes.cluster",
       "multi-round VLM boxes -> one box per object per view (LangOR Eq. 2, label vote)",
       {{"boxes", "BoxSet", "candidate boxes of every view, all rounds together"}},
-      {{"clusters", "BoxSet", "one representative per cluster, with support and label vote"}},
-      {float_param("iou", d.iou,
-                   "boxes with the seed's label join its cluster when their IoU with it exceeds "
-                   "this",
-                   0, 1),
-       float_param("any_label_iou", d.any_label_iou,
-                   "boxes with another label join only above this IoU (1 = never; = iou: "
-                   "label-blind, as in the paper)",
-                   0, 1),
-       int_param("min_support", d.min_support,
-                 "drop clusters seen in fewer distinct rounds (clamped to the rounds asked)", 1)}};
-  registry.add(std::move(spec), [](NodeContext& ctx) {
-    BoxClusteringParams p;
-    p.iou = ctx.param_float("iou");
-    p.any_label_iou = ctx.param_float("any_label_iou");
-    p.min_support = static_cast<int>(ctx.param_int("min_support"));
-    BoxSet clusters = cluster_box_set(*ctx.input<BoxSet>("boxes"), p);
-    size_t count = 0;
-    for (const auto& v : clusters.views) count += v.boxes.size();
-    ctx.record("clusters", static_cast<double>(count));
-    ctx.output("clusters", std::move(clusters));
-  });
+      {{"clusters", "BoxSet", "one representative per cluster, with support and label vote"}}};
+  registry.add(std::move(spec), box_clustering_param_table(), run_cluster);
+}
+
+// boxes.prompt's one param: the vocabulary file. Like every path param, a relative value written
+// in a graph file is relative to that file; the default is written in none, so it is relative to
+// the current directory (the repository root): a graph meant to run from anywhere sets it.
+struct PromptParams {
+  std::string vocabulary = "graphs/vocabulary/or.yaml";
+};
+
+const ParamTable<PromptParams>& prompt_param_table() {
+  static const ParamTable<PromptParams> table =
+      ParamTable<PromptParams>()
+          .add("vocabulary", &PromptParams::vocabulary,
+               "vocabulary file: classes with spatial, behaviour, appearance context")
+          .path();
+  return table;
+}
+
+void run_prompt(NodeContext& ctx, const PromptParams& p) {
+  Vocabulary vocabulary = load_vocabulary(p.vocabulary);
+  ctx.record("classes", static_cast<double>(vocabulary.entities.size()));
+  ctx.output("prompt", std::move(vocabulary));
 }
 
 void add_prompt(Registry& registry) {
   NodeSpec spec{"boxes.prompt",
                 "OR vocabulary YAML -> context-aware grounding prompt for the VLM (LangOR §1.1)",
                 {},
-                {{"prompt", "Vocabulary", "the vocabulary with its prompt text"}},
-                {string_param("vocabulary", "graphs/vocabulary/or.yaml",
-                              "vocabulary file: classes with spatial, behaviour, appearance "
-                              "context")}};
-  registry.add(std::move(spec), [](NodeContext& ctx) {
-    Vocabulary vocabulary = load_vocabulary(ctx.param_string("vocabulary"));
-    ctx.record("classes", static_cast<double>(vocabulary.entities.size()));
-    ctx.output("prompt", std::move(vocabulary));
-  });
+                {{"prompt", "Vocabulary", "the vocabulary with its prompt text"}}};
+  registry.add(std::move(spec), prompt_param_table(), run_prompt);
+}
+
+void run_to_masks(NodeContext& ctx, const BoxMaskOptions& o) {
+  const MaskSet none;
+  const MaskSet& sam = ctx.has_input("sam") ? *ctx.input<MaskSet>("sam") : none;
+  BoxMaskResult r =
+      box_masks(*ctx.input<BoxSet>("clusters"), *ctx.input<Capture>("capture"), sam, o);
+  ctx.record("from_sam", r.from_sam);
+  ctx.record("from_grabcut", r.from_grabcut);
+  ctx.record("from_box", r.from_box);
+  ctx.output("masks", std::move(r.masks));
 }
 
 void add_to_masks(Registry& registry) {
-  const BoxMaskOptions d;
   NodeSpec spec{
       "boxes.to_masks",
       "clustered boxes -> one instance mask each: SAM box-prompt masks, GrabCut fallback",
       {{"clusters", "BoxSet", "representative boxes of every view (boxes.cluster)"},
-       {"capture", "Capture", "views with RGB, optional depth prior and SAM box masks"}},
-      {{"masks", "MaskSet", "one mask per clustered box, label and box_index of its box"}},
-      {string_param("source", d.source,
-                    "sam: the capture's SAM mask of the box (missing = bad input); grabcut: "
-                    "GrabCut on RGB and depth; auto: sam where present, else grabcut",
-                    {"sam", "grabcut", "auto"}),
-       int_param("grabcut_iterations", d.grabcut_iterations, "GrabCut iterations (paper: 5)", 1,
-                 100),
-       float_param("context", d.context,
-                   "GrabCut crop: the box grown by this fraction of its size on each side", 0, 10),
-       bool_param("use_depth", d.use_depth, "also run GrabCut on the depth prior, OR-ed")}};
-  registry.add(std::move(spec), [](NodeContext& ctx) {
-    BoxMaskOptions o;
-    o.source = ctx.param_string("source");
-    o.grabcut_iterations = static_cast<int>(ctx.param_int("grabcut_iterations"));
-    o.context = static_cast<float>(ctx.param_float("context"));
-    o.use_depth = ctx.param_bool("use_depth");
-    BoxMaskResult r = box_masks(*ctx.input<BoxSet>("clusters"), *ctx.input<Capture>("capture"), o);
-    ctx.record("from_sam", r.from_sam);
-    ctx.record("from_grabcut", r.from_grabcut);
-    ctx.record("from_box", r.from_box);
-    ctx.output("masks", std::move(r.masks));
-  });
+       {"capture", "Capture", "views with RGB and optional depth prior (for GrabCut)"},
+       {"sam", "MaskSet",
+        "SAM masks prompted with these clusters' boxes, linked by box_index (ingest.sam_masks, "
+        "kind box, boxes = the clusters); unwired = none, so sam fails and auto is GrabCut",
+        true}},
+      {{"masks", "MaskSet", "one mask per clustered box, label and box_index of its box"}}};
+  registry.add(std::move(spec), box_mask_param_table(), run_to_masks);
 }
 
 }  // namespace

@@ -53,24 +53,17 @@ double pixel_scale(const View& v) {
 
 }  // namespace
 
-BoxSet load_vlm_boxes(const Capture& capture, const VlmLoadOptions& options) {
+BoxSet load_vlm_boxes(const Capture& capture, const VlmLoadOptions& options, int* rounds_unparsed) {
   const CaptureManifest m = read_capture_manifest(capture.root);
   const fs::path folder = capture.root / m.vlm;
   VlmFrame frame;
-  try {
-    frame.coords = vlm_coords_from_string(options.coords == "auto" ? m.vlm_coords : options.coords);
-  } catch (const std::invalid_argument& e) {
-    throw InputError(folder.string() + ": " + e.what());
-  }
+  frame.coords = options.coords == VlmCoords::Auto ? m.vlm_coords : options.coords;
   frame.input_width = m.vlm_input_width;
   frame.input_height = m.vlm_input_height;
   BoxSet set;
+  int unparsed = 0;
   for (const View& v : capture.views) {
-    ViewBoxes vb;
-    vb.view = v.name;
-    frame.image_width = v.camera.width;
-    frame.image_height = v.camera.height;
-    bool scale_known = false;
+    std::vector<std::string> replies;
     for (int k = 0; options.rounds == 0 || k < options.rounds; ++k) {
       const fs::path file = round_file(folder, v.name, k, ".txt");
       if (!fs::exists(file)) {
@@ -78,20 +71,27 @@ BoxSet load_vlm_boxes(const Capture& capture, const VlmLoadOptions& options) {
         throw InputError(file.string() + ": VLM reply of round " + std::to_string(k) +
                          " is missing (" + std::to_string(options.rounds) + " rounds asked)");
       }
-      if (frame.coords == VlmCoords::Pixels && !scale_known) {
-        frame.pixel_scale = pixel_scale(v);
-        scale_known = true;
-      }
-      for (Box& b : parse_vlm_reply(read_text(file), frame, k, file.string()))
-        vb.boxes.push_back(std::move(b));
-      vb.rounds = k + 1;
+      replies.push_back(read_text(file));
     }
-    set.views.push_back(std::move(vb));
+    frame.image_width = v.camera.width;
+    frame.image_height = v.camera.height;
+    if (frame.coords == VlmCoords::Pixels && !replies.empty()) frame.pixel_scale = pixel_scale(v);
+    ViewReplies parsed = parse_view_replies(v.name, replies, frame, [&](int k) {
+      return round_file(folder, v.name, k, ".txt").string();
+    });
+    unparsed += parsed.unparsed;
+    set.views.push_back(std::move(parsed.boxes));
   }
+  if (rounds_unparsed) *rounds_unparsed = unparsed;
   return set;
 }
 
 MaskSet load_sam_box_masks(const Capture& capture, const BoxSet& boxes) {
+  if (capture.root.empty()) {  // built in memory: no files beside it
+    MaskSet none;
+    for (const ViewBoxes& vb : boxes.views) none.views.push_back({vb.view, {}});
+    return none;
+  }
   const CaptureManifest m = read_capture_manifest(capture.root);
   const fs::path folder = capture.root / m.sam_box;
   MaskSet set;
@@ -138,6 +138,22 @@ MaskSet load_sam_auto_masks(const Capture& capture) {
     set.views.push_back(std::move(vm));
   }
   return set;
+}
+
+const ParamTable<VlmLoadOptions>& vlm_load_param_table() {
+  using O = VlmLoadOptions;
+  static const EnumNames<VlmCoords> coords = [] {
+    EnumNames<VlmCoords> names = {{VlmCoords::Auto, "auto"}};
+    for (const auto& entry : vlm_coords_names()) names.push_back(entry);
+    return names;
+  }();
+  static const ParamTable<O> table =
+      ParamTable<O>()
+          .add("coords", &O::coords, coords,
+               "the VLM's coordinate space; auto = capture.yaml vlm.coords (norm1000 without one)")
+          .add("rounds", &O::rounds, "rounds to read per view; 0 = all found, n = exactly 0..n-1",
+               0);
+  return table;
 }
 
 }  // namespace gslift

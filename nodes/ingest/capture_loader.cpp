@@ -130,4 +130,23 @@ Capture load_capture(const fs::path& input, const CaptureOptions& options) {
   return capture;
 }
 
+const ParamTable<CaptureOptions>& capture_param_table() {
+  using O = CaptureOptions;
+  static const ParamTable<O> table =
+      ParamTable<O>()
+          .add("holdout_every", &O::holdout_every,
+               "hold out every n-th view (NeRF protocol: 8) when capture.yaml names no test "
+               "views; 0 = none",
+               0)
+          .add("skip_missing_images", &O::skip_missing_images,
+               "COLMAP: leave out images the model lists but the images folder lacks, with a "
+               "warning, instead of failing")
+          .add("downscale", &O::downscale,
+               "integer image downscale on load; intrinsics are scaled to match", 1, 64)
+          .add("undistort", &O::undistort,
+               "undistort images of cameras with distortion on load, so views are ideal "
+               "pinholes; off keeps the images and Camera::distortion as captured");
+  return table;
+}
+
 }  // namespace gslift

@@ -31,7 +31,14 @@ CaptureManifest read_capture_manifest(const std::filesystem::path& root) {
     if (const auto v = y["vlm"]) {
       if (v["folder"]) m.vlm = v["folder"].as<std::string>();
       if (v["rounds"]) m.vlm_rounds = v["rounds"].as<int>();
-      if (v["coords"]) m.vlm_coords = v["coords"].as<std::string>();
+      if (v["coords"]) {
+        try {
+          m.vlm_coords =
+              parse_enum(v["coords"].as<std::string>(), vlm_coords_names(), "vlm.coords");
+        } catch (const std::invalid_argument& e) {
+          throw InputError(where + ": " + e.what());
+        }
+      }
       if (v["input_size"]) {
         const auto s = v["input_size"].as<std::vector<int>>();
         if (s.size() != 2 || s[0] <= 0 || s[1] <= 0)
@@ -39,9 +46,6 @@ CaptureManifest read_capture_manifest(const std::filesystem::path& root) {
         m.vlm_input_width = s[0];
         m.vlm_input_height = s[1];
       }
-      if (m.vlm_coords != "norm1000" && m.vlm_coords != "resized_abs" && m.vlm_coords != "pixels")
-        throw InputError(where + ": vlm.coords must be norm1000, resized_abs or pixels, got '" +
-                         m.vlm_coords + "'");
     }
     if (y["sam_box"]) m.sam_box = y["sam_box"].as<std::string>();
     if (y["sam_auto"]) m.sam_auto = y["sam_auto"].as<std::string>();

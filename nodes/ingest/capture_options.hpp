@@ -1,6 +1,8 @@
 // How a capture is read, shared by every capture format reader and the ingest.capture node.
 #pragma once
 
+#include "graph/param_table.hpp"
+
 namespace gslift {
 
 struct CaptureOptions {
@@ -21,5 +23,8 @@ struct CaptureOptions {
   // (camera.hpp). Off: images stay as captured and Camera::distortion is kept.
   bool undistort = true;
 };
+
+// The params of ingest.capture that shape the reading: one entry per field above.
+const ParamTable<CaptureOptions>& capture_param_table();
 
 }  // namespace gslift

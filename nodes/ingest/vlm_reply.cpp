@@ -51,12 +51,11 @@ std::string first_json_value(const std::string& s, const std::string& where) {
 
 }  // namespace
 
-VlmCoords vlm_coords_from_string(const std::string& s) {
-  if (s == "norm1000") return VlmCoords::Norm1000;
-  if (s == "resized_abs") return VlmCoords::ResizedAbs;
-  if (s == "pixels") return VlmCoords::Pixels;
-  throw std::invalid_argument("unknown VLM coordinate space '" + s +
-                              "' (norm1000, resized_abs or pixels)");
+const EnumNames<VlmCoords>& vlm_coords_names() {
+  static const EnumNames<VlmCoords> names = {{VlmCoords::Norm1000, "norm1000"},
+                                             {VlmCoords::ResizedAbs, "resized_abs"},
+                                             {VlmCoords::Pixels, "pixels"}};
+  return names;
 }
 
 std::vector<Box> parse_vlm_reply(const std::string& text, const VlmFrame& frame, int round,
@@ -85,6 +84,8 @@ std::vector<Box> parse_vlm_reply(const std::string& text, const VlmFrame& frame,
     case VlmCoords::Pixels:
       sx = sy = frame.pixel_scale;
       break;
+    case VlmCoords::Auto:
+      throw std::logic_error("parse_vlm_reply: coordinate space 'auto' was not resolved");
   }
   std::vector<Box> boxes;
   int degenerate = 0;
@@ -119,6 +120,30 @@ std::vector<Box> parse_vlm_reply(const std::string& text, const VlmFrame& frame,
     spdlog::warn("{}: dropped {} degenerate box(es) (empty after clamping to the image)", where,
                  degenerate);
   return boxes;
+}
+
+ViewReplies parse_view_replies(const std::string& view, const std::vector<std::string>& replies,
+                               const VlmFrame& frame,
+                               const std::function<std::string(int round)>& source) {
+  ViewReplies out;
+  out.boxes.view = view;
+  out.boxes.rounds = static_cast<int>(replies.size());
+  std::string last_error;
+  for (size_t k = 0; k < replies.size(); ++k) {
+    const int round = static_cast<int>(k);
+    try {
+      for (Box& b : parse_vlm_reply(replies[k], frame, round, source(round)))
+        out.boxes.boxes.push_back(std::move(b));
+    } catch (const InputError& e) {
+      ++out.unparsed;
+      last_error = e.what();
+      spdlog::warn("VLM round skipped: {}", last_error);
+    }
+  }
+  if (!replies.empty() && out.unparsed == static_cast<int>(replies.size()))
+    throw InputError("view '" + view + "': none of its " + std::to_string(replies.size()) +
+                     " replies holds a box list (last: " + last_error + ")");
+  return out;
 }
 
 }  // namespace gslift

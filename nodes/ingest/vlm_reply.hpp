@@ -6,9 +6,11 @@
 // (inside the first fence when there is one) is taken.
 #pragma once
 
+#include <functional>
 #include <string>
 #include <vector>
 
+#include "graph/param_table.hpp"
 #include "nodes/scene/boxes.hpp"
 
 namespace gslift {
@@ -18,10 +20,13 @@ enum class VlmCoords {
   Norm1000,    // 0..1000 relative to the image (Qwen2-VL, Qwen3-VL): x * W / 1000
   ResizedAbs,  // absolute pixels of the model's resized input (Qwen2.5-VL): x * W / input_w
   Pixels,      // pixels of the original image: x * pixel_scale
+  // Not a space: "as the capture's capture.yaml says" (ingest.vlm's default); the parser rejects
+  // it, a reader replaces it first.
+  Auto,
 };
 
-// "norm1000" | "resized_abs" | "pixels"; throws std::invalid_argument otherwise.
-VlmCoords vlm_coords_from_string(const std::string& s);
+// The names of the three spaces: norm1000, resized_abs, pixels (Auto left out).
+const EnumNames<VlmCoords>& vlm_coords_names();
 
 struct VlmFrame {
   VlmCoords coords = VlmCoords::Norm1000;
@@ -39,5 +44,19 @@ struct VlmFrame {
 // `source` (the file name).
 std::vector<Box> parse_vlm_reply(const std::string& text, const VlmFrame& frame, int round,
                                  const std::string& source);
+
+// The boxes of one view's grounding replies, replies[k] being round k's (the one loop behind
+// ingest.vlm and vlm.query, so that a capture vlm.query writes reads back the same).
+// [decision] A reply the parser rejects costs its round only: it is skipped with a warning and
+// counted in `unparsed`, because a VLM answering nonsense once is what multi-round clustering is
+// there for. A view with replies none of which parses has nothing left to cluster: InputError.
+// ViewBoxes::rounds = replies.size(); `source(k)` names round k's reply in messages.
+struct ViewReplies {
+  ViewBoxes boxes;
+  int unparsed = 0;  // rounds skipped
+};
+ViewReplies parse_view_replies(const std::string& view, const std::vector<std::string>& replies,
+                               const VlmFrame& frame,
+                               const std::function<std::string(int round)>& source);
 
 }  // namespace gslift

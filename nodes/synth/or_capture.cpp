@@ -165,16 +165,17 @@ std::vector<std::pair<std::string, std::string>> settings_entries(const OrCaptur
   std::vector<std::pair<std::string, std::string>> e = {
       {"seed", std::to_string(s.scene.seed)},     {"phase", to_string(s.scene.phase)},
       {"views", std::to_string(s.scene.views)},   {"width", std::to_string(s.scene.width)},
-      {"height", std::to_string(s.scene.height)}, {"preset", s.preset},
+      {"height", std::to_string(s.scene.height)}, {"preset", enum_name(s.preset, preset_names())},
   };
-  for (const KnobInfo& k : synth_knob_table()) e.emplace_back(k.name, knob_value(s.knobs, k));
+  for (const KnobField& k : synth_knob_table().fields())
+    e.emplace_back(k.spec.name, knob_value(s.knobs, k));
   return e;
 }
 
 OrCaptureSettings make_settings(const std::vector<std::pair<std::string, std::string>>& entries) {
   OrCaptureSettings s;
   for (const auto& [name, value] : entries) {
-    if (name == "preset") s.preset = value;
+    if (name == "preset") s.preset = parse_enum(value, preset_names(), "preset");
   }
   s.knobs = preset_knobs(s.preset);
   auto integer = [](const std::string& name, const std::string& value) {

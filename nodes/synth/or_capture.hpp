@@ -16,7 +16,7 @@ namespace gslift::synth {
 
 struct OrCaptureSettings {
   OrSceneOptions scene;
-  std::string preset = "default";  // recorded; the knobs already hold the preset's values
+  SynthPreset preset = SynthPreset::Default;  // recorded; the knobs already hold its values
   SynthKnobs knobs;
 };
 

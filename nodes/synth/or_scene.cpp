@@ -323,24 +323,19 @@ bool is_look_alike_class(int c) {
          c == kAnaesthetist;
 }
 
-const char* to_string(OrPhase phase) {
-  switch (phase) {
-    case OrPhase::Preparation:
-      return "preparation";
-    case OrPhase::Surgery:
-      return "surgery";
-    case OrPhase::Closing:
-      return "closing";
-  }
-  return "surgery";
+const EnumNames<OrPhase>& or_phase_names() {
+  static const EnumNames<OrPhase> names = {{OrPhase::Preparation, "preparation"},
+                                           {OrPhase::Surgery, "surgery"},
+                                           {OrPhase::Closing, "closing"}};
+  return names;
+}
+
+const std::string& to_string(OrPhase phase) {
+  return enum_name(phase, or_phase_names());
 }
 
 OrPhase parse_or_phase(const std::string& name) {
-  for (OrPhase p : {OrPhase::Preparation, OrPhase::Surgery, OrPhase::Closing}) {
-    if (name == to_string(p)) return p;
-  }
-  throw std::invalid_argument("unknown phase '" + name +
-                              "' (expected preparation, surgery or closing)");
+  return parse_enum(name, or_phase_names(), "phase");
 }
 
 int held_out_count(int views) {

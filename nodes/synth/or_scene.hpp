@@ -10,6 +10,7 @@
 
 #include <Eigen/Core>
 
+#include "graph/param_table.hpp"
 #include "nodes/scene/camera.hpp"
 #include "nodes/synth/primitive.hpp"
 
@@ -39,7 +40,8 @@ bool is_look_alike_class(int class_id);
 
 // Where the operation stands: it moves people, the C-arm and the lamp.
 enum class OrPhase { Preparation, Surgery, Closing };
-const char* to_string(OrPhase phase);
+const EnumNames<OrPhase>& or_phase_names();  // preparation, surgery, closing
+const std::string& to_string(OrPhase phase);
 // Throws std::invalid_argument naming the accepted values.
 OrPhase parse_or_phase(const std::string& name);
 

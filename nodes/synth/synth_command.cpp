@@ -28,9 +28,9 @@ void print_help(std::ostream& out) {
          "  --preset P     easy | default | hard: failure rates of the simulated models\n"
          "  --set k=v      override one knob (applied after the preset); knobs:\n";
   const synth::SynthKnobs defaults;
-  for (const synth::KnobInfo& k : synth::synth_knob_table()) {
-    out << "      " << k.name << " (default " << synth::knob_value(defaults, k) << "): " << k.doc
-        << "\n";
+  for (const synth::KnobField& k : synth::synth_knob_table().fields()) {
+    out << "      " << k.spec.name << " (default " << synth::knob_value(defaults, k)
+        << "): " << k.spec.doc << "\n";
   }
 }
 
@@ -85,7 +85,8 @@ int synth_main(int argc, char** argv) {
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     std::cout << "wrote " << synth::capture_name(settings) << " (" << settings.scene.views
               << " views, " << settings.scene.width << "x" << settings.scene.height << ", preset "
-              << settings.preset << ") to " << out_dir << " in " << seconds << " s\n";
+              << enum_name(settings.preset, synth::preset_names()) << ") to " << out_dir << " in "
+              << seconds << " s\n";
     return exit_code::kOk;
   } catch (const std::invalid_argument& e) {
     std::cerr << "gslift synth: " << e.what() << "\n";

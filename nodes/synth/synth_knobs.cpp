@@ -7,15 +7,16 @@
 
 namespace gslift::synth {
 
-const std::vector<std::string>& preset_names() {
-  static const std::vector<std::string> names = {"easy", "default", "hard"};
+const EnumNames<SynthPreset>& preset_names() {
+  static const EnumNames<SynthPreset> names = {
+      {SynthPreset::Easy, "easy"}, {SynthPreset::Default, "default"}, {SynthPreset::Hard, "hard"}};
   return names;
 }
 
-SynthKnobs preset_knobs(const std::string& preset) {
+SynthKnobs preset_knobs(SynthPreset preset) {
   SynthKnobs k;
-  if (preset == "default") return k;
-  if (preset == "easy") {
+  if (preset == SynthPreset::Default) return k;
+  if (preset == SynthPreset::Easy) {
     k.vlm_miss_rate = 0.05;
     k.vlm_jitter = 0.02;
     k.vlm_confusion_rate = 0.05;
@@ -29,7 +30,8 @@ SynthKnobs preset_knobs(const std::string& preset) {
     k.depth_holes = 0.01;
     return k;
   }
-  if (preset == "hard") {
+  // Hard.
+  {
     k.vlm_miss_rate = 0.3;
     k.vlm_jitter = 0.1;
     k.vlm_confusion_rate = 0.35;
@@ -45,60 +47,62 @@ SynthKnobs preset_knobs(const std::string& preset) {
     k.pose_noise_m = 0.02;
     return k;
   }
-  throw std::invalid_argument("unknown preset '" + preset + "' (expected easy, default or hard)");
 }
 
-const std::vector<KnobInfo>& synth_knob_table() {
+const ParamTable<SynthKnobs>& synth_knob_table() {
   using K = SynthKnobs;
-  static const std::vector<KnobInfo> table = {
-      {"vlm_rounds", &K::vlm_rounds, 1, 20, "rounds of VLM answers per view (LangOR: 5)"},
-      {"vlm_miss_rate", &K::vlm_miss_rate, 0, 1,
-       "probability that a visible instance gets no box in a round"},
-      {"vlm_jitter", &K::vlm_jitter, 0, 1,
-       "sigma of each box edge as a fraction of the box width/height"},
-      {"vlm_confusion_rate", &K::vlm_confusion_rate, 0, 1,
-       "probability that a person's label is swapped for another look-alike role"},
-      {"vlm_hallucination_rate", &K::vlm_hallucination_rate, 0, 20,
-       "expected hallucinated boxes (covering nothing real) per view and round"},
-      {"vlm_min_visible", &K::vlm_min_visible, 0, 1,
-       "fraction of the image an instance must cover to be reported"},
-      {"sam_boundary_noise", &K::sam_boundary_noise, 0, 50,
-       "amplitude in pixels of the smooth displacement of SAM mask boundaries"},
-      {"sam_leak_rate", &K::sam_leak_rate, 0, 1,
-       "probability that a box-prompted mask leaks into a neighbouring instance"},
-      {"sam_auto_split_rate", &K::sam_auto_split_rate, 0, 1,
-       "probability that an automatic mask splits an instance into its parts"},
-      {"sam_auto_merge_rate", &K::sam_auto_merge_rate, 0, 1,
-       "probability that an automatic mask merges an instance with its neighbour"},
-      {"sam_auto_fragments", &K::sam_auto_fragments, 0, 100,
-       "expected small spurious automatic-mask fragments per view"},
-      {"sam_auto_granularities", &K::sam_auto_granularities, 1, 2,
-       "automatic-mask levels: 1 whole objects, 2 also parts (SAGA)"},
-      {"depth_noise", &K::depth_noise, 0, 1, "relative sigma of the depth prior"},
-      {"depth_holes", &K::depth_holes, 0, 0.9, "fraction of depth-prior pixels that are invalid"},
-      {"pose_noise_deg", &K::pose_noise_deg, 0, 30,
-       "sigma of the rotation error of the written poses, degrees"},
-      {"pose_noise_m", &K::pose_noise_m, 0, 1,
-       "sigma of the camera-centre error of the written poses, metres"},
-      {"shadows", &K::shadows, 0, 1, "render hard shadows from every light"},
-      {"sparse_points", &K::sparse_points, 0, 1000000,
-       "coloured sparse points sampled from the training views (SfM/MVS initialisation)"},
-  };
+  static const ParamTable<K> table =
+      ParamTable<K>()
+          .add("vlm_rounds", &K::vlm_rounds, "rounds of VLM answers per view (LangOR: 5)", 1, 20)
+          .add("vlm_miss_rate", &K::vlm_miss_rate,
+               "probability that a visible instance gets no box in a round", 0, 1)
+          .add("vlm_jitter", &K::vlm_jitter,
+               "sigma of each box edge as a fraction of the box width/height", 0, 1)
+          .add("vlm_confusion_rate", &K::vlm_confusion_rate,
+               "probability that a person's label is swapped for another look-alike role", 0, 1)
+          .add("vlm_hallucination_rate", &K::vlm_hallucination_rate,
+               "expected hallucinated boxes (covering nothing real) per view and round", 0, 20)
+          .add("vlm_min_visible", &K::vlm_min_visible,
+               "fraction of the image an instance must cover to be reported", 0, 1)
+          .add("sam_boundary_noise", &K::sam_boundary_noise,
+               "amplitude in pixels of the smooth displacement of SAM mask boundaries", 0, 50)
+          .add("sam_leak_rate", &K::sam_leak_rate,
+               "probability that a box-prompted mask leaks into a neighbouring instance", 0, 1)
+          .add("sam_auto_split_rate", &K::sam_auto_split_rate,
+               "probability that an automatic mask splits an instance into its parts", 0, 1)
+          .add("sam_auto_merge_rate", &K::sam_auto_merge_rate,
+               "probability that an automatic mask merges an instance with its neighbour", 0, 1)
+          .add("sam_auto_fragments", &K::sam_auto_fragments,
+               "expected small spurious automatic-mask fragments per view", 0, 100)
+          .add("sam_auto_granularities", &K::sam_auto_granularities,
+               "automatic-mask levels: 1 whole objects, 2 also parts (SAGA)", 1, 2)
+          .add("depth_noise", &K::depth_noise, "relative sigma of the depth prior", 0, 1)
+          .add("depth_holes", &K::depth_holes, "fraction of depth-prior pixels that are invalid", 0,
+               0.9)
+          .add("pose_noise_deg", &K::pose_noise_deg,
+               "sigma of the rotation error of the written poses, degrees", 0, 30)
+          .add("pose_noise_m", &K::pose_noise_m,
+               "sigma of the camera-centre error of the written poses, metres", 0, 1)
+          .add("shadows", &K::shadows, "render hard shadows from every light")
+          .add("sparse_points", &K::sparse_points,
+               "coloured sparse points sampled from the training views (SfM/MVS initialisation)", 0,
+               1000000);
   return table;
 }
 
 namespace {
 
-const KnobInfo& find_knob(const std::string& name) {
-  for (const KnobInfo& k : synth_knob_table()) {
-    if (k.name == name) return k;
+const KnobField& find_knob(const std::string& name) {
+  for (const KnobField& k : synth_knob_table().fields()) {
+    if (k.spec.name == name) return k;
   }
   std::string known;
-  for (const KnobInfo& k : synth_knob_table()) known += (known.empty() ? "" : ", ") + k.name;
+  for (const KnobField& k : synth_knob_table().fields())
+    known += (known.empty() ? "" : ", ") + k.spec.name;
   throw std::invalid_argument("unknown synth knob '" + name + "' (known: " + known + ")");
 }
 
-double parse_number(const KnobInfo& info, const std::string& text) {
+double parse_number(const ParamSpec& info, const std::string& text) {
   std::istringstream in(text);
   in.imbue(std::locale::classic());
   double v = 0;
@@ -106,11 +110,11 @@ double parse_number(const KnobInfo& info, const std::string& text) {
   if (text.empty() || in.fail() || !(in >> std::ws).eof()) {
     throw std::invalid_argument("synth knob " + info.name + ": '" + text + "' is not a number");
   }
-  if (v < info.min || v > info.max) {
+  if (v < *info.min || v > *info.max) {
     std::ostringstream msg;
     msg.imbue(std::locale::classic());
-    msg << "synth knob " << info.name << " = " << text << " is outside [" << info.min << ", "
-        << info.max << "]";
+    msg << "synth knob " << info.name << " = " << text << " is outside [" << *info.min << ", "
+        << *info.max << "]";
     throw std::invalid_argument(msg.str());
   }
   return v;
@@ -119,31 +123,36 @@ double parse_number(const KnobInfo& info, const std::string& text) {
 }  // namespace
 
 void set_knob(SynthKnobs& knobs, const std::string& name, const std::string& value) {
-  const KnobInfo& info = find_knob(name);
-  if (auto f = std::get_if<bool SynthKnobs::*>(&info.field)) {
-    if (value == "true" || value == "1") {
-      knobs.*(*f) = true;
-    } else if (value == "false" || value == "0") {
-      knobs.*(*f) = false;
-    } else {
-      throw std::invalid_argument("synth knob " + name + ": '" + value + "' is not a bool");
+  const KnobField& knob = find_knob(name);
+  switch (knob.spec.type) {
+    case ParamType::Bool:
+      if (value == "true" || value == "1") {
+        knob.set(knobs, true);
+      } else if (value == "false" || value == "0") {
+        knob.set(knobs, false);
+      } else {
+        throw std::invalid_argument("synth knob " + name + ": '" + value + "' is not a bool");
+      }
+      return;
+    case ParamType::Int: {
+      const double v = parse_number(knob.spec, value);
+      if (v != static_cast<int>(v)) {
+        throw std::invalid_argument("synth knob " + name + ": '" + value + "' is not an integer");
+      }
+      knob.set(knobs, static_cast<int64_t>(v));
+      return;
     }
-  } else if (auto f = std::get_if<int SynthKnobs::*>(&info.field)) {
-    const double v = parse_number(info, value);
-    if (v != static_cast<int>(v)) {
-      throw std::invalid_argument("synth knob " + name + ": '" + value + "' is not an integer");
-    }
-    knobs.*(*f) = static_cast<int>(v);
-  } else {
-    knobs.*std::get<double SynthKnobs::*>(info.field) = parse_number(info, value);
+    default:
+      knob.set(knobs, parse_number(knob.spec, value));
   }
 }
 
-std::string knob_value(const SynthKnobs& knobs, const KnobInfo& info) {
-  if (auto f = std::get_if<bool SynthKnobs::*>(&info.field)) return knobs.*(*f) ? "true" : "false";
-  if (auto f = std::get_if<int SynthKnobs::*>(&info.field)) return std::to_string(knobs.*(*f));
+std::string knob_value(const SynthKnobs& knobs, const KnobField& knob) {
+  const ParamValue value = knob.get(knobs);
+  if (const bool* b = std::get_if<bool>(&value)) return *b ? "true" : "false";
+  if (const int64_t* i = std::get_if<int64_t>(&value)) return std::to_string(*i);
   // The shortest decimal that reads back as the same double ("0.15", not 0.14999999999999999).
-  const double v = knobs.*std::get<double SynthKnobs::*>(info.field);
+  const double v = std::get<double>(value);
   std::string text;
   for (int precision = 6; precision <= 17; ++precision) {
     std::ostringstream out;

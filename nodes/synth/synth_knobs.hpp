@@ -1,13 +1,14 @@
 // The failure-mode knobs of the simulated upstream models (VLM, SAM, MVS depth, poses) and of the
 // renderer. Defaults are the "default" preset; `easy` and `hard` move every failure rate in the
 // same direction. Every knob is settable by name (`gslift synth --set vlm_miss_rate=0.3`, the
-// synth.capture node's params), and the table below is the single source for parsing, the node's
-// ParamSpecs and docs/synth.md.
+// synth.capture node's params), and its ParamTable (synth_knob_table) is the single source for
+// parsing, ranges, the node's ParamSpecs, `gslift synth --help` and docs/synth.md's knob table.
 #pragma once
 
 #include <string>
-#include <variant>
 #include <vector>
+
+#include "graph/param_table.hpp"
 
 namespace gslift::synth {
 
@@ -37,24 +38,19 @@ struct SynthKnobs {
   int sparse_points = 20000;  // SfM/MVS-like coloured points sampled from the training views
 };
 
-// "easy", "default" or "hard"; throws std::invalid_argument for anything else.
-SynthKnobs preset_knobs(const std::string& preset);
-const std::vector<std::string>& preset_names();
+// The failure rates of the simulated models, as a whole.
+enum class SynthPreset { Easy, Default, Hard };
+const EnumNames<SynthPreset>& preset_names();  // easy, default, hard
+SynthKnobs preset_knobs(SynthPreset preset);
 
-struct KnobInfo {
-  std::string name;
-  std::variant<int SynthKnobs::*, double SynthKnobs::*, bool SynthKnobs::*> field;
-  double min = 0, max = 0;  // inclusive range (ignored for bool)
-  std::string doc;
-};
-
-// Every knob, in declaration order.
-const std::vector<KnobInfo>& synth_knob_table();
+// Every knob, in declaration order: name, field, range, doc.
+using KnobField = ParamTable<SynthKnobs>::Field;
+const ParamTable<SynthKnobs>& synth_knob_table();
 
 // Sets knob `name` from its text value ("0.3", "true", "5"); throws std::invalid_argument naming
 // the knob and what is wrong (unknown name, not a number, out of range).
 void set_knob(SynthKnobs& knobs, const std::string& name, const std::string& value);
 // The knob's value as text, locale-independent and exact (round-trips through set_knob).
-std::string knob_value(const SynthKnobs& knobs, const KnobInfo& info);
+std::string knob_value(const SynthKnobs& knobs, const KnobField& knob);
 
 }  // namespace gslift::synth

@@ -79,4 +79,23 @@ std::vector<std::vector<VlmRoundReply>> query_vlm(const std::vector<VlmImage>& i
   return replies;
 }
 
+const ParamTable<VlmQueryOptions>& vlm_query_param_table() {
+  using O = VlmQueryOptions;
+  static const ParamTable<O> table =
+      ParamTable<O>()
+          .add("url", &O::url,
+               "chat-completions endpoint, e.g. http://127.0.0.1:8000/v1/chat/completions")
+          .required()
+          .add("model", &O::model, "served model name sent in the request")
+          .add("rounds", &O::rounds, "requests per view (LangOR: 5)", 1, 100)
+          .add("temperature", &O::temperature, "sampling temperature; > 0 so rounds differ", 0, 2)
+          .add("max_tokens", &O::max_tokens, "reply length limit", 16)
+          .add("timeout_s", &O::timeout_s, "per-request time limit, connect included", 0.01)
+          .add("retries", &O::retries,
+               "extra attempts after a timeout, refused connection, 429 or 5xx", 0, 20)
+          .add("backoff_s", &O::backoff_s, "sleep before retry k: backoff_s x 2^(k-1)", 0)
+          .add("concurrency", &O::concurrency, "requests in flight at once", 1, 64);
+  return table;
+}
+
 }  // namespace gslift

@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "graph/param_table.hpp"
+
 namespace gslift {
 
 struct VlmQueryOptions {
@@ -23,6 +25,10 @@ struct VlmQueryOptions {
   int concurrency = 2;     // requests in flight at once
   uint64_t seed = 0;       // run seed: request seeds are derived from (seed, view, round)
 };
+
+// The params of the request (vlm.query): every field above but api_key (read from the
+// environment, never from a graph) and seed (the node's seed).
+const ParamTable<VlmQueryOptions>& vlm_query_param_table();
 
 // One view the VLM is shown: its name (for messages) and the PNG bytes sent.
 struct VlmImage {

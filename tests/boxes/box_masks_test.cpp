@@ -139,10 +139,12 @@ TEST_CASE("box masks: SAM lookup of the representatives on a synthetic capture",
   const BoxSet raw = load_vlm_boxes(capture);
   const BoxSet clusters = cluster_box_set(raw, {});
   const MaskSet raw_masks = load_sam_box_masks(capture, raw);
+  const MaskSet cluster_masks =
+      load_sam_box_masks(capture, clusters);  // ingest.sam_masks, kind box
 
   BoxMaskOptions o;
-  o.source = "sam";
-  const BoxMaskResult sam = box_masks(clusters, capture, o);
+  o.source = BoxMaskSource::Sam;
+  const BoxMaskResult sam = box_masks(clusters, capture, cluster_masks, o);
   REQUIRE(sam.masks.views.size() == capture.views.size());
   int total = 0;
   for (size_t v = 0; v < clusters.views.size(); ++v) {
@@ -171,10 +173,10 @@ TEST_CASE("box masks: SAM lookup of the representatives on a synthetic capture",
   CHECK(sam.from_sam == total);
 
   // auto takes the same SAM masks; grabcut makes masks of its own that mostly agree with them.
-  o.source = "auto";
-  CHECK(box_masks(clusters, capture, o).from_sam == total);
-  o.source = "grabcut";
-  const BoxMaskResult cut = box_masks(clusters, capture, o);
+  o.source = BoxMaskSource::Auto;
+  CHECK(box_masks(clusters, capture, cluster_masks, o).from_sam == total);
+  o.source = BoxMaskSource::Grabcut;
+  const BoxMaskResult cut = box_masks(clusters, capture, cluster_masks, o);
   CHECK(cut.from_sam == 0);
   CHECK(cut.from_grabcut + cut.from_box == total);
   // GrabCut improves on the box itself: mean IoU with the ground-truth instance that fills most
@@ -203,15 +205,23 @@ TEST_CASE("box masks: bad input", "[boxes]") {
   capture.views.push_back(view);
   BoxSet clusters;
   clusters.views.push_back({"v", 1, {box_around_disc()}});
+  const MaskSet no_sam;
   BoxMaskOptions o;
-  o.source = "sam";
-  CHECK_THROWS_WITH(box_masks(clusters, capture, o), Catch::Contains("no SAM mask"));
-  o.source = "auto";  // falls back to GrabCut
-  const BoxMaskResult r = box_masks(clusters, capture, o);
+  o.source = BoxMaskSource::Sam;
+  CHECK_THROWS_WITH(box_masks(clusters, capture, no_sam, o), Catch::Contains("no SAM mask"));
+  o.source = BoxMaskSource::Auto;  // falls back to GrabCut
+  const BoxMaskResult r = box_masks(clusters, capture, no_sam, o);
   CHECK(r.from_grabcut + r.from_box == 1);
-  o.source = "magic";
-  CHECK_THROWS_AS(box_masks(clusters, capture, o), InputError);
-  o.source = "grabcut";
+  // A source that is not a mode is an error where it is read, never a fallback.
+  CHECK_THROWS_WITH(box_mask_param_table().read({{"source", std::string("magic")}}),
+                    Catch::Contains("'magic' is not one of {sam, grabcut, auto}"));
+  // SAM masks prompted with other boxes: a box index the view lacks.
+  MaskSet other;
+  other.views.push_back({"v", {Mask{}}});
+  other.views[0].masks[0].box_index = 3;
+  CHECK_THROWS_WITH(box_masks(clusters, capture, other, o),
+                    Catch::Contains("names box 3 of 1") && Catch::Contains("these clusters"));
+  o.source = BoxMaskSource::Grabcut;
   clusters.views[0].view = "elsewhere";
-  CHECK_THROWS_WITH(box_masks(clusters, capture, o), Catch::Contains("elsewhere"));
+  CHECK_THROWS_WITH(box_masks(clusters, capture, no_sam, o), Catch::Contains("elsewhere"));
 }

@@ -1,5 +1,8 @@
 // boxes.cluster and boxes.prompt as graph nodes (thin adapters over cluster_boxes and
 // load_vocabulary), run through the inline-graph harness.
+#include <fstream>
+
+#include "graph/loader.hpp"
 #include "nodes/boxes/context_prompt.hpp"
 #include "nodes/boxes/register.hpp"
 #include "nodes/scene/boxes.hpp"
@@ -69,4 +72,25 @@ TEST_CASE("boxes.prompt node: loads the vocabulary; a bad file is bad input") {
   REQUIRE_FALSE(bad.ok());
   CHECK(bad.error->kind == RunError::Kind::BadInput);
   CHECK(bad.error->message.find("/nonexistent.yaml") != std::string::npos);
+}
+
+TEST_CASE("boxes.prompt: a relative vocabulary in a graph file is relative to that file") {
+  namespace fs = std::filesystem;
+  const fs::path dir = test::scratch_dir("prompt_relative") / "elsewhere";
+  fs::create_directories(dir / "voc");
+  fs::copy_file(fs::path(GSLIFT_SOURCE_DIR) / "graphs/vocabulary/or.yaml", dir / "voc/or.yaml",
+                fs::copy_options::overwrite_existing);
+  std::ofstream(dir / "graph.yaml")
+      << "graph: t\nnodes:\n  p: {type: boxes.prompt, params: {vocabulary: voc/or.yaml}}\n";
+  Registry reg;
+  register_boxes_nodes(reg);
+  const LoadResult loaded = load_graph(dir / "graph.yaml", reg);  // the test runs elsewhere
+  for (const auto& d : loaded.diagnostics) INFO(d.str());
+  REQUIRE(loaded.ok());
+  RunOptions options;
+  options.out_dir = test::scratch_dir("prompt_relative_run");
+  const RunResult r = execute(*loaded.graph, reg, options);
+  INFO((r.error ? r.error->str() : std::string()));
+  REQUIRE(r.ok());
+  CHECK(r.values.at("p.prompt").get<Vocabulary>()->entities.size() == 12);
 }

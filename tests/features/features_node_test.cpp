@@ -31,7 +31,8 @@ nodes:
   cap: {type: ingest.capture, params: {path: "embedded:or?seed=1&views=4&width=128&height=96"}}
   vlm: {type: ingest.vlm, in: {capture: cap.capture}}
   cluster: {type: boxes.cluster, in: {boxes: vlm.boxes}}
-  masks: {type: boxes.to_masks, in: {clusters: cluster.clusters, capture: cap.capture}}
+  sam: {type: ingest.sam_masks, in: {capture: cap.capture, boxes: cluster.clusters}, params: {kind: box}}
+  masks: {type: boxes.to_masks, in: {clusters: cluster.clusters, capture: cap.capture, sam: sam.masks}}
   splat: {type: splat.reconstruct, in: {capture: cap.capture}, params: {iterations: 20}}
   features: {type: features.contrastive,
              in: {model: splat.model, capture: cap.capture, masks: masks.masks},

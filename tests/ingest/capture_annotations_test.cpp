@@ -65,15 +65,24 @@ TEST_CASE("VLM boxes of every view, in the capture's pixel grid") {
     CHECK(b.views[0].boxes[0].y2 == 2);
   }
   SECTION("norm1000 when asked explicitly") {
-    const BoxSet b = load_vlm_boxes(c, {"norm1000", 0});
+    const BoxSet b = load_vlm_boxes(c, {VlmCoords::Norm1000, 0});
     CHECK(b.views[0].boxes[2].x2 == Approx(8 * 8 / 1000.0));
   }
   SECTION("a requested round that is missing") {
-    CHECK_THROWS_WITH(load_vlm_boxes(c, {"auto", 3}), Contains("round_2.txt"));
+    CHECK_THROWS_WITH(load_vlm_boxes(c, {VlmCoords::Auto, 3}), Contains("round_2.txt"));
   }
-  SECTION("a malformed reply") {
+  SECTION("a malformed round beside a good one is skipped and counted") {
+    write(dir / "vlm/cam_00/round_2.txt", "I see a table.");
+    int unparsed = -1;
+    const BoxSet b = load_vlm_boxes(c, {}, &unparsed);
+    CHECK(unparsed == 1);
+    CHECK(b.views[0].rounds == 3);
+    CHECK(b.views[0].boxes.size() == 3);
+  }
+  SECTION("a view whose only reply is malformed") {
     write(dir / "vlm/cam_02/round_0.txt", "[{\"bbox_2d\": [1, 2]}]");
-    CHECK_THROWS_WITH(load_vlm_boxes(c), Contains("cam_02/round_0.txt") && Contains("round 0"));
+    CHECK_THROWS_WITH(load_vlm_boxes(c), Contains("cam_02/round_0.txt") && Contains("round 0") &&
+                                             Contains("none of its 1 replies"));
   }
 }
 

@@ -27,7 +27,8 @@ fs::path capture_with_replies(const std::string& name) {
   return dir;
 }
 
-RunResult run(const std::string& path, const std::string& sam_kind) {
+RunResult run(const std::string& path, const std::string& sam_kind,
+              const std::string& sam_inputs = ", boxes: vlm.boxes") {
   Registry registry;
   register_ingest_nodes(registry);
   return run_graph_text(R"(
@@ -36,8 +37,8 @@ nodes:
   capture: {type: ingest.capture, params: {path: ")" +
                             path + R"(", downscale: 2, holdout_every: 2}}
   vlm:     {type: ingest.vlm, in: {capture: capture.capture}}
-  masks:   {type: ingest.sam_masks, in: {capture: capture.capture}, params: {kind: )" +
-                            sam_kind + R"(}}
+  masks:   {type: ingest.sam_masks, in: {capture: capture.capture)" +
+                            sam_inputs + R"(}, params: {kind: )" + sam_kind + R"(}}
 )",
                         registry);
 }
@@ -65,6 +66,20 @@ TEST_CASE("ingest.capture, ingest.vlm and ingest.sam_masks on a capture folder")
   CHECK(masks->views[1].masks[0].pixels.size() == cv::Size(4, 3));
 }
 
+TEST_CASE(
+    "ingest.sam_masks reads only what is wired: kind box needs boxes, kind auto refuses them") {
+  const fs::path dir = capture_with_replies("ingest_nodes_sam_contract");
+  const RunResult box = run(dir.string(), "box", "");
+  REQUIRE_FALSE(box.ok());
+  CHECK_THAT(box.error->message, Contains("kind box needs the input 'boxes'"));
+  const RunResult automatic = run(dir.string(), "auto");
+  REQUIRE_FALSE(automatic.ok());
+  CHECK_THAT(automatic.error->message, Contains("kind auto") && Contains("takes no boxes"));
+  const RunResult auto_alone = run(dir.string(), "auto", "");
+  INFO((auto_alone.error ? auto_alone.error->str() : std::string()));
+  CHECK(auto_alone.ok());
+}
+
 TEST_CASE("ingest.capture resolves scheme paths through registered providers") {
   const fs::path dir = capture_with_replies("ingest_nodes_scheme");
   std::string asked;
@@ -80,12 +95,12 @@ TEST_CASE("ingest.capture resolves scheme paths through registered providers") {
   CHECK_THROWS_WITH(resolve_capture_path("nosuch:or"),
                     Contains("nosuch:") && Contains("testcapture:"));
 
-  const RunResult ok = run("testcapture:x", "auto");
+  const RunResult ok = run("testcapture:x", "auto", "");
   INFO((ok.error ? ok.error->str() : std::string()));
   REQUIRE(ok.ok());
   CHECK(ok.values.at("masks.masks").get<MaskSet>()->views[0].masks.empty());
 
-  const RunResult bad = run("nosuch:or", "auto");
+  const RunResult bad = run("nosuch:or", "auto", "");
   REQUIRE_FALSE(bad.ok());
   REQUIRE(bad.error);
   CHECK(bad.error->kind == RunError::Kind::BadInput);

@@ -17,7 +17,7 @@ TEST_CASE("embedded specs parse into settings; bad specs name the problem") {
   const OrCaptureSettings s = parse_embedded_spec("or?seed=3&phase=closing&preset=hard");
   CHECK(s.scene.seed == 3);
   CHECK(s.scene.phase == OrPhase::Closing);
-  CHECK(s.knobs.vlm_miss_rate == preset_knobs("hard").vlm_miss_rate);
+  CHECK(s.knobs.vlm_miss_rate == preset_knobs(SynthPreset::Hard).vlm_miss_rate);
   CHECK(parse_embedded_spec("or").scene.seed == 0);
   CHECK_THROWS_AS(parse_embedded_spec("kitchen"), InputError);
   CHECK_THROWS_WITH(parse_embedded_spec("or?seed"), Catch::Contains("name=value"));

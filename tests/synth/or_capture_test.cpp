@@ -141,10 +141,12 @@ TEST_CASE("settings: preset first, explicit knobs win, bad values are named") {
   const OrCaptureSettings s =
       make_settings({{"vlm_miss_rate", "0.5"}, {"preset", "hard"}, {"phase", "closing"}});
   CHECK(s.knobs.vlm_miss_rate == 0.5);
-  CHECK(s.knobs.vlm_hallucination_rate == preset_knobs("hard").vlm_hallucination_rate);
+  CHECK(s.knobs.vlm_hallucination_rate == preset_knobs(SynthPreset::Hard).vlm_hallucination_rate);
   CHECK(s.scene.phase == OrPhase::Closing);
   CHECK(capture_name(s) == "or_s0_closing");
-  CHECK_THROWS_WITH(make_settings({{"phase", "lunch"}}), Catch::Contains("unknown phase"));
+  CHECK_THROWS_WITH(
+      make_settings({{"phase", "lunch"}}),
+      Catch::Contains("phase: 'lunch' is not one of {preparation, surgery, closing}"));
   CHECK_THROWS_WITH(make_settings({{"seed", "-3"}}), Catch::Contains("seed"));
   CHECK_THROWS_WITH(make_or_scene(make_settings({{"views", "9"}}).scene),
                     Catch::Contains("views must be 4..8"));

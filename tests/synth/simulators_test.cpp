@@ -177,7 +177,8 @@ TEST_CASE("SAM automatic masks: split, merge and fragment rates; parts at granul
 }
 
 TEST_CASE("presets order every failure rate easy < default < hard") {
-  const SynthKnobs e = preset_knobs("easy"), d = preset_knobs("default"), h = preset_knobs("hard");
+  const SynthKnobs e = preset_knobs(SynthPreset::Easy), d = preset_knobs(SynthPreset::Default),
+                   h = preset_knobs(SynthPreset::Hard);
   for (auto f :
        {&SynthKnobs::vlm_miss_rate, &SynthKnobs::vlm_jitter, &SynthKnobs::vlm_confusion_rate,
         &SynthKnobs::vlm_hallucination_rate, &SynthKnobs::sam_boundary_noise,
@@ -188,7 +189,8 @@ TEST_CASE("presets order every failure rate easy < default < hard") {
     CHECK(d.*f < h.*f);
   }
   CHECK(h.pose_noise_deg > d.pose_noise_deg);
-  CHECK_THROWS_AS(preset_knobs("medium"), std::invalid_argument);
+  CHECK_THROWS_WITH(parse_enum(std::string("medium"), preset_names(), "preset"),
+                    Catch::Contains("'medium' is not one of {easy, default, hard}"));
 
   // And the simulated outputs follow: fewer VLM boxes are missed under easy than under hard.
   const auto visible = visible_instances(toy_instances(), kToyClasses, 0);
@@ -215,9 +217,9 @@ TEST_CASE("knobs are settable by name with checked values") {
   CHECK_THROWS_WITH(set_knob(k, "vlm_miss_rate", "1.5"), Catch::Contains("outside [0, 1]"));
   CHECK_THROWS_WITH(set_knob(k, "vlm_rounds", "2.5"), Catch::Contains("not an integer"));
   CHECK_THROWS_WITH(set_knob(k, "depth_noise", "abc"), Catch::Contains("not a number"));
-  for (const KnobInfo& info : synth_knob_table()) {
+  for (const KnobField& info : synth_knob_table().fields()) {
     SynthKnobs copy;
-    set_knob(copy, info.name, knob_value(k, info));
+    set_knob(copy, info.spec.name, knob_value(k, info));
     CHECK(knob_value(copy, info) == knob_value(k, info));
   }
 }

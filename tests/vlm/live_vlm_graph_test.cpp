@@ -40,6 +40,10 @@ TEST_CASE("langor_live_vlm.yaml validates and differs from langor.yaml only in i
   CHECK(std::get<int64_t>(vlm->params.at("rounds")) == 5);
   REQUIRE(live.graph->find("prompt") != nullptr);
   CHECK(live.graph->find("prompt")->type == "boxes.prompt");
+  // Written relative to graphs/examples/, resolved to the shipped vocabulary wherever gslift runs.
+  CHECK(std::filesystem::equivalent(
+      std::get<std::string>(live.graph->find("prompt")->params.at("vocabulary")),
+      graphs / "vocabulary" / "or.yaml"));
 
   // The only other difference is the added prompt node.
   CHECK(live.graph->nodes.size() == base.graph->nodes.size() + 1);

@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include "nodes/boxes/context_prompt.hpp"
+#include "nodes/ingest/register.hpp"
 #include "nodes/scene/boxes.hpp"
 #include "nodes/scene/capture.hpp"
 #include "nodes/vlm/register.hpp"
@@ -20,6 +21,7 @@ namespace {
 Registry registry_with_capture(const std::filesystem::path& root = {}) {
   Registry r;
   register_vlm_nodes(r);
+  register_ingest_nodes(r);
   r.add(NodeSpec{"test.capture", "two small views", {}, {{"capture", "Capture", ""}}, {}},
         [root](NodeContext& ctx) {
           Capture c;
@@ -144,6 +146,49 @@ TEST_CASE("vlm.query with into_capture writes the replies into the capture's own
   CHECK(read_file(root / "vlm" / "left" / "round_0.txt") == kGood);
   CHECK(read_file(root / "vlm" / "right" / "round_0.txt") == kGood);
   CHECK_FALSE(std::filesystem::exists(options.out_dir / "vlm" / "vlm"));
+}
+
+TEST_CASE("a capture written by vlm.query with a nonsense round reads back with ingest.vlm") {
+  // One policy for both readers of replies: the nonsense round is skipped and counted, the
+  // other rounds give the same boxes live and on replay.
+  const auto root = test::scratch_dir("vlm_query_replay");
+  test::LoopbackServer server({{200, reply(kGood)},
+                               {200, reply("I see no patient.")},
+                               {200, reply(kGood)},
+                               {200, reply(kGood)}});
+  const Registry registry = registry_with_capture(root);
+  RunOptions live_options;
+  live_options.out_dir = root / "live";
+  const RunResult live =
+      run_graph_text(graph(server.url(), "rounds: 2, into_capture: true"), registry, live_options);
+  INFO((live.error ? live.error->str() : std::string()));
+  REQUIRE(live.ok());
+
+  RunOptions replay_options;
+  replay_options.out_dir = root / "replay";
+  const RunResult replay = run_graph_text(R"(
+graph: replay
+nodes:
+  capture: {type: test.capture}
+  vlm: {type: ingest.vlm, in: {capture: capture.capture}}
+)",
+                                          registry, replay_options);
+  INFO((replay.error ? replay.error->str() : std::string()));
+  REQUIRE(replay.ok());
+  CHECK(std::get<double>(replay.node("vlm")->records.at("boxes")) == 3);
+  CHECK(std::get<double>(replay.node("vlm")->records.at("rounds_unparsed")) == 1);
+  const BoxSet& a = *live.values.at("vlm.boxes").get<BoxSet>();
+  const BoxSet& b = *replay.values.at("vlm.boxes").get<BoxSet>();
+  REQUIRE(a.views.size() == b.views.size());
+  for (size_t v = 0; v < a.views.size(); ++v) {
+    CHECK(a.views[v].rounds == b.views[v].rounds);
+    REQUIRE(a.views[v].boxes.size() == b.views[v].boxes.size());
+    for (size_t i = 0; i < a.views[v].boxes.size(); ++i) {
+      CHECK(a.views[v].boxes[i].x1 == b.views[v].boxes[i].x1);
+      CHECK(a.views[v].boxes[i].y2 == b.views[v].boxes[i].y2);
+      CHECK(a.views[v].boxes[i].round == b.views[v].boxes[i].round);
+    }
+  }
 }
 
 TEST_CASE("vlm.query retries a 500 and a timeout, then succeeds") {
