@@ -6,13 +6,9 @@
 #include <cstdint>
 #include <string_view>
 
+#include "base/hash.hpp"
+
 namespace gslift {
-
-// FNV-1a (64-bit) of the bytes of `text`.
-uint64_t fnv1a64(std::string_view text);
-
-// splitmix64 finaliser: a bijective mix, so distinct inputs give distinct outputs.
-uint64_t splitmix64(uint64_t x);
 
 // The seed a node sees as ctx.seed(): splitmix64(splitmix64(run_seed) ^ fnv1a64(node_id)).
 uint64_t node_seed(uint64_t run_seed, std::string_view node_id);

@@ -8,7 +8,6 @@
 #include <cstdio>
 #include <ctime>
 #include <fstream>
-#include <random>
 #include <sstream>
 #include <string>
 #include <thread>
@@ -17,6 +16,7 @@
 #include <tbb/global_control.h>
 #include <nlohmann/json.hpp>
 
+#include "base/random.hpp"
 #include "nodes/lifting/hdbscan.hpp"
 #include "runtime/allocator.hpp"
 #include "runtime/atomic_file.hpp"
@@ -29,17 +29,15 @@ constexpr int kDim = 16;
 constexpr int kBlobs = 12;
 
 PointMatrix blob_features(int n, uint64_t seed) {
-  std::mt19937_64 rng(seed);
-  std::normal_distribution<double> gauss(0.0, 1.0);
-  std::uniform_real_distribution<double> uniform(-4.0, 4.0);
+  RandomStream rng(stream_seed(seed, "bench.hdbscan"));
   PointMatrix centres(kBlobs, kDim);
   for (int c = 0; c < kBlobs; ++c)
-    for (int k = 0; k < kDim; ++k) centres(c, k) = uniform(rng);
+    for (int k = 0; k < kDim; ++k) centres(c, k) = rng.uniform(-4.0, 4.0);
   PointMatrix x(n, kDim);
   for (int i = 0; i < n; ++i) {
     const bool noise = i % 20 == 0;
     for (int k = 0; k < kDim; ++k)
-      x(i, k) = noise ? uniform(rng) : centres(i % kBlobs, k) + 0.3 * gauss(rng);
+      x(i, k) = noise ? rng.uniform(-4.0, 4.0) : centres(i % kBlobs, k) + 0.3 * rng.normal();
   }
   return x;
 }

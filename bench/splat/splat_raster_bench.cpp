@@ -8,7 +8,6 @@
 #include <cstdio>
 #include <ctime>
 #include <fstream>
-#include <random>
 #include <sstream>
 #include <string>
 #include <thread>
@@ -17,6 +16,7 @@
 #include <tbb/global_control.h>
 #include <nlohmann/json.hpp>
 
+#include "base/random.hpp"
 #include "nodes/splat/raster_state.hpp"
 #include "nodes/splat/rasterizer.hpp"
 #include "nodes/splat/render_cache.hpp"
@@ -33,8 +33,8 @@ constexpr int kWidth = 640, kHeight = 480, kFeatures = 16;
 // the frustum, scales 0.5-3 cm (log-uniform), opacities spread over (0.1, 0.9), SH degree 3 and
 // 16 feature channels.
 GaussianModel random_scene(int n, uint32_t seed) {
-  std::mt19937 rng(seed);
-  auto uniform = [&](float a, float b) { return std::uniform_real_distribution<float>(a, b)(rng); };
+  RandomStream rng(stream_seed(seed, "bench.raster"));
+  auto uniform = [&](float a, float b) { return static_cast<float>(rng.uniform(a, b)); };
   GaussianModel m;
   m.sh_degree = 3;
   m.feature_dim = kFeatures;

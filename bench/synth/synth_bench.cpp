@@ -22,8 +22,8 @@
 
 #include "nodes/synth/bvh.hpp"
 #include "nodes/synth/or_capture.hpp"
-#include "nodes/synth/random_stream.hpp"
 #include "nodes/synth/render_view.hpp"
+#include "nodes/synth/stream_purpose.hpp"
 #include "nodes/synth/visible_instances.hpp"
 #include "nodes/synth/vlm_simulator.hpp"
 #include "runtime/allocator.hpp"

@@ -2,19 +2,18 @@
 
 #include <algorithm>
 #include <chrono>
-#include <random>
 #include <string>
 #include <vector>
 
 #include <tbb/parallel_for.h>
 
 #include "base/errors.hpp"
+#include "base/random.hpp"
 #include "nodes/features/contrastive_loss.hpp"
 #include "nodes/splat/adam.hpp"
 #include "nodes/splat/pixel_rows.hpp"
 #include "nodes/splat/rasterizer.hpp"
 #include "nodes/splat/render_cache.hpp"
-#include "runtime/node_seed.hpp"
 
 namespace gslift {
 namespace {
@@ -45,18 +44,15 @@ void validate(const GaussianModel& model, const ContrastiveOptions& o) {
 
 // n pixels uniformly inside the mask, then up to n uniformly outside it (rejection sampling over
 // the view; none when the mask covers the whole view). Returns the outside count.
-int sample_pixels(const TrainingMask& m, int n, std::mt19937_64& rng,
-                  std::vector<uint32_t>& pixels) {
-  std::uniform_int_distribution<size_t> in(0, m.inside.size() - 1);
-  for (int k = 0; k < n; ++k) pixels.push_back(m.inside[in(rng)]);
+int sample_pixels(const TrainingMask& m, int n, RandomStream& rng, std::vector<uint32_t>& pixels) {
+  for (int k = 0; k < n; ++k) pixels.push_back(m.inside[rng.below(m.inside.size())]);
   const size_t total = m.pixels.total();
   if (m.inside.size() == total) return 0;
-  std::uniform_int_distribution<size_t> any(0, total - 1);
   int out = 0;
   // The expected number of draws is n total / (total - |M|); the cap only guards masks that
   // cover almost everything.
   for (int tries = 0; out < n && tries < 64 * n; ++tries) {
-    const size_t p = any(rng);
+    const size_t p = rng.below(total);
     if (m.pixels.data[p]) continue;
     pixels.push_back(static_cast<uint32_t>(p));
     ++out;
@@ -107,21 +103,19 @@ ContrastiveResult train_contrastive_features(const GaussianModel& model, const C
   const size_t n = model.size();
   std::vector<float> features(n * dim);
   {
-    std::mt19937_64 rng(splitmix64(o.seed));
-    std::normal_distribution<float> normal(0.f, static_cast<float>(o.init_std));
-    for (float& f : features) f = normal(rng);
+    RandomStream rng(stream_seed(o.seed, "contrastive.init"));
+    for (float& f : features) f = static_cast<float>(rng.normal(0.0, o.init_std));
   }
   std::vector<float> grad(n * dim);
   AdamGroup adam(dim);
   std::vector<MaskStep> steps(training.size());
-  const uint64_t base = splitmix64(o.seed ^ 0xc0a7a571e5ULL);
 
   for (int it = 0; it < o.iterations; ++it) {
-    const uint64_t iteration_seed = splitmix64(base ^ static_cast<uint64_t>(it));
     tbb::parallel_for(size_t(0), training.size(), [&](size_t k) {
       const TrainingMask& m = training[k];
       MaskStep& s = steps[k];
-      std::mt19937_64 rng(splitmix64(iteration_seed ^ splitmix64(k)));
+      // One stream per (iteration, mask), numbered row by row.
+      RandomStream rng(stream_seed(o.seed, "contrastive.pixels", it * training.size() + k));
       s.pixels.clear();
       const int n_out = sample_pixels(m, o.pixels_per_iteration, rng, s.pixels);
       const int n_in = o.pixels_per_iteration;

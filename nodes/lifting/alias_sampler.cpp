@@ -46,15 +46,13 @@ AliasSampler::AliasSampler(const std::vector<double>& weights) {
   }
 }
 
-int64_t AliasSampler::sample(std::mt19937_64& rng) const {
-  std::uniform_int_distribution<int64_t> column(0, size() - 1);
-  std::uniform_real_distribution<double> coin(0.0, 1.0);
-  const int64_t i = column(rng);
-  return coin(rng) < probability_[i] ? i : alias_[i];
+int64_t AliasSampler::sample(RandomStream& rng) const {
+  const int64_t i = rng.below(size());
+  return rng.uniform() < probability_[i] ? i : alias_[i];
 }
 
 std::vector<int64_t> AliasSampler::sample(int64_t count, uint64_t seed) const {
-  std::mt19937_64 rng(seed);
+  RandomStream rng(stream_seed(seed, "alias.sample"));
   std::vector<int64_t> out(count);
   for (auto& x : out) x = sample(rng);
   return out;

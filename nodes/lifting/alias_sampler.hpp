@@ -4,8 +4,9 @@
 #pragma once
 
 #include <cstdint>
-#include <random>
 #include <vector>
+
+#include "base/random.hpp"
 
 namespace gslift {
 
@@ -15,11 +16,11 @@ class AliasSampler {
   // std::invalid_argument). Entries of weight 0 are never drawn.
   explicit AliasSampler(const std::vector<double>& weights);
 
-  // One index in [0, size()), with probability weight / sum(weights). Uses two draws of `rng`,
-  // so a fixed seed gives a fixed sequence.
-  int64_t sample(std::mt19937_64& rng) const;
+  // One index in [0, size()), with probability weight / sum(weights). Uses two draws of `rng`
+  // (a column, then the coin that keeps it or takes its alias).
+  int64_t sample(RandomStream& rng) const;
 
-  // `count` draws from a generator seeded with `seed`.
+  // `count` draws from the stream stream_seed(seed, "alias.sample").
   std::vector<int64_t> sample(int64_t count, uint64_t seed) const;
 
   int64_t size() const { return static_cast<int64_t>(probability_.size()); }

@@ -3,9 +3,10 @@
 #include <algorithm>
 #include <cmath>
 #include <numeric>
-#include <random>
 
 #include <Eigen/Geometry>
+
+#include "base/random.hpp"
 
 namespace gslift {
 namespace {
@@ -103,14 +104,13 @@ DensityChange densify_and_prune(GaussianModel& model, const DensityStats& stats,
   const float shrink = std::log(static_cast<float>(o.split_scale_divisor));
   for (size_t i : splits) {
     // Children sampled from N(mu, Sigma) of the parent (3DGS densify_and_split).
-    std::mt19937_64 rng(seed * 0x9E3779B97F4A7C15ull + i);
-    std::normal_distribution<double> normal;
+    RandomStream rng(stream_seed(seed, "densify.split", i));
     const float* q = &model.quats[i * 4];
     const Eigen::Matrix3d R =
         Eigen::Quaterniond(q[0], q[1], q[2], q[3]).normalized().toRotationMatrix();
     for (int c = 0; c < o.split_children; ++c) {
       Eigen::Vector3d z;
-      for (int k = 0; k < 3; ++k) z[k] = normal(rng) * std::exp(model.log_scales[i * 3 + k]);
+      for (int k = 0; k < 3; ++k) z[k] = rng.normal() * std::exp(model.log_scales[i * 3 + k]);
       const Eigen::Vector3d offset = R * z;
       copy_row(model, i, out, row);
       for (int k = 0; k < 3; ++k) {

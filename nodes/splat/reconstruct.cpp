@@ -6,11 +6,11 @@
 #include <limits>
 #include <numeric>
 #include <optional>
-#include <random>
 
 #include <opencv2/imgproc.hpp>
 
 #include "base/errors.hpp"
+#include "base/random.hpp"
 #include "nodes/splat/depth_normals.hpp"
 #include "nodes/splat/losses.hpp"
 #include "nodes/splat/rasterizer.hpp"
@@ -184,7 +184,7 @@ ReconstructResult reconstruct(const Capture& capture, const ReconstructOptions& 
   ModelGrads grads;
   std::vector<float> flatness_grad;
   std::vector<int> order;
-  std::mt19937_64 view_rng(options.seed);
+  RandomStream view_rng(stream_seed(options.seed, "reconstruct.views"));
   std::vector<LossSummary> history;
   clock.charge(phases.prepare);
 
@@ -193,7 +193,7 @@ ReconstructResult reconstruct(const Capture& capture, const ReconstructOptions& 
     if (order.empty()) {
       order.resize(targets.size());
       std::iota(order.begin(), order.end(), 0);
-      std::shuffle(order.begin(), order.end(), view_rng);
+      view_rng.shuffle(order.begin(), order.end());
     }
     const TrainTarget& train_target = targets[order.back()];
     order.pop_back();

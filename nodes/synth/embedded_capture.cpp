@@ -5,21 +5,11 @@
 #include <stdexcept>
 
 #include "base/errors.hpp"
+#include "base/hash.hpp"
 
 namespace gslift::synth {
 
 namespace fs = std::filesystem;
-
-namespace {
-
-// FNV-1a, 64 bit: a stable hash of the settings text (std::hash is not stable across builds).
-uint64_t fnv1a(const std::string& text) {
-  uint64_t h = 0xcbf29ce484222325ull;
-  for (unsigned char c : text) h = (h ^ c) * 0x100000001b3ull;
-  return h;
-}
-
-}  // namespace
 
 fs::path cache_root() {
   if (const char* c = std::getenv("GSLIFT_CACHE"); c && *c) return c;
@@ -61,7 +51,7 @@ fs::path cached_capture_folder(const OrCaptureSettings& settings, const fs::path
   std::string text = "gslift.synth/v1\n";
   for (const auto& [k, v] : settings_entries(settings)) text += k + "=" + v + "\n";
   char hex[17];
-  std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(fnv1a(text)));
+  std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(fnv1a64(text)));
   return cache / "embedded" / (capture_name(settings) + "-" + hex);
 }
 

@@ -4,7 +4,7 @@
 
 #include <opencv2/core.hpp>
 
-#include "nodes/synth/random_stream.hpp"
+#include "nodes/synth/stream_purpose.hpp"
 
 namespace gslift::synth {
 

@@ -3,7 +3,7 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "nodes/synth/random_stream.hpp"
+#include "nodes/synth/stream_purpose.hpp"
 
 namespace gslift::synth {
 

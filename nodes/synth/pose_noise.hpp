@@ -3,7 +3,7 @@
 #pragma once
 
 #include "nodes/scene/camera.hpp"
-#include "nodes/synth/random_stream.hpp"
+#include "nodes/synth/stream_purpose.hpp"
 
 namespace gslift::synth {
 

@@ -7,7 +7,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
-#include "nodes/synth/random_stream.hpp"
+#include "nodes/synth/stream_purpose.hpp"
 
 namespace gslift::synth {
 
@@ -17,9 +17,9 @@ using Vec3 = Eigen::Vector3f;
 
 // Deterministic lattice value in [0, 1) for integer coordinates.
 float lattice(int x, int y, int z) {
-  const uint64_t h =
-      mix64((static_cast<uint64_t>(static_cast<uint32_t>(x)) << 42) ^
-            (static_cast<uint64_t>(static_cast<uint32_t>(y)) << 21) ^ static_cast<uint32_t>(z));
+  const uint64_t h = splitmix64((static_cast<uint64_t>(static_cast<uint32_t>(x)) << 42) ^
+                                (static_cast<uint64_t>(static_cast<uint32_t>(y)) << 21) ^
+                                static_cast<uint32_t>(z));
   return static_cast<float>(h >> 40) * (1.f / 16777216.f);
 }
 

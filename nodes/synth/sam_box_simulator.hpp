@@ -8,7 +8,7 @@
 #include <opencv2/core.hpp>
 
 #include "nodes/scene/boxes.hpp"
-#include "nodes/synth/random_stream.hpp"
+#include "nodes/synth/stream_purpose.hpp"
 #include "nodes/synth/synth_knobs.hpp"
 
 namespace gslift::synth {

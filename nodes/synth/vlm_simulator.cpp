@@ -5,7 +5,7 @@
 #include <sstream>
 
 #include "nodes/synth/or_scene.hpp"
-#include "nodes/synth/random_stream.hpp"
+#include "nodes/synth/stream_purpose.hpp"
 
 namespace gslift::synth {
 
@@ -55,8 +55,7 @@ std::vector<VlmRound> simulate_vlm(const std::vector<VisibleInstance>& visible, 
     // Answer order varies between rounds, as a sampled model's does.
     std::vector<int> order(visible.size());
     for (size_t i = 0; i < order.size(); ++i) order[i] = static_cast<int>(i);
-    for (size_t i = order.size(); i > 1; --i)
-      std::swap(order[i - 1], order[rng.below(static_cast<int>(i))]);
+    rng.shuffle(order.begin(), order.end());
 
     VlmRound& round = rounds[r];
     std::ostringstream json;
@@ -81,7 +80,7 @@ std::vector<VlmRound> simulate_vlm(const std::vector<VisibleInstance>& visible, 
       const double w = rng.uniform(0.05, 0.3) * width, hh = rng.uniform(0.05, 0.4) * height;
       const double x = rng.uniform(0, width - w), y = rng.uniform(0, height - hh);
       VlmBox b;
-      b.label_class = 1 + rng.below(kOrClassCount);
+      b.label_class = 1 + rng.below(static_cast<int>(kOrClassCount));
       emit(round, json, x, y, x + w, y + hh, width, height, b);
     }
     for (VlmBox& b : round.boxes) b.box.round = r;

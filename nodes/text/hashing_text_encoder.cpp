@@ -4,6 +4,8 @@
 #include <stdexcept>
 #include <vector>
 
+#include "base/hash.hpp"
+
 namespace gslift {
 namespace {
 
@@ -24,15 +26,6 @@ std::vector<std::string> words_of(const std::string& text) {
 }
 
 }  // namespace
-
-uint64_t fnv1a64(const std::string& s) {
-  uint64_t h = 14695981039346656037ull;  // FNV offset basis
-  for (const char c : s) {
-    h ^= static_cast<unsigned char>(c);
-    h *= 1099511628211ull;  // FNV prime
-  }
-  return h;
-}
 
 HashingTextEncoder::HashingTextEncoder(int dim) : dim_(dim) {
   if (dim < 1) throw std::invalid_argument("HashingTextEncoder: dim must be >= 1");

@@ -9,8 +9,6 @@
 // sentence embeddings for that.
 #pragma once
 
-#include <cstdint>
-
 #include "nodes/scene/text_encoder.hpp"
 
 namespace gslift {
@@ -28,8 +26,5 @@ class HashingTextEncoder : public TextEncoder {
  private:
   int dim_;
 };
-
-// 64-bit FNV-1a of the bytes of `s`.
-uint64_t fnv1a64(const std::string& s);
 
 }  // namespace gslift

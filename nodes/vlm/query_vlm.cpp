@@ -7,18 +7,16 @@
 #include <tbb/task_arena.h>
 
 #include "base/errors.hpp"
+#include "base/random.hpp"
 #include "nodes/vlm/chat_request.hpp"
 #include "nodes/vlm/http_post.hpp"
 
 namespace gslift {
 
 uint64_t request_seed(uint64_t seed, size_t view, int round) {
-  // splitmix64 finaliser over the three numbers: nearby (view, round) pairs get unrelated seeds.
-  uint64_t z = seed * 0x9e3779b97f4a7c15ULL + view * 0xbf58476d1ce4e5b9ULL +
-               static_cast<uint64_t>(round) * 0x94d049bb133111ebULL + 1;
-  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-  return (z ^ (z >> 31)) >> 33;
+  // stream_seed with (view, round) in the places of (purpose, index), cut to 31 bits: nearby
+  // pairs get unrelated seeds.
+  return stream_seed(seed, view, static_cast<uint64_t>(round)) >> 33;
 }
 
 std::vector<std::vector<VlmRoundReply>> query_vlm(const std::vector<VlmImage>& images,

@@ -2,10 +2,9 @@
 // instance of every pixel, mask and Gaussian can be read off the numbers.
 #include "nodes/association/instance_mask_gaussian.hpp"
 
-#include <random>
-
 #include <tbb/global_control.h>
 
+#include "base/random.hpp"
 #include "runtime/node.hpp"
 #include "tests/association/fixed_text_encoder.hpp"
 #include "tests/test_support.hpp"
@@ -197,20 +196,20 @@ TEST_CASE("association rejects lifted instances that do not come from the masks"
 
 TEST_CASE("association does not depend on the thread count") {
   // Random features, 5 prototypes, 4 random masks per view, 2000 Gaussians.
-  std::mt19937 rng(7);
-  std::normal_distribution<float> normal;
-  std::uniform_int_distribution<int> coord(0, 40);
+  RandomStream rng(7);
+  auto normal = [&] { return static_cast<float>(rng.normal()); };
+  auto coord = [&] { return rng.below(41); };
   Scene s;
-  s.lifted.prototypes = Eigen::MatrixXf::NullaryExpr(5, 3, [&] { return normal(rng); });
+  s.lifted.prototypes = Eigen::MatrixXf::NullaryExpr(5, 3, normal);
   for (int v = 0; v < 3; ++v) {
     FeatureMap f{64, 48, 3, std::vector<float>(64 * 48 * 3)};
-    for (float& x : f.values) x = normal(rng);
+    for (float& x : f.values) x = normal();
     s.maps.push_back(std::move(f));
     ViewMasks vm{"v" + std::to_string(v), {}};
     for (int m = 0; m < 4; ++m) {
       Mask mask;
       mask.pixels = cv::Mat1b::zeros(48, 64);
-      const int x = coord(rng), y = coord(rng) / 2;
+      const int x = coord(), y = coord() / 2;
       mask.pixels(cv::Rect(x, y, 20, 20)).setTo(255);
       vm.masks.push_back(mask);
     }
@@ -219,9 +218,9 @@ TEST_CASE("association does not depend on the thread count") {
   GaussianModel model;
   model.feature_dim = 3;
   model.resize(2000);
-  for (float& x : model.features) x = normal(rng);
+  for (float& x : model.features) x = normal();
   std::vector<float> contribution(2000);
-  for (float& c : contribution) c = std::abs(normal(rng));
+  for (float& c : contribution) c = std::abs(normal());
 
   const auto run = [&] {
     return std::make_pair(match_masks(s.maps, s.masks, s.lifted),

@@ -4,10 +4,10 @@
 
 #include <cmath>
 #include <map>
-#include <random>
 
 #include <opencv2/imgproc.hpp>
 
+#include "base/random.hpp"
 #include "nodes/boxes/cluster_boxes.hpp"
 #include "nodes/ingest/capture_annotations.hpp"
 #include "nodes/ingest/capture_loader.hpp"
@@ -27,12 +27,11 @@ double iou(const cv::Mat1b& a, const cv::Mat1b& b) {
 // 120x100 background of random 6x6 colour patches (greens and greys); disc of radius 22 at
 // (60, 50).
 cv::Mat3b textured_background(uint32_t seed) {
-  std::mt19937 rng(seed);
-  std::uniform_int_distribution<int> level(40, 200);
+  RandomStream rng(stream_seed(seed, "background"));
   cv::Mat3b image(100, 120);
   for (int y = 0; y < 100; y += 6)
     for (int x = 0; x < 120; x += 6) {
-      const int g = level(rng);
+      const int g = 40 + rng.below(161);
       image(cv::Rect(x, y, 6, 6) & cv::Rect(0, 0, 120, 100)).setTo(cv::Vec3b(g / 2, g, g / 2));
     }
   return image;

@@ -1,9 +1,9 @@
 #include "nodes/features/contrastive_loss.hpp"
 
 #include <cmath>
-#include <random>
 #include <vector>
 
+#include "base/random.hpp"
 #include "tests/test_support.hpp"
 
 using namespace gslift;
@@ -34,11 +34,11 @@ TEST_CASE("contrastive loss: hand-computed values", "[features]") {
 
 TEST_CASE("contrastive loss: gradient matches finite differences", "[features]") {
   const int dim = 4, n_in = 5, n_out = 6;
-  std::mt19937 rng(7);
-  std::normal_distribution<float> normal(0.f, 1.f);
+  RandomStream rng(7);
+  auto normal = [&] { return static_cast<float>(rng.normal()); };
   std::vector<float> in(n_in * dim), out(n_out * dim);
-  for (float& v : in) v = normal(rng) + 0.8f;  // a common direction: a meaningful centroid
-  for (float& v : out) v = normal(rng);
+  for (float& v : in) v = normal() + 0.8f;  // a common direction: a meaningful centroid
+  for (float& v : out) v = normal();
   std::vector<float> gi(in.size()), go(out.size());
   const double lambda = 0.2;
   mask_contrastive_loss(in.data(), n_in, out.data(), n_out, dim, lambda, gi.data(), go.data());

@@ -1,8 +1,7 @@
 // CVP and mask-level lifting on synthetic feature maps: two objects, two views, known features.
 #include "nodes/lifting/cvp_lifting.hpp"
 
-#include <random>
-
+#include "base/random.hpp"
 #include "nodes/lifting/cluster_agreement.hpp"
 #include "tests/test_support.hpp"
 
@@ -21,8 +20,7 @@ struct Scene {
 
 Scene two_objects(int views) {
   Scene s;
-  std::mt19937 rng(3);
-  std::normal_distribution<float> noise(0.f, 0.02f);
+  RandomStream rng(3);
   for (int v = 0; v < views; ++v) {
     FeatureMap f{kW, kH, kD, std::vector<float>(kW * kH * kD)};
     cv::Mat1b left = cv::Mat1b::zeros(kH, kW), right = cv::Mat1b::zeros(kH, kW);
@@ -31,7 +29,7 @@ Scene two_objects(int views) {
     for (int y = 0; y < kH; ++y)
       for (int x = 0; x < kW; ++x) {
         float* p = f.values.data() + (y * kW + x) * kD;
-        for (int k = 0; k < kD; ++k) p[k] = noise(rng);
+        for (int k = 0; k < kD; ++k) p[k] = static_cast<float>(rng.normal(0.0, 0.02));
         p[x < kW / 2 ? 0 : 1] += 1.f;
       }
     s.views.push_back(std::move(f));

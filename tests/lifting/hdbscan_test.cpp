@@ -2,11 +2,11 @@
 #include "nodes/lifting/hdbscan.hpp"
 
 #include <fstream>
-#include <random>
 #include <sstream>
 
 #include <tbb/global_control.h>
 
+#include "base/random.hpp"
 #include "nodes/lifting/cluster_agreement.hpp"
 #include "nodes/lifting/numpy_argsort.hpp"
 #include "tests/test_support.hpp"
@@ -216,11 +216,10 @@ TEST_CASE("numpy_argsort sorts, and orders ties as NumPy's introsort does") {
 
 TEST_CASE("HDBSCAN results do not depend on the thread count (parallel paths exercised)") {
   // 3000 points: several chunks in both the core-distance loop and each Prim step.
-  std::mt19937_64 rng(9);
-  std::normal_distribution<double> gauss(0, 1);
+  RandomStream rng(9);
   PointMatrix p(3000, 4);
   for (int64_t i = 0; i < p.rows(); ++i)
-    for (int k = 0; k < 4; ++k) p(i, k) = 5.0 * (i % 6 == k) + gauss(rng);
+    for (int k = 0; k < 4; ++k) p(i, k) = 5.0 * (i % 6 == k) + rng.normal();
   HdbscanParams params;
   params.min_cluster_size = 15;
   const HdbscanResult parallel = hdbscan(p, params);

@@ -2,9 +2,10 @@
 
 #include <chrono>
 #include <fstream>
-#include <random>
 #include <stdexcept>
 #include <thread>
+
+#include "base/random.hpp"
 
 namespace gslift {
 GSLIFT_PORT_TYPE(std::string, "Text");
@@ -57,8 +58,7 @@ Registry debug_registry() {
           throw std::runtime_error(ctx.param_string("message"));
         });
   r.add(NodeSpec{"debug.random", "one seeded draw", {}, {number("out")}, {}}, [](NodeContext& ctx) {
-    std::mt19937_64 rng(ctx.seed());
-    const double draw = std::uniform_real_distribution<double>(0.0, 1.0)(rng);
+    const double draw = RandomStream(ctx.seed()).uniform();
     ctx.record("seed", std::to_string(ctx.seed()));
     ctx.record("draw", draw);
     ctx.output("out", Number{draw});

@@ -29,7 +29,7 @@ namespace gslift::test {
 //                 <out_dir>/partial.txt
 // debug.fail      params kind (input|other), message; in? in:Number -> throws InputError or
 //                 std::runtime_error
-// debug.random    -> out:Number = first draw of std::mt19937_64(ctx.seed()) in [0,1); records
+// debug.random    -> out:Number = first uniform of RandomStream(ctx.seed()) in [0,1); records
 //                 "seed" (as a string, exact) and "draw"
 // debug.add       in a:Number, b:Number -> out:Number = a + b
 // debug.lazy      declares out:Number but never sets it

@@ -1,7 +1,7 @@
 // INRIA PLY layout: exact header, write -> read round trip, and a handmade reference-style file.
 #include <fstream>
-#include <random>
 
+#include "base/random.hpp"
 #include "nodes/splat/ply_io.hpp"
 #include "runtime/node.hpp"
 #include "tests/test_support.hpp"
@@ -19,10 +19,9 @@ GaussianModel random_model(size_t n, int degree, int features, bool ids) {
     m.class_ids.assign(n, 0);
   }
   m.resize(n);
-  std::mt19937 rng(42);
-  std::uniform_real_distribution<float> u(-2.f, 2.f);
+  RandomStream rng(42);
   for (auto* v : {&m.means, &m.log_scales, &m.quats, &m.opacity_logits, &m.sh, &m.features})
-    for (auto& x : *v) x = u(rng);
+    for (auto& x : *v) x = static_cast<float>(rng.uniform(-2.0, 2.0));
   for (size_t i = 0; i < n && ids; ++i) {
     m.instance_ids[i] = static_cast<int>(i) - 1;
     m.class_ids[i] = static_cast<int>(i * 7);

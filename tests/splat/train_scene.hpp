@@ -2,9 +2,9 @@
 #pragma once
 
 #include <cmath>
-#include <random>
 #include <string>
 
+#include "base/random.hpp"
 #include "nodes/scene/capture.hpp"
 #include "nodes/splat/rasterizer.hpp"
 
@@ -15,8 +15,8 @@ inline GaussianModel ground_truth_scene() {
   GaussianModel m;
   const int grid = 14;
   m.resize(grid * grid + 6);
-  std::mt19937 rng(3);
-  std::uniform_real_distribution<float> u(0.f, 1.f);
+  RandomStream rng(3);
+  auto u = [&] { return static_cast<float>(rng.uniform()); };
   for (int i = 0; i < grid * grid; ++i) {
     const float x = -1.f + 2.f * (i % grid + 0.5f) / grid,
                 y = -1.f + 2.f * (i / grid + 0.5f) / grid;
@@ -25,7 +25,7 @@ inline GaussianModel ground_truth_scene() {
     m.log_scales[i * 3] = m.log_scales[i * 3 + 1] = std::log(0.1f);
     m.log_scales[i * 3 + 2] = std::log(0.01f);
     m.opacity_logits[i] = 4.f;
-    for (int c = 0; c < 3; ++c) m.sh[i * 3 + c] = (u(rng) - 0.5f) / 0.2821f * 0.8f;
+    for (int c = 0; c < 3; ++c) m.sh[i * 3 + c] = (u() - 0.5f) / 0.2821f * 0.8f;
   }
   for (int b = 0; b < 6; ++b) {
     const int i = grid * grid + b;
@@ -34,7 +34,7 @@ inline GaussianModel ground_truth_scene() {
     m.means[i * 3 + 2] = 0.2f;
     for (int k = 0; k < 3; ++k) m.log_scales[i * 3 + k] = std::log(0.12f);
     m.opacity_logits[i] = 4.f;
-    for (int c = 0; c < 3; ++c) m.sh[i * 3 + c] = (u(rng) - 0.5f) / 0.2821f;
+    for (int c = 0; c < 3; ++c) m.sh[i * 3 + c] = (u() - 0.5f) / 0.2821f;
   }
   return m;
 }

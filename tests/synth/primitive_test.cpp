@@ -2,12 +2,13 @@
 #include <cmath>
 #include <limits>
 
+#include "base/random.hpp"
 #include "nodes/synth/bvh.hpp"
 #include "nodes/synth/primitive.hpp"
-#include "nodes/synth/random_stream.hpp"
 #include "tests/test_support.hpp"
 
 using namespace gslift::synth;
+using gslift::RandomStream;
 using Vec3 = Eigen::Vector3f;
 
 namespace {

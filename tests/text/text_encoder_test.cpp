@@ -1,17 +1,12 @@
 #include <cmath>
 
+#include "base/hash.hpp"
 #include "nodes/text/hashing_text_encoder.hpp"
 #include "nodes/text/table_text_encoder.hpp"
 #include "runtime/node.hpp"
 #include "tests/test_support.hpp"
 
 using namespace gslift;
-
-TEST_CASE("FNV-1a 64 known values") {
-  CHECK(fnv1a64("") == 14695981039346656037ull);
-  CHECK(fnv1a64("a") == 0xaf63dc4c8601ec8cull);
-  CHECK(fnv1a64("foobar") == 0x85944171f73967e8ull);
-}
 
 TEST_CASE("hashing encoder: normalised, deterministic, identical strings -> cosine 1") {
   const HashingTextEncoder enc;
