@@ -11,14 +11,20 @@
 
 #include <catch2/catch.hpp>
 
+#include "tests/test_skip.hpp"
+
 namespace gslift::test {
 
 inline std::filesystem::path test_data(const std::string& rel = {}) {
   return std::filesystem::path(GSLIFT_TEST_DATA) / rel;
 }
 
+// The real scenes: ../shared/data beside the checkout, or the folder named by the environment
+// variable GSLIFT_SHARED_DATA when it is set (pointing it at a missing folder shows which tests
+// skip without the data).
 inline std::filesystem::path shared_data(const std::string& rel = {}) {
-  return std::filesystem::path(GSLIFT_SHARED_DATA) / rel;
+  const char* env = std::getenv("GSLIFT_SHARED_DATA");
+  return std::filesystem::path(env && *env ? env : GSLIFT_SHARED_DATA) / rel;
 }
 
 // This process's own scratch root: a fresh mkdtemp folder under the system temp folder, so that
@@ -58,13 +64,14 @@ inline std::filesystem::path scratch_dir(const std::string& name) {
 
 }  // namespace gslift::test
 
-// Skips the rest of a test (with a visible message) when ../shared/data is not beside the
-// checkout, as on a user's machine; CI has it.
+// Skips the rest of a test (with a visible message, and ctest's "Skipped": tests/test_skip.hpp)
+// when ../shared/data is not beside the checkout, as on a user's machine; CI has it.
 #define GSLIFT_REQUIRE_SHARED_DATA(rel)                                               \
   do {                                                                                \
     if (!std::filesystem::exists(gslift::test::shared_data(rel))) {                   \
       WARN("SKIPPED: " << gslift::test::shared_data(rel).string()                     \
                        << " is absent (../shared/data is only beside CI checkouts)"); \
+      gslift::test::mark_skipped();                                                   \
       return;                                                                         \
     }                                                                                 \
   } while (0)
