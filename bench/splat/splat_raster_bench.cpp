@@ -59,7 +59,7 @@ GaussianModel random_scene(int n, uint32_t seed) {
 // Floating-point work of one view, counted from the forward pass's tile lists: the blending loops
 // evaluate every entry on every pixel of each tile row its rectangle touches (kLanes lanes per
 // entry row, used or masked), so that is the count of vector lanes of work. Operations per lane,
-// an FMA counted as 2 (read off the loops in raster_state.hpp and rasterizer.cpp):
+// an FMA counted as 2 (read off the loops in raster_state.hpp and rasterizer_*.cpp):
 // - blend_row (power, the exp polynomial, alpha, the skip tests): 40
 // - forward: transmittance and weight 5, plus 2 per channel
 // - backward: blend_row again 40, transmittance and weight 5, dL/dalpha and the running dot

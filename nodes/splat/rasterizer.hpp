@@ -39,7 +39,7 @@ struct RenderSettings {
 };
 
 // Per-view state the forward pass keeps for the backward pass (projected Gaussians, tile lists,
-// final transmittance and last contributor per pixel). Opaque: defined in rasterizer.cpp.
+// final transmittance and last contributor per pixel). Opaque: defined in raster_state.hpp.
 struct RasterState;
 
 // Rendered channels, row-major images; a channel not requested is empty.
