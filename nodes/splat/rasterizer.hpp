@@ -1,4 +1,4 @@
-// Differentiable CPU rasterizer for 3D Gaussian Splatting (METHODS.md §0, Kerbl et al. 2023).
+// Differentiable CPU rasterizer for 3D Gaussian Splatting (3DGS, Kerbl et al. 2023).
 // Forward: EWA projection, 16x16 tile binning, per-tile depth sort, front-to-back alpha blending.
 // One pass renders any selection of RGB, expected depth, normal, accumulated alpha and the model's
 // D feature channels. Backward: exact gradients of every rendered channel with respect to every
