@@ -17,14 +17,15 @@ void apply_set(GraphDocument& doc, const std::string& set, Diagnostics& diagnost
   const size_t eq = set.find('=');
   const std::string key = trim(set.substr(0, eq));
   const size_t dot = key.find('.');
-  if (eq == std::string::npos || dot == std::string::npos || dot == 0 || dot + 1 == key.size() ||
-      key.find('.', dot + 1) != std::string::npos) {
+  if (eq == std::string::npos || key.empty() || dot == 0 || dot + 1 == key.size() ||
+      (dot != std::string::npos && key.find('.', dot + 1) != std::string::npos)) {
     diagnostics.error(at, "bad-set",
-                      "expected node.param=value, node.type=type or params.name=value");
+                      "expected name=value, node.param=value, node.type=type or params.name=value");
     return;
   }
-  const std::string target = key.substr(0, dot);
-  const std::string name = key.substr(dot + 1);
+  // A name without a dot is a graph param, as with params.name.
+  const std::string target = dot == std::string::npos ? "params" : key.substr(0, dot);
+  const std::string name = dot == std::string::npos ? key : key.substr(dot + 1);
   YAML::Node value;
   try {
     value = YAML::Load(set.substr(eq + 1));

@@ -1,7 +1,7 @@
 // --set overrides from the command line, applied in order after the files are read:
 //   node.param=value   a node param; value is a YAML scalar or flow list ("0.7", "[1, 2]", "text")
 //   node.type=a.type   swaps the node's type; its params restart (as in a derived file)
-//   params.name=value  a graph param (a ${name} source)
+//   name=value         a graph param (a ${name} source); params.name=value says the same
 // Each value's diagnostics point at the pseudo-location "--set <text>".
 #pragma once
 

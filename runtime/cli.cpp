@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include <oneapi/tbb/global_control.h>
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 
@@ -225,7 +226,8 @@ const std::vector<Command>& commands() {
        "run record DIR/run.json (also when the run fails).\n\n"
        "options:\n"
        "  --input PATH            the capture to process (graph var ${input})\n"
-       "  --set NODE.PARAM=VALUE  override a param (repeatable); NODE.type=TYPE swaps a stage\n"
+       "  --set NODE.PARAM=VALUE  override a param (repeatable); NODE.type=TYPE swaps a stage,\n"
+       "                          NAME=VALUE sets the graph param NAME\n"
        "  --out DIR               results folder (default out/<graph name>)\n"
        "  --threads N             worker threads, 0 = all cores (default 0)\n"
        "  --seed S                run seed (graph var ${seed}; default: the graph's seed or 0)\n"
@@ -237,7 +239,8 @@ const std::vector<Command>& commands() {
        "                             [--print]\n\n"
        "Prints every diagnostic (file:line:col) and exits 3 when the graph is invalid.\n\n"
        "options:\n"
-       "  --set NODE.PARAM=VALUE  override a param (repeatable); NODE.type=TYPE swaps a stage\n"
+       "  --set NODE.PARAM=VALUE  override a param (repeatable); NODE.type=TYPE swaps a stage,\n"
+       "                          NAME=VALUE sets the graph param NAME\n"
        "  --input PATH            graph var ${input}\n"
        "  --seed S                graph var ${seed}\n"
        "  --print                 print the resolved graph (defaults filled in) as YAML\n"
@@ -262,7 +265,8 @@ const std::vector<Command>& commands() {
        "options:\n"
        "  --out DIR               results root (required)\n"
        "  --shard I/N             take the captures whose index % N == I (Slurm/K8s arrays)\n"
-       "  --set NODE.PARAM=VALUE  override a param (repeatable); NODE.type=TYPE swaps a stage\n"
+       "  --set NODE.PARAM=VALUE  override a param (repeatable); NODE.type=TYPE swaps a stage,\n"
+       "                          NAME=VALUE sets the graph param NAME\n"
        "  --threads N             worker threads per capture, 0 = all cores (default 0)\n"
        "  --seed S                run seed (graph var ${seed}); the same for every capture\n"
        "  --log-level L           trace, debug, info, warn, error, critical, off (default info)\n"
@@ -403,6 +407,42 @@ int cmd_batch(int argc, char** argv, const Registry& registry) {
   return summary.count(CaptureStatus::Failed) ? exit_code::kBatchPartial : exit_code::kOk;
 }
 
+constexpr const char* kCommonOptions =
+    "\noptions gslift takes for this command too:\n"
+    "  --threads N             worker threads, 0 = all cores (default 0)\n"
+    "  --log-level L           trace, debug, info, warn, error, critical, off (default info)\n";
+
+// A command from outside the runtime (gslift synth) takes --threads and --log-level like run and
+// batch: they are taken out of its arguments here and applied around it (--threads caps every
+// TBB loop, as in execute()); the rest is the command's own.
+int run_extra(const ExtraCommand& command, int argc, char** argv) {
+  static const std::vector<std::string> common = {"threads", "log-level"};
+  std::vector<char*> own = {argv[1]};
+  std::vector<char*> taken = {argv[0], argv[1]};
+  bool help = false;
+  for (int i = 2; i < argc; ++i) {
+    const std::string a = argv[i];
+    help |= a == "--help" || a == "-h";
+    const bool is_common =
+        a.rfind("--", 0) == 0 &&
+        std::find(common.begin(), common.end(), a.substr(2, a.find('=') - 2)) != common.end();
+    if (!is_common) {
+      own.push_back(argv[i]);
+      continue;
+    }
+    taken.push_back(argv[i]);
+    if (a.find('=') == std::string::npos && i + 1 < argc) taken.push_back(argv[++i]);
+  }
+  const Args args = parse_args(int(taken.size()), taken.data(), 2, common, {});
+  set_up_logging(args);
+  const auto threads = static_cast<size_t>(parse_integer("threads", args.last("threads", "0"), 0));
+  std::optional<tbb::global_control> limit;
+  if (threads > 0) limit.emplace(tbb::global_control::max_allowed_parallelism, threads);
+  const int code = command.run(int(own.size()), own.data());
+  if (help) std::printf("%s", kCommonOptions);
+  return code;
+}
+
 int dispatch(int argc, char** argv, const Registry& registry,
              const std::vector<ExtraCommand>& extra) {
   if (argc < 2) {
@@ -421,7 +461,7 @@ int dispatch(int argc, char** argv, const Registry& registry,
   for (const auto& c : commands())
     if (first == c.name) return c.fn(argc, argv, registry);
   for (const auto& c : extra)
-    if (first == c.name) return c.run(argc - 1, argv + 1);
+    if (first == c.name) return run_extra(c, argc, argv);
   std::vector<std::string> names;
   for (const auto& c : commands()) names.push_back(c.name);
   for (const auto& c : extra) names.push_back(c.name);

@@ -49,7 +49,7 @@ void ConsoleProgress::node_progress(const std::string& id, double fraction,
   const int64_t interval_ns =
       std::chrono::duration_cast<std::chrono::nanoseconds>(interval_).count();
   int64_t last = last_shown_ns_.load(std::memory_order_relaxed);
-  if (now - last < interval_ns) return;
+  if (last != kNever && now - last < interval_ns) return;
   // One caller per interval wins the right to print; the others return at once.
   if (!last_shown_ns_.compare_exchange_strong(last, now)) return;
   const int percent = static_cast<int>(std::lround(100.0 * std::clamp(fraction, 0.0, 1.0)));

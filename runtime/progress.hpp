@@ -5,6 +5,7 @@
 
 #include <atomic>
 #include <chrono>
+#include <cstdint>
 #include <cstdio>
 #include <mutex>
 #include <string>
@@ -44,8 +45,11 @@ class ConsoleProgress : public ProgressSink {
   std::FILE* stream_;
   std::chrono::steady_clock::duration interval_;
   std::mutex mutex_;
-  // Nanoseconds (steady clock) of the last line drawn or logged; checked without the lock.
-  std::atomic<int64_t> last_shown_ns_{0};
+  // Nanoseconds (steady clock) of the last line drawn or logged, kNever before the first one (so
+  // that the first report always shows, even within `interval` of the clock's epoch, i.e. of the
+  // machine's boot); checked without the lock.
+  static constexpr int64_t kNever = INT64_MIN;
+  std::atomic<int64_t> last_shown_ns_{kNever};
   bool line_shown_ = false;
 };
 

@@ -17,6 +17,8 @@
 #include <nlohmann/json.hpp>
 
 #include "base/random.hpp"
+#include "bench/common/svg.hpp"
+
 #include "nodes/lifting/hdbscan.hpp"
 #include "runtime/allocator.hpp"
 #include "runtime/atomic_file.hpp"
@@ -73,39 +75,30 @@ std::string svg_chart(const std::vector<Row>& rows, const std::vector<int>& size
   const double max_n = sizes.empty() ? 1 : *std::max_element(sizes.begin(), sizes.end());
   auto px = [&](double n) { return L + (W - L - R) * n / max_n; };
   auto py = [&](double t) { return H - B - (H - T - B) * t / max_t; };
-  std::ostringstream s;
-  s << "<svg xmlns='http://www.w3.org/2000/svg' width='" << W << "' height='" << H
-    << "' font-family='sans-serif' font-size='12'>\n"
-    << "<rect width='100%' height='100%' fill='white'/>\n"
-    << "<text x='" << W / 2 << "' y='20' text-anchor='middle' font-size='14'>HDBSCAN (exact, "
-    << kDim << "-d): median wall time vs points</text>\n"
-    << "<line x1='" << L << "' y1='" << H - B << "' x2='" << W - R << "' y2='" << H - B
-    << "' stroke='black'/>\n<line x1='" << L << "' y1='" << T << "' x2='" << L << "' y2='" << H - B
-    << "' stroke='black'/>\n";
-  for (const int n : sizes)
-    s << "<text x='" << px(n) << "' y='" << H - B + 18 << "' text-anchor='middle'>" << n
-      << "</text>\n";
+  bench::Svg svg(W, H, 12, true);
+  svg.text(W / 2, 20, "HDBSCAN (exact, " + std::to_string(kDim) + "-d): median wall time vs points",
+           "text-anchor='middle' font-size='14'");
+  svg.line(L, H - B, W - R, H - B, "black");
+  svg.line(L, T, L, H - B, "black");
+  for (const int n : sizes) svg.text(px(n), H - B + 18, std::to_string(n), "text-anchor='middle'");
   for (int i = 0; i <= 4; ++i) {
     const double t = max_t * i / 4;
     char label[32];
     std::snprintf(label, sizeof label, "%.2f s", t);
-    s << "<text x='" << L - 6 << "' y='" << py(t) + 4 << "' text-anchor='end'>" << label
-      << "</text>\n";
+    svg.text(L - 6, py(t) + 4, label, "text-anchor='end'");
   }
-  s << "<text x='" << (L + W - R) / 2 << "' y='" << H - 10 << "' text-anchor='middle'>points"
-    << "</text>\n";
+  svg.text((L + W - R) / 2, H - 10, "points", "text-anchor='middle'");
   const char* colours[] = {"#1f77b4", "#d62728"};
   for (int threads = 1; threads <= 2; ++threads) {
-    std::ostringstream pts;
+    std::vector<std::array<double, 2>> points;
     for (const auto& r : rows)
-      if (r.threads == threads) pts << px(r.n) << "," << py(r.median_s) << " ";
-    s << "<polyline fill='none' stroke='" << colours[threads - 1] << "' stroke-width='2' points='"
-      << pts.str() << "'/>\n"
-      << "<text x='" << L + 10 << "' y='" << T + 16 * threads << "' fill='" << colours[threads - 1]
-      << "'>" << threads << (threads == 1 ? " thread" : " threads") << "</text>\n";
+      if (r.threads == threads) points.push_back({px(r.n), py(r.median_s)});
+    svg.polyline(points, colours[threads - 1], 2);
+    svg.text(L + 10, T + 16 * threads,
+             std::to_string(threads) + (threads == 1 ? " thread" : " threads"),
+             std::string("fill='") + colours[threads - 1] + "'");
   }
-  s << "</svg>\n";
-  return s.str();
+  return svg.str();
 }
 
 }  // namespace

@@ -27,6 +27,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "bench/common/svg.hpp"
 #include "nodes/builtin.hpp"
 #include "nodes/inference/text_query.hpp"
 #include "runtime/allocator.hpp"
@@ -186,14 +187,11 @@ std::string svg_chart(const nlohmann::json& variants) {
   const int width = std::max(420, left + group * static_cast<int>(variants.size()) + 20);
   const char* colours[] = {"#4477aa", "#228833", "#ee6677"};
   const char* names[] = {"mIoU", "mLocAcc", "mAcc"};
-  std::ostringstream s;
-  s << "<svg xmlns='http://www.w3.org/2000/svg' width='" << width << "' height='"
-    << top + height + 70 << "' font-family='sans-serif' font-size='11'>\n";
+  bench::Svg svg(width, top + height + 70, 11);
   for (int v = 0; v <= 100; v += 25) {
     const double y = top + height - height * v / 100.0;
-    s << "<line x1='" << left << "' x2='" << width - 10 << "' y1='" << y << "' y2='" << y
-      << "' stroke='#ddd'/><text x='" << left - 6 << "' y='" << y + 4 << "' text-anchor='end'>" << v
-      << "</text>\n";
+    svg.line(left, y, width - 10, y, "#ddd");
+    svg.text(left - 6, y + 4, std::to_string(v), "text-anchor='end'");
   }
   int i = 0;
   for (const auto& v : variants) {
@@ -203,23 +201,20 @@ std::string svg_chart(const nlohmann::json& variants) {
       const double sd = v[names[m]]["std"].is_number() ? v[names[m]]["std"].get<double>() : 0;
       const double h = height * std::clamp(mean, 0.0, 100.0) / 100.0;
       const int x = x0 + m * bar;
-      s << "<rect x='" << x << "' y='" << top + height - h << "' width='" << bar - 2 << "' height='"
-        << h << "' fill='" << colours[m] << "'/>\n";
+      svg.rect(x, top + height - h, bar - 2, h, colours[m]);
       const double y1 = top + height - height * std::clamp(mean + sd, 0.0, 100.0) / 100.0;
       const double y2 = top + height - height * std::clamp(mean - sd, 0.0, 100.0) / 100.0;
-      s << "<line x1='" << x + bar / 2 - 1 << "' x2='" << x + bar / 2 - 1 << "' y1='" << y1
-        << "' y2='" << y2 << "' stroke='black'/>\n";
+      svg.line(x + bar / 2 - 1, y1, x + bar / 2 - 1, y2, "black");
     }
-    s << "<text x='" << x0 + bar * 3 / 2 << "' y='" << top + height + 16
-      << "' text-anchor='middle'>" << v["variant"].get<std::string>() << "</text>\n";
+    svg.text(x0 + bar * 3 / 2, top + height + 16, v["variant"].get<std::string>(),
+             "text-anchor='middle'");
   }
-  for (int m = 0; m < 3; ++m)
-    s << "<rect x='" << left + 100 * m << "' y='" << top + height + 34
-      << "' width='10' height='10' fill='" << colours[m] << "'/><text x='" << left + 100 * m + 14
-      << "' y='" << top + height + 43 << "'>" << names[m] << "</text>\n";
-  s << "<text x='" << left << "' y='18'>LangOR on the embedded OR: mean and std over seeds "
-    << "(percent)</text>\n</svg>\n";
-  return s.str();
+  for (int m = 0; m < 3; ++m) {
+    svg.rect(left + 100 * m, top + height + 34, 10, 10, colours[m]);
+    svg.text(left + 100 * m + 14, top + height + 43, names[m]);
+  }
+  svg.text(left, 18, "LangOR on the embedded OR: mean and std over seeds (percent)");
+  return svg.str();
 }
 
 }  // namespace

@@ -17,6 +17,7 @@
 #include <nlohmann/json.hpp>
 
 #include "base/random.hpp"
+#include "bench/common/svg.hpp"
 #include "nodes/splat/raster_state.hpp"
 #include "nodes/splat/rasterizer.hpp"
 #include "nodes/splat/render_cache.hpp"
@@ -59,7 +60,7 @@ GaussianModel random_scene(int n, uint32_t seed) {
 // Floating-point work of one view, counted from the forward pass's tile lists: the blending loops
 // evaluate every entry on every pixel of each tile row its rectangle touches (kLanes lanes per
 // entry row, used or masked), so that is the count of vector lanes of work. Operations per lane,
-// an FMA counted as 2 (read off the loops in raster_state.hpp and rasterizer.cpp):
+// an FMA counted as 2 (read off the loops in raster_state.hpp and rasterizer_*.cpp):
 // - blend_row (power, the exp polynomial, alpha, the skip tests): 40
 // - forward: transmittance and weight 5, plus 2 per channel
 // - backward: blend_row again 40, transmittance and weight 5, dL/dalpha and the running dot
@@ -136,18 +137,16 @@ std::string svg_chart(const std::vector<Row>& rows) {
   max_ms *= 1.1;
   auto y = [&](double ms) { return bottom - (bottom - top) * ms / max_ms; };
   const char* colours[4] = {"#9ecae1", "#3182bd", "#fdae6b", "#e6550d"};
-  std::ostringstream s;
-  s << "<svg xmlns='http://www.w3.org/2000/svg' width='" << W << "' height='" << H
-    << "' font-family='sans-serif' font-size='12'>\n<rect width='100%' height='100%' "
-       "fill='white'/>\n"
-    << "<text x='" << W / 2 << "' y='20' text-anchor='middle' font-size='14'>CPU rasterizer, "
-    << kWidth << "x" << kHeight << ", RGB+depth+normal, ms per view (median wall time; "
-    << "black: CPU time of the work, 1 thread)</text>\n";
+  bench::Svg svg(W, H, 12, true);
+  svg.text(W / 2, 20,
+           "CPU rasterizer, " + std::to_string(kWidth) + "x" + std::to_string(kHeight) +
+               ", RGB+depth+normal, ms per view (median wall time; black: CPU time of the work, "
+               "1 thread)",
+           "text-anchor='middle' font-size='14'");
   for (int t = 0; t <= 5; ++t) {
     const double ms = max_ms * t / 5;
-    s << "<line x1='" << left << "' x2='" << W - 20 << "' y1='" << y(ms) << "' y2='" << y(ms)
-      << "' stroke='#ddd'/><text x='" << left - 6 << "' y='" << y(ms) + 4 << "' text-anchor='end'>"
-      << int(ms) << "</text>\n";
+    svg.line(left, y(ms), W - 20, y(ms), "#ddd");
+    svg.text(left - 6, y(ms) + 4, std::to_string(int(ms)), "text-anchor='end'");
   }
   std::vector<int> counts;
   for (const Row& r : rows)
@@ -162,30 +161,26 @@ std::string svg_chart(const std::vector<Row>& rows) {
         const double ms = pass == 0 ? r.forward_ms : r.forward_backward_ms;
         const int series = 2 * pass + (r.threads == 2 ? 1 : 0);
         const double x = left + g * group + bar + b++ * bar;
-        s << "<rect x='" << x << "' y='" << y(ms) << "' width='" << bar * 0.9 << "' height='"
-          << bottom - y(ms) << "' fill='" << colours[series] << "'/>\n";
+        svg.rect(x, y(ms), bar * 0.9, bottom - y(ms), colours[series]);
         if (r.threads == 1) {
           // The CPU time of the work: the wall time without the waiting a shared machine adds.
           const double cpu = pass == 0 ? r.forward_cpu_ms : r.forward_backward_cpu_ms;
-          s << "<line x1='" << x << "' x2='" << x + bar * 0.9 << "' y1='" << y(cpu) << "' y2='"
-            << y(cpu) << "' stroke='black' stroke-width='3'/>\n";
+          svg.line(x, y(cpu), x + bar * 0.9, y(cpu), "black", "stroke-width='3'");
         }
       }
     }
-    s << "<text x='" << left + g * group + group / 2 << "' y='" << bottom + 18
-      << "' text-anchor='middle'>" << counts[g] / 1000 << "k Gaussians</text>\n";
+    svg.text(left + g * group + group / 2, bottom + 18,
+             std::to_string(counts[g] / 1000) + "k Gaussians", "text-anchor='middle'");
   }
-  s << "<line x1='" << left << "' x2='" << W - 20 << "' y1='" << y(60) << "' y2='" << y(60)
-    << "' stroke='red' stroke-dasharray='6 4'/><text x='" << W - 22 << "' y='" << y(60) - 4
-    << "' text-anchor='end' fill='red'>target fwd+bwd 60 ms</text>\n";
+  svg.line(left, y(60), W - 20, y(60), "red", "stroke-dasharray='6 4'");
+  svg.text(W - 22, y(60) - 4, "target fwd+bwd 60 ms", "text-anchor='end' fill='red'");
   const char* names[4] = {"forward, 1 thread", "forward, 2 threads", "fwd+bwd, 1 thread",
                           "fwd+bwd, 2 threads"};
-  for (int i = 0; i < 4; ++i)
-    s << "<rect x='" << left + i * 160 << "' y='" << H - 30 << "' width='12' height='12' fill='"
-      << colours[i] << "'/><text x='" << left + i * 160 + 16 << "' y='" << H - 20 << "'>"
-      << names[i] << "</text>\n";
-  s << "</svg>\n";
-  return s.str();
+  for (int i = 0; i < 4; ++i) {
+    svg.rect(left + i * 160, H - 30, 12, 12, colours[i]);
+    svg.text(left + i * 160 + 16, H - 20, names[i]);
+  }
+  return svg.str();
 }
 
 }  // namespace

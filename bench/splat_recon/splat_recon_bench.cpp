@@ -31,6 +31,7 @@
 #include <tbb/global_control.h>
 #include <nlohmann/json.hpp>
 
+#include "bench/common/svg.hpp"
 #include "nodes/ingest/capture_loader.hpp"
 #include "nodes/splat/reconstruct.hpp"
 #include "recon_flops.hpp"
@@ -131,10 +132,8 @@ std::string svg_chart(const nlohmann::json& cases) {
   const int row = 26, left = 700, width = 300, top = 40;  // left: room for sweep labels
   const int n = static_cast<int>(cases.size());
   const int panel = n * row + 30;
-  std::ostringstream s;
-  s << "<svg xmlns='http://www.w3.org/2000/svg' width='" << left + width + 120 << "' height='"
-    << top + 2 * panel + 20 << "' font-family='sans-serif' font-size='12'>\n"
-    << "<text x='10' y='20' font-size='14'>splat reconstruction: time and PSNR</text>\n";
+  bench::Svg svg(left + width + 120, top + 2 * panel + 20);
+  svg.text(10, 20, "splat reconstruction: time and PSNR", "font-size='14'");
   double max_s = 1, max_p = 1;
   for (const auto& c : cases) {
     max_s = std::max(max_s, charted_seconds(c));
@@ -144,26 +143,24 @@ std::string svg_chart(const nlohmann::json& cases) {
     const auto& c = cases[i];
     const int y = top + 20 + i * row;
     const double sec = charted_seconds(c);
-    s << "<text x='10' y='" << y + 13 << "'>" << c["case"].get<std::string>() << "</text>"
-      << "<rect x='" << left << "' y='" << y << "' width='" << width * sec / max_s
-      << "' height='18' fill='#4c72b0'/><text x='" << left + width * sec / max_s + 5 << "' y='"
-      << y + 13 << "'>" << std::round(sec * 10) / 10 << " s</text>\n";
+    svg.text(10, y + 13, c["case"].get<std::string>());
+    svg.rect(left, y, width * sec / max_s, 18, "#4c72b0");
+    svg.text(left + width * sec / max_s + 5, y + 13,
+             bench::Svg::number(std::round(sec * 10) / 10) + " s");
     const int yp = top + panel + 20 + i * row;
     const double train = c["train_psnr"].get<double>();
     const double test = c["test_psnr"].is_null() ? 0 : c["test_psnr"].get<double>();
-    s << "<text x='10' y='" << yp + 13 << "'>" << c["case"].get<std::string>() << "</text>"
-      << "<rect x='" << left << "' y='" << yp << "' width='" << width * train / max_p
-      << "' height='9' fill='#55a868'/><rect x='" << left << "' y='" << yp + 9 << "' width='"
-      << width * test / max_p << "' height='9' fill='#c44e52'/><text x='"
-      << left + width * train / max_p + 5 << "' y='" << yp + 13 << "'>"
-      << std::round(train * 10) / 10 << " / " << std::round(test * 10) / 10 << " dB</text>\n";
+    svg.text(10, yp + 13, c["case"].get<std::string>());
+    svg.rect(left, yp, width * train / max_p, 9, "#55a868");
+    svg.rect(left, yp + 9, width * test / max_p, 9, "#c44e52");
+    svg.text(left + width * train / max_p + 5, yp + 13,
+             bench::Svg::number(std::round(train * 10) / 10) + " / " +
+                 bench::Svg::number(std::round(test * 10) / 10) + " dB");
   }
   const bool cpu = !cases.empty() && cases[0].contains("cpu_seconds");
-  s << "<text x='10' y='" << top + 10 << "'>" << (cpu ? "CPU time, 1 thread (s)" : "wall time (s)")
-    << "</text>\n"
-    << "<text x='10' y='" << top + panel + 10
-    << "'>PSNR dB: train (green) / held-out (red)</text>\n</svg>\n";
-  return s.str();
+  svg.text(10, top + 10, cpu ? "CPU time, 1 thread (s)" : "wall time (s)");
+  svg.text(10, top + panel + 10, "PSNR dB: train (green) / held-out (red)");
+  return svg.str();
 }
 
 // Applies "key=value" to the options; returns false for an unknown key.

@@ -20,6 +20,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "bench/common/svg.hpp"
 #include "nodes/synth/bvh.hpp"
 #include "nodes/synth/or_capture.hpp"
 #include "nodes/synth/render_view.hpp"
@@ -40,29 +41,22 @@ std::string bar_chart_svg(const std::vector<double>& seconds, double median, dou
   const double top_value =
       std::max(target, *std::max_element(seconds.begin(), seconds.end())) * 1.15;
   auto y = [&](double v) { return h - bottom - (h - bottom - top) * v / top_value; };
-  std::ostringstream s;
-  s.imbue(std::locale::classic());
-  s << "<svg xmlns='http://www.w3.org/2000/svg' width='" << w << "' height='" << h
-    << "' font-family='sans-serif' font-size='12'>\n"
-    << "<text x='" << left << "' y='18'>gslift synth, default capture (5 views, 640x480): median "
-    << median << " s</text>\n"
-    << "<line x1='" << left << "' y1='" << h - bottom << "' x2='" << w - 10 << "' y2='"
-    << h - bottom << "' stroke='black'/>\n"
-    << "<line x1='" << left << "' y1='" << top << "' x2='" << left << "' y2='" << h - bottom
-    << "' stroke='black'/>\n";
+  bench::Svg svg(w, h);
+  svg.text(left, 18,
+           "gslift synth, default capture (5 views, 640x480): median " +
+               bench::Svg::number(median) + " s");
+  svg.line(left, h - bottom, w - 10, h - bottom, "black");
+  svg.line(left, top, left, h - bottom, "black");
   const double slot = double(w - left - 20) / seconds.size();
   for (size_t i = 0; i < seconds.size(); ++i) {
     const double x = left + 10 + i * slot;
-    s << "<rect x='" << x << "' y='" << y(seconds[i]) << "' width='" << slot * 0.7 << "' height='"
-      << y(0) - y(seconds[i]) << "' fill='#4a7fb5'/>\n"
-      << "<text x='" << x << "' y='" << h - bottom + 15 << "'>run " << i + 1 << "</text>\n";
+    svg.rect(x, y(seconds[i]), slot * 0.7, y(0) - y(seconds[i]), "#4a7fb5");
+    svg.text(x, h - bottom + 15, "run " + std::to_string(i + 1));
   }
-  s << "<line x1='" << left << "' y1='" << y(target) << "' x2='" << w - 10 << "' y2='" << y(target)
-    << "' stroke='#c0392b' stroke-dasharray='6,4'/>\n"
-    << "<text x='" << w - 120 << "' y='" << y(target) - 5 << "' fill='#c0392b'>target " << target
-    << " s</text>\n"
-    << "<text x='8' y='" << y(top_value / 2) << "'>s</text>\n</svg>\n";
-  return s.str();
+  svg.line(left, y(target), w - 10, y(target), "#c0392b", "stroke-dasharray='6,4'");
+  svg.text(w - 120, y(target) - 5, "target " + bench::Svg::number(target) + " s", "fill='#c0392b'");
+  svg.text(8, y(top_value / 2), "s");
+  return svg.str();
 }
 
 // A stable, well-separated colour per instance id for the instance panel.

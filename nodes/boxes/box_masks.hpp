@@ -1,11 +1,11 @@
-// LangOR §3.1 (METHODS §1.1, §4): one instance mask per clustered representative box.
+// LangOR §3.1: one instance mask per clustered representative box.
 //
 // source = sam: SAM's mask prompted with the representative box itself, given as a MaskSet linked
 // to the clusters by box_index (ingest.sam_masks kind box reads it for the clusters: VLM round and
 // source_index -> sam_box/<stem>/round_<k>.json entry).
 // source = grabcut: OpenCV GrabCut initialised with the box rectangle, on RGB and, when the view
 // has a depth prior, on the depth rendered as an 8-bit image; the two foregrounds are OR-ed and an
-// empty result keeps the box itself as the mask (paper 002, METHODS §4).
+// empty result keeps the box itself as the mask (Antonello et al., docs/references.md).
 // source = auto: sam for the boxes whose mask the capture has, grabcut for the others.
 //
 // Measured on the default embedded OR capture (53 clustered boxes over 5 views at 640x480; mean

@@ -1,4 +1,5 @@
-// LangOR §1.1 (METHODS.md): multi-round VLM boxes of one view -> one robust box per object.
+// LangOR §2.2 (robust VLM perceptor): multi-round VLM boxes of one view -> one robust box per
+// object.
 //
 // The t candidate boxes of an image (all rounds together) are clustered by IoU, the cluster's
 // representative is chosen by LangOR Eq. 2,

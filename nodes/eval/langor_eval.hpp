@@ -1,4 +1,4 @@
-// eval.langor's protocol (METHODS §1.4) over a capture with ground truth: for every held-out view
+// eval.langor's protocol over a capture with ground truth: for every held-out view
 // and every class present in its semantic map (at least min_gt_pixels pixels [decision]: a sliver
 // at the image border is not an annotated object), the query is the class name; the prediction is
 // the text query's mask and relevancy map for that (view, query).

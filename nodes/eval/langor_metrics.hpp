@@ -1,8 +1,8 @@
-// The LangOR / LangSplat open-vocabulary segmentation metrics (METHODS §1.4), as plain functions
+// The LangOR / LangSplat open-vocabulary segmentation metrics, as plain functions
 // over binary masks (255 = in) and relevancy maps, so each can be checked by hand.
 //  - IoU of the predicted vs the ground-truth mask of one (view, class) query;
 //  - localisation: does the highest-relevancy pixel fall inside the ground truth? Two variants:
-//    plain argmax inside the GT mask (METHODS §1.4, the one eval.langor reports as mLocAcc), and
+//    plain argmax inside the GT mask (the one eval.langor reports as mLocAcc), and
 //    LangSplat's: relevancy smoothed by a box filter (30 x 30 in LangSplat), argmax inside the GT
 //    mask's bounding box (reported as mLocAcc_box);
 //  - accuracy |GT ∩ Pred| / |GT|, pooled per class over its queries, averaged over classes (mAcc).

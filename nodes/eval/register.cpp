@@ -25,7 +25,7 @@ void run_langor_eval(NodeContext& ctx, const LangorEvalOptions& o) {
   if (!dir.empty()) {
     write_file_atomically(dir / "metrics.csv", langor_table_csv(s));
     write_file_atomically(dir / "metrics.md", markdown);
-    // The metrics table printed at the end of the main job (issue 5).
+    // The metrics table, printed at the end of the main job.
     std::fputs(("\n" + markdown).c_str(), stdout);
   }
 }

@@ -1,4 +1,4 @@
-// LangOR §3.2 (METHODS §1.2): mask-aware contrastive learning of per-Gaussian instance features
+// LangOR §3.2: mask-aware contrastive learning of per-Gaussian instance features
 // with the geometry frozen. Each training view's blend weights are recorded once in a RenderCache;
 // every iteration samples pixels of each mask, renders their features F(p) = sum_i w_i f_i
 // (LangOR Eq. 1) from the cached rows, evaluates LangOR Eq. 3 (contrastive_loss.hpp) and sends
@@ -50,11 +50,11 @@ namespace gslift {
 struct ContrastiveOptions {
   int iterations = 300;  // LangOR: 300 steps after the 500 of reconstruction
   double lambda = 0.2;   // weight of the repulsion term (LangOR Eq. 3)
-  int dim = 16;          // feature channels per Gaussian [decision, METHODS §1.2]
+  int dim = 16;          // feature channels per Gaussian [decision]
   // Adam learning rate of the features [measured below; 3DGS / LangSplat use 2.5e-3].
   double lr = 1e-3;
   // Pixels sampled per mask and iteration inside the mask, and as many outside it (uniformly over
-  // the rest of the view) [decision, METHODS §1.2].
+  // the rest of the view) [decision].
   int pixels_per_iteration = 128;
   // Features start as independent N(0, init_std^2) draws (seeded): small and random so that no
   // two Gaussians start with the same direction.

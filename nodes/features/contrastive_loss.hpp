@@ -1,7 +1,7 @@
 // LangOR Eq. 3, the mask-aware contrastive loss of one mask, on sampled rendered features.
 //
 // Paper: L_M = sum_{p in M} max(0, 1 - cos(f_m, F(p))) + lambda sum_{p not in M} max(0, cos(f_m,
-// F(p))) with the centroid f_m = mean of F(p) over p in M. [decision] (METHODS §1.2) means instead
+// F(p))) with the centroid f_m = mean of F(p) over p in M. [decision] means instead
 // of sums and pixels sampled per iteration: with n_in pixels sampled inside M and n_out outside,
 //   f_m = (1/n_in) sum_{p in in} F(p),
 //   L_M = (1/n_in) sum_{p in in} (1 - cos(f_m, F(p))) + lambda (1/n_out) sum_{p in out} max(0,

@@ -1,4 +1,4 @@
-// 3D post-processing of segmented Gaussians (SAGA §4.3, "3D post-processing"; shared by every
+// 3D post-processing of segmented Gaussians (SAGA's 3D post-processing; shared by every
 // method that labels Gaussians). A 2D-supervised selection keeps floaters far from the object and
 // misses parts that no training view separated; three steps on the Gaussian centres clean it:
 //  1. statistical outlier filter: k = sqrt(n) nearest neighbours within the instance; a Gaussian

@@ -2,9 +2,9 @@
 //   w(p) = (1 / |M|) exp(-||p - c_M||^2 / (2 sigma^2)),
 // with c_M the mask centroid. sigma = 0.5 (0.7 in the paper's ablation) only makes sense in
 // normalised units, so ||p - c_M|| is measured in units of the mask's RMS radius
-// sqrt(mean_p ||p - c_M||^2) [decision, METHODS.md §1.3]: the same sigma then concentrates samples
-// equally on small and large masks, and the 1/|M| factor gives every mask a similar total weight
-// when all masks of all views are sampled jointly (AliasSampler).
+// sqrt(mean_p ||p - c_M||^2) [decision; the paper gives no unit]: the same sigma then concentrates
+// samples equally on small and large masks, and the 1/|M| factor gives every mask a similar total
+// weight when all masks of all views are sampled jointly (AliasSampler).
 #pragma once
 
 #include <vector>

@@ -1,4 +1,4 @@
-// HDBSCAN (McInnes, Healy & Astels 2017; Campello, Moulavi & Sander 2013), METHODS.md §5: the
+// HDBSCAN (McInnes, Healy & Astels 2017; Campello, Moulavi & Sander 2013; docs/references.md): the
 // density-based clustering that LangOR's CVP lifting (Eq. 4-5) and the mask-level baseline use.
 //
 // Conventions (they decide whether results match other implementations):

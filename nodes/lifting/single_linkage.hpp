@@ -1,6 +1,6 @@
-// The geometric half of HDBSCAN (McInnes et al., METHODS.md §5): core distances, the minimum
-// spanning tree of the mutual-reachability graph, and the single-linkage hierarchy built from it.
-// Distances are computed on the fly (O(n d) memory), so the cost is O(n^2 d) time.
+// The geometric half of HDBSCAN (Campello et al. 2013, McInnes et al. 2017): core distances, the
+// minimum spanning tree of the mutual-reachability graph, and the single-linkage hierarchy built
+// from it. Distances are computed on the fly (O(n d) memory), so the cost is O(n^2 d) time.
 #pragma once
 
 #include <cstdint>

@@ -1,5 +1,5 @@
-// Initial Gaussians for reconstruction (METHODS.md §0 "Initialisation"): one isotropic Gaussian per
-// voxel of a point cloud taken from the capture's sparse points or from its depth prior
+// Initial Gaussians for reconstruction (3DGS initialises from SfM points): one isotropic Gaussian
+// per voxel of a point cloud taken from the capture's sparse points or from its depth prior
 // back-projected, voxel-downsampled (Open3D) at the pixel footprint so the model starts with no
 // more Gaussians than the images can resolve.
 #pragma once

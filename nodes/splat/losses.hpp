@@ -1,5 +1,5 @@
-// The training losses of the geometry-constrained reconstruction (METHODS.md §0 and §1.2). Each
-// returns its value and, when asked, its gradient with respect to the rendered quantity,
+// The training losses of the geometry-constrained reconstruction (3DGS; LangOR §2.3; DN-Splatter).
+// Each returns its value and, when asked, its gradient with respect to the rendered quantity,
 // unweighted: the training loop scales each by its weight (0 switches a term off for the ablation).
 #pragma once
 

@@ -1,4 +1,4 @@
-// EWA projection of one 3D Gaussian into a pinhole view (METHODS.md §0; Zwicker et al. 2002 as used
+// EWA projection of one 3D Gaussian into a pinhole view (EWA, Zwicker et al. 2002, as used
 // by 3DGS) and its exact backward pass. Plain functions over one Gaussian's stored parameters so
 // the rasterizer can run them in parallel and the tests can check them against hand-computed cases.
 #pragma once

@@ -135,9 +135,9 @@ inline PixelRect clip(const TileGaussian& g, const PixelRect& tile) {
 // lanes of branch-free loops (pixels outside the entry's rectangle, skipped or finished are masked
 // out), with the per-pixel state in structure-of-arrays layout [channel][256 tile pixels]: so
 // the per-contribution work compiles to 16-wide vector code (one AVX-512 register, see the
-// prefer-vector-width pragma in rasterizer.cpp) instead of a scalar per-pixel loop with branches.
-// A Gaussian covers 8 tile rows on average in the 50k bench scene and rarely a whole one, so a
-// row of lanes wastes some, but blocks of 8 lanes cost more per pixel (1.5x more blocks).
+// prefer-vector-width pragma in rasterizer_forward.cpp) instead of a scalar per-pixel loop with
+// branches. A Gaussian covers 8 tile rows on average in the 50k bench scene and rarely a whole one,
+// so a row of lanes wastes some, but blocks of 8 lanes cost more per pixel (1.5x more blocks).
 constexpr int kLanes = kTileSize;
 constexpr int kTilePixels = kTileSize * kTileSize;
 

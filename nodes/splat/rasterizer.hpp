@@ -1,4 +1,4 @@
-// Differentiable CPU rasterizer for 3D Gaussian Splatting (METHODS.md §0, Kerbl et al. 2023).
+// Differentiable CPU rasterizer for 3D Gaussian Splatting (3DGS, Kerbl et al. 2023).
 // Forward: EWA projection, 16x16 tile binning, per-tile depth sort, front-to-back alpha blending.
 // One pass renders any selection of RGB, expected depth, normal, accumulated alpha and the model's
 // D feature channels. Backward: exact gradients of every rendered channel with respect to every
@@ -39,7 +39,7 @@ struct RenderSettings {
 };
 
 // Per-view state the forward pass keeps for the backward pass (projected Gaussians, tile lists,
-// final transmittance and last contributor per pixel). Opaque: defined in rasterizer.cpp.
+// final transmittance and last contributor per pixel). Opaque: defined in raster_state.hpp.
 struct RasterState;
 
 // Rendered channels, row-major images; a channel not requested is empty.

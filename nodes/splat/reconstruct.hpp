@@ -1,6 +1,7 @@
-// Geometry-constrained 3DGS reconstruction (METHODS.md §0 and LangOR §1.2): initialise from the
-// depth prior or points, then optimise the photometric loss plus depth, normal and flatness terms
-// over the training views with Adam, with density control rescheduled for short runs.
+// Geometry-constrained 3DGS reconstruction (3DGS, Kerbl et al. 2023, and LangOR §2.3): initialise
+// from the depth prior or points, then optimise the photometric loss plus depth, normal and
+// flatness terms over the training views with Adam, with density control rescheduled for short
+// runs.
 #pragma once
 
 #include <cstdint>
@@ -18,7 +19,7 @@
 
 namespace gslift {
 
-// 3DGS learning rates (METHODS.md §0). Position rates are multiplied by the scene extent.
+// 3DGS learning rates (the 3DGS reference code). Position rates are multiplied by the scene extent.
 struct LearningRates {
   double position_init = 1.6e-4;
   double position_final = 1.6e-6;  // reached at the last iteration, log-linear decay

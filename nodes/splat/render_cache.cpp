@@ -1,4 +1,4 @@
-// Vector width of the blending loops it shares with the rasterizer: see rasterizer.cpp.
+// Vector width of the blending loops it shares with the rasterizer: see rasterizer_forward.cpp.
 #if defined(__GNUC__) && !defined(__clang__)
 #pragma GCC target("prefer-vector-width=512")
 #endif

@@ -1,4 +1,4 @@
-// Render cache for frozen geometry (issue 4): the blend weights w_i = alpha_i T_i of one forward
+// Render cache for frozen geometry: the blend weights w_i = alpha_i T_i of one forward
 // pass, stored per pixel in CSR form. With the geometry fixed, rendering any per-Gaussian linear
 // attribute (instance features, class scores: LangOR Eq. 1, Proto-SaGa Eq. 5) is the sparse product
 // F = W A, and its gradient dL/dA = W^T dL/dF, both far cheaper than rasterizing again.

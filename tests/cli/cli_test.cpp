@@ -34,6 +34,30 @@ TEST_CASE("the help flags list the commands and exit codes, globally and per com
   CHECK(none.output.find("commands:") != std::string::npos);
 }
 
+TEST_CASE("synth takes --threads and --log-level like every other command", "[cli]") {
+  const fs::path dir = test::scratch_dir("cli_synth_common");
+  const std::string small = " --width 96 --height 72 --views 4";
+  const auto one = run_command(kBinary + " synth --out '" + (dir / "one").string() + "'" + small +
+                               " --threads 1 --log-level warn");
+  INFO(one.output);
+  CHECK(one.code == exit_code::kOk);
+  const auto two =
+      run_command(kBinary + " synth --threads=2 --out '" + (dir / "two").string() + "'" + small);
+  CHECK(two.code == exit_code::kOk);
+  // The same capture at any thread count.
+  CHECK(run_command("diff -r '" + (dir / "one").string() + "' '" + (dir / "two").string() + "'")
+            .code == 0);
+  CHECK(run_command(kBinary + " synth --out x --threads -1").code == exit_code::kUsage);
+  CHECK(run_command(kBinary + " synth --out x --threads").code == exit_code::kUsage);
+  const auto level = run_command(kBinary + " synth --out x --log-level loud");
+  CHECK(level.code == exit_code::kUsage);
+  CHECK(level.output.find("unknown --log-level 'loud'") != std::string::npos);
+  const auto help = run_command(kBinary + " synth --help");
+  CHECK(help.code == exit_code::kOk);
+  CHECK(help.output.find("--threads N") != std::string::npos);
+  CHECK(help.output.find("--log-level L") != std::string::npos);
+}
+
 TEST_CASE("the version flag prints the project and git versions", "[cli]") {
   const auto r = run_command(kBinary + " --version");
   CHECK(r.code == exit_code::kOk);

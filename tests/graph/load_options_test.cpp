@@ -107,6 +107,24 @@ TEST_CASE("set overrides: params.NAME feeds the substitution of NAME") {
   CHECK(param<int64_t>(load(kSumGraph, options), "total", "count") == 11);
 }
 
+TEST_CASE("set overrides: a NAME without a dot is the graph param NAME") {
+  LoadOptions options;
+  options.vars = {{"m", "fast"}};
+  options.sets = {"n=12"};
+  const auto r = load(kSumGraph, options);
+  CHECK(std::get<int64_t>(r.graph->params.at("n")) == 12);
+  CHECK(param<int64_t>(r, "total", "count") == 12);
+  // The later of the two spellings wins, as with any repeated --set.
+  options.sets = {"n=12", "params.n=13"};
+  CHECK(param<int64_t>(load(kSumGraph, options), "total", "count") == 13);
+  options.sets = {"nn=1", "=1"};
+  const auto bad = with_code(load(kSumGraph, options), "bad-set");
+  REQUIRE(bad.size() == 2);
+  CHECK(bad[0].str() ==
+        "--set nn=1: error[bad-set]: the graph has no param 'nn' (did you mean 'n'?)");
+  CHECK(bad[1].loc.str() == "--set =1");
+}
+
 TEST_CASE("set overrides: node.type swaps a stage, params restart, later sets apply") {
   const std::string yaml =
       "nodes:\n"

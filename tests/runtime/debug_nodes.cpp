@@ -40,9 +40,12 @@ Registry debug_registry() {
           if (ctx.param_bool("write")) std::ofstream(ctx.out_dir() / "partial.txt") << "half";
           const auto end =
               std::chrono::steady_clock::now() + std::chrono::milliseconds(ctx.param_int("ms"));
-          while (std::chrono::steady_clock::now() < end) {
+          // Polls and reports at least once, however late the thread gets here: tests that wait
+          // for a node's first progress report, or cancel on it, never depend on timing.
+          while (true) {
             ctx.check_cancelled();
             ctx.progress(0.5, "sleeping");
+            if (std::chrono::steady_clock::now() >= end) break;
             std::this_thread::sleep_for(std::chrono::milliseconds(5));
           }
           ctx.output("out", Number{input_or_zero(ctx, "in")});

@@ -25,7 +25,8 @@ namespace gslift::test {
 
 // debug.constant  params value            -> out:Number = value
 // debug.sleep     params ms, write; in? in:Number -> out:Number = in (or 0); sleeps in 5 ms
-//                 steps, throwing Cancelled as soon as ctx.cancelled(); with write, first writes
+//                 steps, reporting progress and throwing Cancelled as soon as ctx.cancelled()
+//                 (both at least once, even for ms 0); with write, first writes
 //                 <out_dir>/partial.txt
 // debug.fail      params kind (input|other), message; in? in:Number -> throws InputError or
 //                 std::runtime_error

@@ -1,6 +1,7 @@
 // A scripted HTTP/1.1 server on 127.0.0.1 for the vlm.query tests: it answers the n-th request
 // with the n-th canned response (the last one repeats), one connection per request, and keeps
-// every request body it received.
+// every request body it received. A `hang` response is never answered: the server holds the
+// connection until the client gives up and closes it (a stuck server, without timing).
 #pragma once
 
 #include <arpa/inet.h>
@@ -9,7 +10,6 @@
 #include <unistd.h>
 
 #include <atomic>
-#include <chrono>
 #include <mutex>
 #include <stdexcept>
 #include <string>
@@ -21,7 +21,7 @@ namespace gslift::test {
 struct CannedResponse {
   int status = 200;
   std::string body;
-  int delay_ms = 0;  // sleep before answering (a slow or stuck server)
+  bool hang = false;  // never answer; wait until the client closes the connection
 };
 
 class LoopbackServer {
@@ -72,7 +72,11 @@ class LoopbackServer {
         bodies_.push_back(body);
       }
       const CannedResponse& r = script_[std::min(n++, script_.size() - 1)];
-      if (r.delay_ms > 0) std::this_thread::sleep_for(std::chrono::milliseconds(r.delay_ms));
+      if (r.hang) {
+        wait_for_close(client);
+        ::close(client);
+        continue;
+      }
       const std::string reply = "HTTP/1.1 " + std::to_string(r.status) +
                                 " Canned\r\nContent-Type: application/json\r\nContent-Length: " +
                                 std::to_string(r.body.size()) + "\r\nConnection: close\r\n\r\n" +
@@ -80,6 +84,13 @@ class LoopbackServer {
       // MSG_NOSIGNAL: the client may have given up (timeout) and closed its end.
       ::send(client, reply.data(), reply.size(), MSG_NOSIGNAL);
       ::close(client);
+    }
+  }
+
+  // Blocks until the client closes its end (recv returns 0) or the connection fails.
+  static void wait_for_close(int client) {
+    char buffer[4096];
+    while (::recv(client, buffer, sizeof buffer, 0) > 0) {
     }
   }
 
