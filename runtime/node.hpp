@@ -1,5 +1,7 @@
-// What a node body sees while it runs. A node is a thin adapter: it reads its typed inputs and
-// params from the context, calls a plain algorithm, and writes typed outputs (and files) back.
+// What a node body sees while it runs. A node is a thin adapter: it reads its typed inputs from the
+// context, receives its params already read into an options struct (Registry::add with a
+// ParamTable: a param is never read by name), calls a plain algorithm, and writes typed outputs
+// (and files) back.
 #pragma once
 
 #include <cstdint>
@@ -48,15 +50,6 @@ class NodeContext {
     set_output(port, Value::make<T>(std::move(v)));
   }
   virtual void set_output(const std::string& port, Value v) = 0;
-
-  // Params, already validated against the spec and with defaults filled in.
-  int64_t param_int(const std::string& name) const;
-  double param_float(const std::string& name) const;
-  bool param_bool(const std::string& name) const;
-  const std::string& param_string(const std::string& name) const;
-  const std::vector<double>& param_floats(const std::string& name) const;
-  const std::vector<int64_t>& param_ints(const std::string& name) const;
-  const std::vector<std::string>& param_strings(const std::string& name) const;
 
   // Seed for this node, derived from (run seed, node id): stable across thread counts and runs.
   uint64_t seed() const { return seed_; }

@@ -20,45 +20,57 @@ PortSpec number(const std::string& name, bool optional = false) {
 double input_or_zero(const NodeContext& ctx, const std::string& port) {
   return ctx.has_input(port) ? ctx.input<Number>(port)->value : 0.0;
 }
+
+// Their params, declared like every node's: one table per options struct.
+struct ConstantOptions {
+  double value = 0.0;
+};
+struct SleepOptions {
+  int ms = 100;
+  bool write = false;
+};
+enum class FailKind { Input, Other };
+struct FailOptions {
+  FailKind kind = FailKind::Other;
+  std::string message = "boom";
+};
+const EnumNames<FailKind>& fail_kind_names() {
+  static const EnumNames<FailKind> names = {{FailKind::Input, "input"}, {FailKind::Other, "other"}};
+  return names;
+}
 }  // namespace
 
 Registry debug_registry() {
   Registry r;
-  r.add(NodeSpec{"debug.constant",
-                 "a constant",
-                 {},
-                 {number("out")},
-                 {float_param("value", 0.0, "the value")}},
-        [](NodeContext& ctx) { ctx.output("out", Number{ctx.param_float("value")}); });
-  r.add(NodeSpec{"debug.sleep",
-                 "sleeps, polling cancellation",
-                 {number("in", true)},
-                 {number("out")},
-                 {int_param("ms", 100, "milliseconds", 0),
-                  bool_param("write", false, "write partial.txt into the node folder first")}},
-        [](NodeContext& ctx) {
-          if (ctx.param_bool("write")) std::ofstream(ctx.out_dir() / "partial.txt") << "half";
-          const auto end =
-              std::chrono::steady_clock::now() + std::chrono::milliseconds(ctx.param_int("ms"));
-          // Polls and reports at least once, however late the thread gets here: tests that wait
-          // for a node's first progress report, or cancel on it, never depend on timing.
-          while (true) {
-            ctx.check_cancelled();
-            ctx.progress(0.5, "sleeping");
-            if (std::chrono::steady_clock::now() >= end) break;
-            std::this_thread::sleep_for(std::chrono::milliseconds(5));
-          }
-          ctx.output("out", Number{input_or_zero(ctx, "in")});
-        });
-  r.add(NodeSpec{"debug.fail",
-                 "throws",
-                 {number("in", true)},
-                 {number("out")},
-                 {string_param("kind", "other", "exception kind", {"input", "other"}),
-                  string_param("message", "boom", "exception message")}},
-        [](NodeContext& ctx) {
-          if (ctx.param_string("kind") == "input") throw InputError(ctx.param_string("message"));
-          throw std::runtime_error(ctx.param_string("message"));
+  r.add(NodeSpec{"debug.constant", "a constant", {}, {number("out")}},
+        ParamTable<ConstantOptions>().add("value", &ConstantOptions::value, "the value"),
+        [](NodeContext& ctx, const ConstantOptions& o) { ctx.output("out", Number{o.value}); });
+  r.add(
+      NodeSpec{
+          "debug.sleep", "sleeps, polling cancellation", {number("in", true)}, {number("out")}},
+      ParamTable<SleepOptions>()
+          .add("ms", &SleepOptions::ms, "milliseconds", 0)
+          .add("write", &SleepOptions::write, "write partial.txt into the node folder first"),
+      [](NodeContext& ctx, const SleepOptions& o) {
+        if (o.write) std::ofstream(ctx.out_dir() / "partial.txt") << "half";
+        const auto end = std::chrono::steady_clock::now() + std::chrono::milliseconds(o.ms);
+        // Polls and reports at least once, however late the thread gets here: tests that wait
+        // for a node's first progress report, or cancel on it, never depend on timing.
+        while (true) {
+          ctx.check_cancelled();
+          ctx.progress(0.5, "sleeping");
+          if (std::chrono::steady_clock::now() >= end) break;
+          std::this_thread::sleep_for(std::chrono::milliseconds(5));
+        }
+        ctx.output("out", Number{input_or_zero(ctx, "in")});
+      });
+  r.add(NodeSpec{"debug.fail", "throws", {number("in", true)}, {number("out")}},
+        ParamTable<FailOptions>()
+            .add("kind", &FailOptions::kind, fail_kind_names(), "exception kind")
+            .add("message", &FailOptions::message, "exception message"),
+        [](NodeContext&, const FailOptions& o) {
+          if (o.kind == FailKind::Input) throw InputError(o.message);
+          throw std::runtime_error(o.message);
         });
   r.add(NodeSpec{"debug.random", "one seeded draw", {}, {number("out")}, {}}, [](NodeContext& ctx) {
     const double draw = RandomStream(ctx.seed()).uniform();

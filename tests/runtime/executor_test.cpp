@@ -59,38 +59,38 @@ PortSpec number_out() {
   return PortSpec{"out", "Number", "0", false};
 }
 
+struct MeetOptions {
+  int count = 2;
+  int wait_ms = 60000;
+};
+struct AfterOptions {
+  std::string of;
+};
+
 Registry registry_with(const std::shared_ptr<Meeting>& meeting,
                        const std::shared_ptr<Progressed>& progressed) {
   Registry r = test::debug_registry();
-  r.add(NodeSpec{"test.meet",
-                 "waits for `count` bodies to be running at once",
-                 {},
-                 {number_out()},
-                 {int_param("count", 2, "bodies to meet", 1),
-                  int_param("wait_ms", 60000, "give up after", 0)}},
-        [meeting](NodeContext& ctx) {
-          const auto count = ctx.param_int("count");
+  r.add(NodeSpec{"test.meet", "waits for `count` bodies to be running at once", {}, {number_out()}},
+        ParamTable<MeetOptions>()
+            .add("count", &MeetOptions::count, "bodies to meet", 1)
+            .add("wait_ms", &MeetOptions::wait_ms, "give up after", 0),
+        [meeting](NodeContext& ctx, const MeetOptions& o) {
           std::unique_lock<std::mutex> lock(meeting->m);
           ++meeting->arrived;
           meeting->most_inside = std::max(meeting->most_inside, ++meeting->inside);
           meeting->cv.notify_all();
-          meeting->met +=
-              meeting->cv.wait_for(lock, std::chrono::milliseconds(ctx.param_int("wait_ms")),
-                                   [&] { return meeting->arrived >= count; });
+          meeting->met += meeting->cv.wait_for(lock, std::chrono::milliseconds(o.wait_ms),
+                                               [&] { return meeting->arrived >= o.count; });
           --meeting->inside;
           ctx.output("out", Number{0});
         });
-  r.add(NodeSpec{"test.after",
-                 "waits until node `of` has reported progress",
-                 {},
-                 {number_out()},
-                 {string_param("of", "", "node id")}},
-        [progressed](NodeContext& ctx) {
-          const std::string of = ctx.param_string("of");
+  r.add(NodeSpec{"test.after", "waits until node `of` has reported progress", {}, {number_out()}},
+        ParamTable<AfterOptions>().add("of", &AfterOptions::of, "node id"),
+        [progressed](NodeContext& ctx, const AfterOptions& o) {
           std::unique_lock<std::mutex> lock(progressed->m);
           if (!progressed->cv.wait_for(lock, std::chrono::seconds(60),
-                                       [&] { return progressed->ids.count(of) > 0; }))
-            throw std::runtime_error("node '" + of + "' never reported progress");
+                                       [&] { return progressed->ids.count(o.of) > 0; }))
+            throw std::runtime_error("node '" + o.of + "' never reported progress");
           ctx.output("out", Number{0});
         });
   return r;
