@@ -222,9 +222,10 @@ std::string svg_chart(const nlohmann::json& variants) {
 int main(int argc, char** argv) {
   gslift::keep_freed_memory_in_process();
   int seeds = 5;
-  // The paper's four ablations, then gslift's own (no_cannot_link).
-  std::vector<std::string> variants = {"langor",   "no_geometry",  "mask_level",
-                                       "sigma_07", "single_round", "no_cannot_link"};
+  // The paper's four ablations, then gslift's own additions taken out (no_cannot_link,
+  // no_filter_3d).
+  std::vector<std::string> variants = {"langor",       "no_geometry",    "mask_level",  "sigma_07",
+                                       "single_round", "no_cannot_link", "no_filter_3d"};
   std::vector<std::string> sets;
   fs::path out = fs::path(GSLIFT_SOURCE_DIR) / "bench/results";
   bool timing = true;
