@@ -8,7 +8,9 @@
 #include <Eigen/Geometry>
 
 #include "base/errors.hpp"
+#include "base/random.hpp"
 #include "nodes/splat/depth_normals.hpp"
+#include "nodes/splat/reconstruct.hpp"
 
 namespace gslift {
 namespace {
@@ -131,17 +133,66 @@ GaussianModel gaussians_from_points(const ColouredPoints& points, double voxel,
 }
 
 const EnumNames<InitSource>& init_source_names() {
-  static const EnumNames<InitSource> names = {
-      {InitSource::Auto, "auto"}, {InitSource::Depth, "depth"}, {InitSource::Points, "points"}};
+  static const EnumNames<InitSource> names = {{InitSource::Auto, "auto"},
+                                              {InitSource::Depth, "depth"},
+                                              {InitSource::Points, "points"},
+                                              {InitSource::Random, "random"}};
   return names;
+}
+
+ColouredPoints random_volume_points(const Capture& capture, const std::vector<int>& views,
+                                    int count, double near, double far, double min_view_fraction,
+                                    uint64_t seed) {
+  ColouredPoints out;
+  if (views.size() < 2)
+    throw InputError("capture '" + capture.name +
+                     "' has neither sparse points nor a depth prior, and random points need two "
+                     "training views to share a volume");
+  std::vector<cv::Mat> rgb;
+  for (const int v : views) rgb.push_back(capture.views[v].rgb.load());
+  RandomStream rng(stream_seed(seed, "random_volume_points"));
+  const int min_views = std::max(2, static_cast<int>(std::ceil(min_view_fraction * views.size())));
+  // Rejection sampling; the cap only guards views that share (almost) nothing.
+  const int64_t max_tries = 200 * static_cast<int64_t>(count);
+  for (int64_t tries = 0; static_cast<int>(out.xyz.size()) < count && tries < max_tries; ++tries) {
+    const int a = rng.below(static_cast<int>(views.size()));
+    const View& va = capture.views[views[a]];
+    const Camera& c = va.camera;
+    const double u = rng.uniform(0, c.width), v = rng.uniform(0, c.height);
+    const double z = rng.uniform(near, far);
+    const Eigen::Vector3d cam((u - c.cx) / c.fx * z, (v - c.cy) / c.fy * z, z);
+    const Eigen::Vector3d world = va.pose.R.transpose() * (cam - va.pose.t);
+    int seen_by = 1;  // view a
+    for (size_t b = 0; b < views.size(); ++b) {
+      if (static_cast<int>(b) == a) continue;
+      const View& vb = capture.views[views[b]];
+      const Eigen::Vector3d p = vb.pose.to_camera(world);
+      if (p.z() <= 0) continue;
+      const double ub = vb.camera.fx * p.x() / p.z() + vb.camera.cx;
+      const double vb_ = vb.camera.fy * p.y() / p.z() + vb.camera.cy;
+      seen_by += ub >= 0 && vb_ >= 0 && ub < vb.camera.width && vb_ < vb.camera.height;
+    }
+    if (seen_by < min_views) continue;
+    const cv::Vec3b colour = rgb[a].at<cv::Vec3b>(static_cast<int>(v), static_cast<int>(u));
+    out.xyz.push_back(world);
+    out.rgb.emplace_back(colour[0] / 255.0, colour[1] / 255.0, colour[2] / 255.0);
+  }
+  if (out.xyz.empty())
+    throw InputError("capture '" + capture.name +
+                     "': no two training views see a common volume between the near and far "
+                     "distances; nothing to initialise from");
+  return out;
 }
 
 GaussianModel initialise_gaussians(const Capture& capture, const InitialiseOptions& options) {
   const std::vector<int> train = capture.train_views();
-  bool use_depth = options.source == InitSource::Depth;
-  if (options.source == InitSource::Auto) use_depth = has_depth(capture, train);
+  InitSource source = options.source;
+  if (source == InitSource::Auto)
+    source = has_depth(capture, train)     ? InitSource::Depth
+             : !capture.points.xyz.empty() ? InitSource::Points
+                                           : InitSource::Random;
   const std::string where = "capture '" + capture.name + "': ";
-  if (use_depth) {
+  if (source == InitSource::Depth) {
     const ColouredPoints points = backproject_depth(capture, train, options.pixel_stride);
     if (points.xyz.empty())
       throw InputError(where +
@@ -149,9 +200,15 @@ GaussianModel initialise_gaussians(const Capture& capture, const InitialiseOptio
     return gaussians_from_points(points, options.footprint_factor * points.median_footprint,
                                  options);
   }
+  if (source == InitSource::Random) {
+    const double extent = scene_extent(capture);
+    return gaussians_from_points(
+        random_volume_points(capture, train, options.random_points, options.random_near * extent,
+                             options.random_far * extent, options.random_min_views, options.seed),
+        0.0, options);
+  }
   const ColouredPoints points = sparse_points(capture);
-  if (points.xyz.empty())
-    throw InputError(where + "has neither sparse points nor a depth prior to initialise from");
+  if (points.xyz.empty()) throw InputError(where + "has no sparse points to initialise from");
   return gaussians_from_points(points, options.points_voxel, options);
 }
 

@@ -139,10 +139,11 @@ double psnr(const cv::Mat& rendered, const cv::Mat& target_rgb8) {
   return mse > 0 ? 10 * std::log10(1.0 / mse) : std::numeric_limits<double>::infinity();
 }
 
-double mean_psnr(const GaussianModel& model, const Capture& capture,
-                 const std::vector<int>& views) {
+double mean_psnr(const GaussianModel& model, const Capture& capture, const std::vector<int>& views,
+                 const Eigen::Vector3f& background) {
   if (views.empty()) return std::numeric_limits<double>::quiet_NaN();
   RenderSettings settings;
+  settings.background = background;
   double sum = 0;
   for (int v : views) {
     const View& view = capture.views[v];
@@ -161,9 +162,12 @@ ReconstructResult reconstruct(const Capture& capture, const ReconstructOptions& 
   ReconstructResult result;
   PhaseClock clock;
   PhaseSeconds& phases = result.phases;
+  const Eigen::Vector3f background =
+      options.white_background ? Eigen::Vector3f::Ones() : Eigen::Vector3f::Zero();
   InitialiseOptions init = options.init;
   init.sh_degree = options.sh_degree;
   init.feature_dim = options.feature_dim;
+  init.seed = options.seed;
   GaussianModel model = initialise_gaussians(capture, init);
   result.initial_gaussians = model.size();
   const double extent = scene_extent(capture);
@@ -201,6 +205,7 @@ ReconstructResult reconstruct(const Capture& capture, const ReconstructOptions& 
     const TargetImages& target = step < coarse_steps ? train_target.half : train_target.full;
 
     RenderSettings settings;
+    settings.background = background;
     settings.sh_degree = std::min(options.sh_degree, step / std::max(options.sh_interval, 1));
     const bool use_depth = options.depth_weight > 0 && !target.depth.empty();
     const bool use_normal = options.normal_weight > 0 && !target.normals.empty();
@@ -286,8 +291,8 @@ ReconstructResult reconstruct(const Capture& capture, const ReconstructOptions& 
     result.final_loss.flatness += history[i].flatness / tail;
   }
   result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  result.train_psnr = mean_psnr(model, capture, train);
-  result.test_psnr = mean_psnr(model, capture, capture.test_views());
+  result.train_psnr = mean_psnr(model, capture, train, background);
+  result.test_psnr = mean_psnr(model, capture, capture.test_views(), background);
   const std::vector<int> test = capture.test_views();
   const bool gt_depth = std::all_of(capture.views.begin(), capture.views.end(),
                                     [](const View& v) { return v.gt_depth.present(); });
@@ -312,6 +317,8 @@ const ParamTable<ReconstructOptions>& reconstruct_param_table() {
                "1 - cos between rendered normals and depth-prior normals; 0 = off", 0)
           .add("scale_weight", &O::scale_weight,
                "flatness regulariser, mean smallest scale in metres; 0 = off", 0)
+          .add("white_background", &O::white_background,
+               "render RGB over white (NeRF-synthetic captures, RGBA composited onto white)")
           .add("coarse_fraction", &O::coarse_fraction,
                "fraction of the steps trained at half resolution first; 0 = off", 0, 1)
           .add("densify", &O::densify, "clone/split/prune on the compressed schedule")
@@ -322,8 +329,9 @@ const ParamTable<ReconstructOptions>& reconstruct_param_table() {
           .nest(&O::init,
                 ParamTable<I>()
                     .add("init", &I::source, init_source_names(),
-                         "initial points: depth prior, sparse points, or auto (depth when every "
-                         "training view has one)")
+                         "initial points: depth prior, sparse points, random points in the "
+                         "volume the training views share, or auto (depth when every training "
+                         "view has one, else points when the capture has them, else random)")
                     .add("footprint_factor", &I::footprint_factor,
                          "initial voxel = this x the median pixel footprint (larger = fewer "
                          "Gaussians)",
@@ -331,7 +339,13 @@ const ParamTable<ReconstructOptions>& reconstruct_param_table() {
                     .add("normal_thickness", &I::normal_thickness,
                          "initial scale along the depth prior's normal / in-plane scale (1 = "
                          "isotropic)",
-                         0.01, 1))
+                         0.01, 1)
+                    .add("random_points", &I::random_points,
+                         "init random: points drawn in the volume the training views share", 1, 1e7)
+                    .add("random_min_views", &I::random_min_views,
+                         "init random: fraction of the training views (at least 2) that must see "
+                         "a point",
+                         0, 1))
           .add("plateau_window", &O::plateau_window,
                "early stop when a window of this many steps improves the mean loss by less than "
                "plateau_tolerance; 0 = off",

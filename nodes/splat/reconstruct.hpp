@@ -42,6 +42,11 @@ struct ReconstructOptions {
   int sh_interval = 100;
   int feature_dim = 0;       // feature channels allocated (zero) for later stages; not trained here
   double ssim_lambda = 0.2;  // photometric (1 - lambda) L1 + lambda D-SSIM
+  // Render RGB over white instead of black, in training and in the PSNR records (3DGS's
+  // --white_background, for NeRF-synthetic captures, whose RGBA images ingest composites onto
+  // white: over black the model must build a white shell around the object, which a held-out
+  // view then sees as haze).
+  bool white_background = false;
   // Loss weights; 0 switches a term off (ablation). Anchors: DN-Splatter depth 0.2, normal 0.1;
   // [decision] defaults measured in bench/splat_recon.
   double depth_weight = 0.2;   // depth log-L1 against the depth prior, valid pixels only
@@ -113,7 +118,8 @@ double scene_extent(const Capture& capture);
 double psnr(const cv::Mat& rendered, const cv::Mat& target_rgb8);
 
 // Mean PSNR of the model rendered at the given views against their RGB images (NaN when empty).
-double mean_psnr(const GaussianModel& model, const Capture& capture, const std::vector<int>& views);
+double mean_psnr(const GaussianModel& model, const Capture& capture, const std::vector<int>& views,
+                 const Eigen::Vector3f& background = Eigen::Vector3f::Zero());
 
 // Runs the reconstruction on the capture's training views. Deterministic for a fixed seed at any
 // thread count. The targets of the training views (float RGB, depth, normals) are decoded once

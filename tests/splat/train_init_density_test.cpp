@@ -105,10 +105,13 @@ TEST_CASE("points initialisation takes scales from the 3 nearest neighbours") {
     CHECK(std::exp(m.log_scales[i * 3 + 1]) == Approx(0.5 * std::sqrt(4.0 / 3)));
   CHECK(m.sh[0] == Approx(0.5 / kSH0));
 
+  // Without points or depth, auto falls back to random points, which need two training views.
   Capture empty = plane_capture();
   empty.views[0].depth = ImageSource();
+  REQUIRE(empty.train_views().size() == 1u);
   CHECK_THROWS_WITH(initialise_gaussians(empty, InitialiseOptions{}),
-                    Catch::Contains("neither sparse points nor a depth prior"));
+                    Catch::Contains("neither sparse points nor a depth prior") &&
+                        Catch::Contains("two training views"));
 }
 
 TEST_CASE("the initialisation source: auto takes the depth prior, points the sparse points") {
