@@ -30,10 +30,6 @@ std::vector<int> Capture::views_named(ViewSet which) const {
   return all;
 }
 
-std::vector<int> Capture::views_named(const std::string& which) const {
-  return views_named(parse_enum(which, view_set_names(), "views"));
-}
-
 int Capture::find_view(const std::string& n) const {
   for (int i = 0; i < static_cast<int>(views.size()); ++i)
     if (views[i].name == n) return i;

@@ -57,8 +57,6 @@ struct Capture {
   std::vector<int> test_views() const;
   // Indices of the views in `which`, in capture order.
   std::vector<int> views_named(ViewSet which) const;
-  // The same for a name of view_set_names(); throws std::invalid_argument for any other.
-  std::vector<int> views_named(const std::string& which) const;
   int find_view(const std::string& name) const;  // index or -1
 };
 

@@ -32,31 +32,23 @@ std::string encode_png(const View& view) {
   return std::string(bytes.begin(), bytes.end());
 }
 
-enum class ViewChoice { Train, Test, All };
-
 // vlm.query's params: the request's, then which views, the key, the coordinate frame and where
 // the raw replies go.
 struct VlmQueryParams {
   VlmQueryOptions query;
-  ViewChoice views = ViewChoice::All;
+  ViewSet views = ViewSet::All;
   std::string api_key_env;
   VlmCoords coords = VlmCoords::Norm1000;
   int input_width = 0, input_height = 0;  // resized_abs: the model's input size
   bool into_capture = false;
 };
 
-const EnumNames<ViewChoice>& view_choice_names() {
-  static const EnumNames<ViewChoice> names = {
-      {ViewChoice::Train, "train"}, {ViewChoice::Test, "test"}, {ViewChoice::All, "all"}};
-  return names;
-}
-
 const ParamTable<VlmQueryParams>& vlm_query_node_param_table() {
   using P = VlmQueryParams;
   static const ParamTable<P> table =
       ParamTable<P>()
           .nest(&P::query, vlm_query_param_table())
-          .add("views", &P::views, view_choice_names(), "views to ask about")
+          .add("views", &P::views, view_set_names(), "views to ask about")
           .add("api_key_env", &P::api_key_env,
                "environment variable holding a bearer token (never put a key in the YAML)")
           .add("coords", &P::coords, vlm_coords_names(),
@@ -107,7 +99,7 @@ void run_vlm_query(NodeContext& ctx, VlmQueryParams p) {
   if (frame.coords == VlmCoords::ResizedAbs && (frame.input_width <= 0 || frame.input_height <= 0))
     throw InputError("vlm.query: coords resized_abs needs input_width and input_height");
 
-  const std::vector<int> views = capture.views_named(enum_name(p.views, view_choice_names()));
+  const std::vector<int> views = capture.views_named(p.views);
   std::vector<VlmImage> images;
   for (int v : views) images.push_back({capture.views[v].name, encode_png(capture.views[v])});
   const auto replies = query_vlm(images, vocabulary.prompt, o, [&] { return ctx.cancelled(); });

@@ -233,7 +233,7 @@ TEST_CASE("a views param names the training, the held-out or all views of a capt
   Capture capture;
   capture.views.resize(4);
   capture.views[2].held_out = true;
-  CHECK(capture.views_named("train") == std::vector<int>{0, 1, 3});
-  CHECK(capture.views_named("test") == std::vector<int>{2});
-  CHECK(capture.views_named("all") == std::vector<int>{0, 1, 2, 3});
+  CHECK(capture.views_named(ViewSet::Train) == std::vector<int>{0, 1, 3});
+  CHECK(capture.views_named(ViewSet::Test) == std::vector<int>{2});
+  CHECK(capture.views_named(ViewSet::All) == std::vector<int>{0, 1, 2, 3});
 }
