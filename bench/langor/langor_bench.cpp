@@ -126,7 +126,9 @@ nlohmann::json query_timing(const fs::path& graph, const std::vector<std::string
   if (!g.ok()) return {{"error", "graph did not load"}};
   const RunResult run = execute(*g.graph, registry, {});
   if (!run.ok()) return {{"error", run.error->str()}};
-  const auto model = run.values.at("assoc.model").get<GaussianModel>();
+  // The model the text queries answer on: after the 3D filter where the graph has one.
+  const std::string model_key = run.values.count("clean.model") ? "clean.model" : "assoc.model";
+  const auto model = run.values.at(model_key).get<GaussianModel>();
   const auto instances = run.values.at("assoc.instances").get<InstanceSet>();
   const auto encoder = run.values.at("text.encoder").get<TextEncoder>();
   const auto capture = run.values.at("capture.capture").get<Capture>();
