@@ -10,7 +10,6 @@
 #include "base/errors.hpp"
 #include "base/random.hpp"
 #include "nodes/splat/depth_normals.hpp"
-#include "nodes/splat/reconstruct.hpp"
 
 namespace gslift {
 namespace {
@@ -138,6 +137,18 @@ const EnumNames<InitSource>& init_source_names() {
                                               {InitSource::Points, "points"},
                                               {InitSource::Random, "random"}};
   return names;
+}
+
+double scene_extent(const Capture& capture) {
+  std::vector<Eigen::Vector3d> centres;
+  for (int v : capture.train_views()) centres.push_back(capture.views[v].pose.centre());
+  if (centres.size() < 2) return 1.0;
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (const auto& c : centres) mean += c;
+  mean /= static_cast<double>(centres.size());
+  double radius = 0;
+  for (const auto& c : centres) radius = std::max(radius, (c - mean).norm());
+  return radius > 0 ? 1.1 * radius : 1.0;
 }
 
 ColouredPoints random_volume_points(const Capture& capture, const std::vector<int>& views,

@@ -60,7 +60,7 @@ struct InitialiseOptions {
   double normal_thickness = 0.3;
   float opacity = 0.1f;  // initial opacity (3DGS)
   // Random initialisation: how many points, and the depth range of the rays they are drawn on as
-  // fractions of the scene extent (reconstruct.hpp's scene_extent: 1.1 x the largest distance of
+  // fractions of the scene extent (scene_extent below: 1.1 x the largest distance of
   // a training camera from their centroid). [decision] 3DGS draws 100k points in a cube for its
   // synthetic scenes; 20k keep the CPU steps short, and densification adds where the images ask.
   int random_points = 20000;
@@ -83,6 +83,10 @@ struct InitialiseOptions {
 // map does not match its image size.
 ColouredPoints backproject_depth(const Capture& capture, const std::vector<int>& views,
                                  int pixel_stride);
+
+// 3DGS's cameras_extent: 1.1 x the largest distance of a training camera centre from their
+// centroid (1 when there is a single camera).
+double scene_extent(const Capture& capture);
 
 // Sparse points with colours as read from the capture (rgb / 255).
 ColouredPoints sparse_points(const Capture& capture);

@@ -119,23 +119,13 @@ std::vector<float> scaled_vector(const cv::Mat& m, double weight) {
 
 }  // namespace
 
-double scene_extent(const Capture& capture) {
-  std::vector<Eigen::Vector3d> centres;
-  for (int v : capture.train_views()) centres.push_back(capture.views[v].pose.centre());
-  if (centres.size() < 2) return 1.0;
-  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-  for (const auto& c : centres) mean += c;
-  mean /= static_cast<double>(centres.size());
-  double radius = 0;
-  for (const auto& c : centres) radius = std::max(radius, (c - mean).norm());
-  return radius > 0 ? 1.1 * radius : 1.0;
-}
-
-double psnr(const cv::Mat& rendered, const cv::Mat& target_rgb8) {
+double psnr(const cv::Mat& rendered, const cv::Mat& target_rgb8, const cv::Mat1b& mask) {
   cv::Mat clamped, target;
   cv::min(cv::max(rendered, 0.0), 1.0, clamped);
   target_rgb8.convertTo(target, CV_32FC3, 1.0 / 255);
-  const double mse = cv::norm(clamped, target, cv::NORM_L2SQR) / (clamped.total() * 3);
+  const double pixels = mask.empty() ? clamped.total() : cv::countNonZero(mask);
+  if (pixels == 0) return std::numeric_limits<double>::quiet_NaN();
+  const double mse = cv::norm(clamped, target, cv::NORM_L2SQR, mask) / (pixels * 3);
   return mse > 0 ? 10 * std::log10(1.0 / mse) : std::numeric_limits<double>::infinity();
 }
 

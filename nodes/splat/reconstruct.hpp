@@ -9,6 +9,8 @@
 #include <optional>
 #include <vector>
 
+#include <opencv2/core.hpp>
+
 #include "graph/param_table.hpp"
 #include "nodes/scene/capture.hpp"
 #include "nodes/scene/gaussian_model.hpp"
@@ -110,12 +112,9 @@ struct ReconstructResult {
 // may throw (e.g. gslift::Cancelled) to abort the reconstruction.
 using ReconstructCallback = std::function<void(int step, int total, double loss, size_t gaussians)>;
 
-// 3DGS's cameras_extent: 1.1 x the largest distance of a training camera centre from their
-// centroid (1 when there is a single camera).
-double scene_extent(const Capture& capture);
-
-// PSNR (dB) of a rendered RGB image (CV_32FC3, clamped to [0,1] here) against an 8-bit target.
-double psnr(const cv::Mat& rendered, const cv::Mat& target_rgb8);
+// PSNR (dB) of a rendered RGB image (CV_32FC3, clamped to [0,1] here) against an 8-bit target,
+// over the pixels of `mask` when one is given (NaN when it is empty of pixels).
+double psnr(const cv::Mat& rendered, const cv::Mat& target_rgb8, const cv::Mat1b& mask = {});
 
 // Mean PSNR of the model rendered at the given views against their RGB images (NaN when empty).
 double mean_psnr(const GaussianModel& model, const Capture& capture, const std::vector<int>& views,

@@ -73,6 +73,7 @@ ViewGeometry view_geometry(const GaussianModel& model, const Capture& capture, i
 
   ViewGeometry g;
   g.psnr = psnr(rgb, target);
+  g.psnr_covered = psnr(rgb, target, covered);
   double surface = 0, n_covered = 0, within = 0, floaters = 0, holes = 0, holes_covered = 0;
   std::vector<double> abs_rel;
   for (int y = 0; y < truth.rows; ++y)
@@ -101,21 +102,6 @@ ViewGeometry view_geometry(const GaussianModel& model, const Capture& capture, i
     auto mid = abs_rel.begin() + abs_rel.size() / 2;
     std::nth_element(abs_rel.begin(), mid, abs_rel.end());
     g.depth_abs_rel_median = *mid;
-  }
-  // PSNR over the covered pixels: the squared error summed where covered, as psnr() would.
-  cv::Mat clamped, target_f;
-  cv::min(cv::max(rgb, 0.0), 1.0, clamped);
-  target.convertTo(target_f, CV_32FC3, 1.0 / 255);
-  double se = 0;
-  for (int y = 0; y < truth.rows; ++y)
-    for (int x = 0; x < truth.cols; ++x) {
-      if (!covered(y, x)) continue;
-      const cv::Vec3f a = clamped.at<cv::Vec3f>(y, x), b = target_f.at<cv::Vec3f>(y, x);
-      for (int ch = 0; ch < 3; ++ch) se += double(a[ch] - b[ch]) * (a[ch] - b[ch]);
-    }
-  if (n_covered > 0) {
-    const double mse = se / (3 * n_covered);
-    g.psnr_covered = mse > 0 ? 10 * std::log10(1.0 / mse) : std::numeric_limits<double>::infinity();
   }
   return g;
 }
