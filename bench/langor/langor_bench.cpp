@@ -126,10 +126,11 @@ nlohmann::json query_timing(const fs::path& graph, const std::vector<std::string
   if (!g.ok()) return {{"error", "graph did not load"}};
   const RunResult run = execute(*g.graph, registry, {});
   if (!run.ok()) return {{"error", run.error->str()}};
-  // The model the text queries answer on: after the 3D filter where the graph has one.
-  const std::string model_key = run.values.count("clean.model") ? "clean.model" : "assoc.model";
-  const auto model = run.values.at(model_key).get<GaussianModel>();
-  const auto instances = run.values.at("assoc.instances").get<InstanceSet>();
+  // The model and instances the graph's text queries answer on, as the graph wires them.
+  const GraphNode* query = g.graph->find("query");
+  if (!query) return {{"error", "the graph has no node 'query'"}};
+  const auto model = run.values.at(query->inputs.at("model").str()).get<GaussianModel>();
+  const auto instances = run.values.at(query->inputs.at("instances").str()).get<InstanceSet>();
   const auto encoder = run.values.at("text.encoder").get<TextEncoder>();
   const auto capture = run.values.at("capture.capture").get<Capture>();
   const View& view = capture->views.at(capture->test_views().at(0));
