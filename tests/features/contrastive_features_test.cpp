@@ -9,6 +9,7 @@
 #include "nodes/splat/rasterizer.hpp"
 #include "nodes/splat/render_cache.hpp"
 #include "runtime/node.hpp"
+#include "tests/pinhole.hpp"
 #include "tests/test_support.hpp"
 
 using namespace gslift;
@@ -43,11 +44,7 @@ TwoGroups two_groups() {
   for (int v = 0; v < 2; ++v) {
     View view;
     view.name = "v" + std::to_string(v);
-    view.camera.width = 64;
-    view.camera.height = 48;
-    view.camera.fx = view.camera.fy = 60;
-    view.camera.cx = 32;
-    view.camera.cy = 24;
+    view.camera = test::centred_pinhole(64, 48, 60);
     view.pose.t = Eigen::Vector3d(0.1 * v, 0.05 * v, 0);
     s.capture.views.push_back(view);
     // u = 32 + 20 (x + t_x): the groups project left and right of the centre column.

@@ -6,17 +6,12 @@
 
 #include "nodes/scene/camera.hpp"
 #include "nodes/scene/gaussian_model.hpp"
+#include "tests/pinhole.hpp"
 
 namespace gslift::test {
 
 inline Camera query_camera() {
-  Camera c;
-  c.width = 64;
-  c.height = 48;
-  c.fx = c.fy = 60;
-  c.cx = 32;
-  c.cy = 24;
-  return c;
+  return centred_pinhole(64, 48, 60);
 }
 
 inline GaussianModel two_blobs() {

@@ -4,6 +4,7 @@
 
 #include "nodes/ingest/colmap_model.hpp"
 #include "nodes/scene/image_io.hpp"
+#include "tests/pinhole.hpp"
 #include "tests/test_support.hpp"
 
 namespace gslift::test {
@@ -13,13 +14,7 @@ namespace fs = std::filesystem;
 fs::path write_small_capture(const std::string& name, const std::string& manifest_extra) {
   const auto dir = scratch_dir(name);
   ColmapModel m;
-  Camera cam;
-  cam.width = 8;
-  cam.height = 6;
-  cam.fx = cam.fy = 10;
-  cam.cx = 4;
-  cam.cy = 3;
-  m.cameras[1] = cam;
+  m.cameras[1] = centred_pinhole(8, 6, 10);
   for (int i = 0; i < 3; ++i) {
     ColmapImage im;
     im.id = i + 1;

@@ -13,6 +13,7 @@
 #include "nodes/splat/ply_io.hpp"
 #include "nodes/splat/rasterizer.hpp"
 #include "nodes/splat/sh.hpp"
+#include "tests/pinhole.hpp"
 #include "tests/test_support.hpp"
 
 using namespace gslift;
@@ -182,12 +183,7 @@ TEST_CASE("the INRIA degree-1 PLY renders the colours of a per-pixel hand comput
                                     {property(1, 0), property(1, 1), property(1, 2)}};
   auto opacity = [&](int i) { return 1.0 / (1.0 + std::exp(-property(i, 18))); };
 
-  Camera camera;
-  camera.width = 64;
-  camera.height = 48;
-  camera.fx = camera.fy = 60;
-  camera.cx = 32;
-  camera.cy = 24;
+  const Camera camera = test::centred_pinhole(64, 48, 60);
   RenderSettings settings;
   settings.background = Eigen::Vector3f(0.25f, 0.5f, 0.75f);
 

@@ -5,6 +5,7 @@
 
 #include "nodes/splat/density_control.hpp"
 #include "nodes/splat/initialise.hpp"
+#include "tests/pinhole.hpp"
 #include "tests/test_support.hpp"
 
 using namespace gslift;
@@ -20,11 +21,7 @@ Capture plane_capture() {
   c.name = "plane";
   View v;
   v.name = "cam_00";
-  v.camera.width = 64;
-  v.camera.height = 48;
-  v.camera.fx = v.camera.fy = 50;
-  v.camera.cx = 32;
-  v.camera.cy = 24;
+  v.camera = test::centred_pinhole(64, 48, 50);
   v.rgb = ImageSource::in_memory(cv::Mat(48, 64, CV_8UC3, cv::Scalar(200, 100, 50)));
   v.depth = ImageSource::in_memory(cv::Mat(48, 64, CV_32FC1, cv::Scalar(2.0)));
   c.views.push_back(v);

@@ -5,6 +5,7 @@
 #include "nodes/splat/depth_normals.hpp"
 #include "nodes/splat/losses.hpp"
 #include "nodes/splat/ssim.hpp"
+#include "tests/pinhole.hpp"
 #include "tests/splat/train_scene.hpp"
 #include "tests/test_support.hpp"
 
@@ -167,12 +168,7 @@ TEST_CASE("flatness loss is the mean smallest scale with its gradient on that ax
 }
 
 TEST_CASE("normals from the depth of a tilted plane are the plane normal, facing the camera") {
-  Camera cam;
-  cam.width = 40;
-  cam.height = 30;
-  cam.fx = cam.fy = 50;
-  cam.cx = 20;
-  cam.cy = 15;
+  const Camera cam = test::centred_pinhole(40, 30, 50);
   // Plane n . X = c with n = normalise(0.3, -0.2, -1): depth d = c / (n . ray).
   const Eigen::Vector3d n = Eigen::Vector3d(0.3, -0.2, -1).normalized();
   const double c = -2.0;

@@ -1,6 +1,7 @@
 // Random initialisation for captures with neither sparse points nor a depth prior.
 #include "base/errors.hpp"
 #include "nodes/splat/initialise.hpp"
+#include "tests/pinhole.hpp"
 #include "tests/test_support.hpp"
 
 using namespace gslift;
@@ -11,11 +12,7 @@ namespace {
 View side_view(const std::string& name, double x, cv::Vec3b colour) {
   View v;
   v.name = name;
-  v.camera.width = 40;
-  v.camera.height = 30;
-  v.camera.fx = v.camera.fy = 20;
-  v.camera.cx = 20;
-  v.camera.cy = 15;
+  v.camera = test::centred_pinhole(40, 30, 20);
   v.pose.t = Eigen::Vector3d(-x, 0, 0);
   v.rgb = ImageSource::in_memory(cv::Mat3b(30, 40, colour));
   return v;

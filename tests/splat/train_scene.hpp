@@ -7,6 +7,7 @@
 #include "base/random.hpp"
 #include "nodes/scene/capture.hpp"
 #include "nodes/splat/rasterizer.hpp"
+#include "tests/pinhole.hpp"
 
 namespace gslift::test {
 
@@ -47,11 +48,7 @@ inline Capture rendered_capture() {
   for (int k = 0; k < 5; ++k) {
     View v;
     v.name = "cam_" + std::to_string(k);
-    v.camera.width = 64;
-    v.camera.height = 48;
-    v.camera.fx = v.camera.fy = 60;
-    v.camera.cx = 32;
-    v.camera.cy = 24;
+    v.camera = centred_pinhole(64, 48, 60);
     const double a = 2 * M_PI * k / 5;
     const Eigen::Vector3d eye(2.2 * std::cos(a), 2.2 * std::sin(a), 2.0);
     const Eigen::Vector3d z = (-eye).normalized();

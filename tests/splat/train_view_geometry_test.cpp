@@ -3,28 +3,19 @@
 #include "nodes/splat/view_geometry.hpp"
 
 #include "base/errors.hpp"
+#include "tests/pinhole.hpp"
 #include "tests/test_support.hpp"
 
 using namespace gslift;
 
 namespace {
 
-// A 40 x 30 pinhole with fx = fy = 20: at depth 2 it sees x in [-2, 2], y in [-1.5, 1.5].
-Camera small_camera() {
-  Camera c;
-  c.width = 40;
-  c.height = 30;
-  c.fx = c.fy = 20;
-  c.cx = 20;
-  c.cy = 15;
-  return c;
-}
-
 // A view looking down +z from (cx, 0, 0) at the plane z = 2, with that plane as its ground truth.
 View plane_view(const std::string& name, double centre_x) {
   View v;
   v.name = name;
-  v.camera = small_camera();
+  // 40 x 30, fx = fy = 20: at depth 2 it sees x in [-2, 2], y in [-1.5, 1.5].
+  v.camera = test::centred_pinhole(40, 30, 20);
   v.pose.t = Eigen::Vector3d(-centre_x, 0, 0);  // x_cam = x_world - centre
   v.gt_depth = ImageSource::in_memory(cv::Mat1f(30, 40, 2.f));
   v.rgb = ImageSource::in_memory(cv::Mat3b(30, 40, cv::Vec3b(128, 128, 128)));

@@ -10,6 +10,7 @@
 #include "nodes/scene/capture.hpp"
 #include "nodes/vlm/register.hpp"
 #include "runtime/executor.hpp"
+#include "tests/pinhole.hpp"
 #include "tests/test_support.hpp"
 #include "tests/vlm/loopback_server.hpp"
 
@@ -30,11 +31,7 @@ Registry registry_with_capture(const std::filesystem::path& root = {}) {
           for (const char* name : {"left", "right"}) {
             View v;
             v.name = name;
-            v.camera.width = 100;
-            v.camera.height = 50;
-            v.camera.fx = v.camera.fy = 80;
-            v.camera.cx = 50;
-            v.camera.cy = 25;
+            v.camera = test::centred_pinhole(100, 50, 80);
             v.rgb = ImageSource::in_memory(cv::Mat(50, 100, CV_8UC3, cv::Scalar(10, 200, 30)));
             c.views.push_back(std::move(v));
           }
