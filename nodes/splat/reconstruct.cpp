@@ -282,12 +282,16 @@ ReconstructResult reconstruct(const Capture& capture, const ReconstructOptions& 
   }
   result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   result.train_psnr = mean_psnr(model, capture, train, background);
-  result.test_psnr = mean_psnr(model, capture, capture.test_views(), background);
   const std::vector<int> test = capture.test_views();
   const bool gt_depth = std::all_of(capture.views.begin(), capture.views.end(),
                                     [](const View& v) { return v.gt_depth.present(); });
-  if (!test.empty() && gt_depth)
-    result.test_geometry = mean_view_geometry(model, capture, test, train);
+  // With ground-truth depth the held-out views are rendered once, for their PSNR and geometry.
+  if (!test.empty() && gt_depth) {
+    result.test_geometry = mean_view_geometry(model, capture, test, train, background);
+    result.test_psnr = result.test_geometry->psnr;
+  } else {
+    result.test_psnr = mean_psnr(model, capture, test, background);
+  }
   result.model = std::move(model);
   return result;
 }

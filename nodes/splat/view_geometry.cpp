@@ -59,7 +59,7 @@ cv::Mat1b covered_pixels(const Capture& capture, int view, const std::vector<int
 }
 
 ViewGeometry view_geometry(const GaussianModel& model, const Capture& capture, int view,
-                           const std::vector<int>& train) {
+                           const std::vector<int>& train, const Eigen::Vector3f& background) {
   const View& v = capture.views[view];
   const cv::Mat1f truth = ground_truth_depth(v);
   const cv::Mat1b covered = covered_pixels(capture, view, train);
@@ -67,6 +67,7 @@ ViewGeometry view_geometry(const GaussianModel& model, const Capture& capture, i
   settings.depth = true;
   settings.alpha = true;
   settings.normalize_depth = true;
+  settings.background = background;
   RenderOutput out = render(model, v.camera, v.pose, settings);
   const cv::Mat rgb(out.height, out.width, CV_32FC3, out.rgb.data());
   const cv::Mat target = v.rgb.load();
@@ -107,7 +108,8 @@ ViewGeometry view_geometry(const GaussianModel& model, const Capture& capture, i
 }
 
 ViewGeometry mean_view_geometry(const GaussianModel& model, const Capture& capture,
-                                const std::vector<int>& views, const std::vector<int>& train) {
+                                const std::vector<int>& views, const std::vector<int>& train,
+                                const Eigen::Vector3f& background) {
   double ViewGeometry::*fields[] = {&ViewGeometry::psnr,
                                     &ViewGeometry::psnr_covered,
                                     &ViewGeometry::coverage,
@@ -118,7 +120,7 @@ ViewGeometry mean_view_geometry(const GaussianModel& model, const Capture& captu
                                     &ViewGeometry::holes_covered};
   ViewGeometry mean;
   std::vector<ViewGeometry> all;
-  for (const int v : views) all.push_back(view_geometry(model, capture, v, train));
+  for (const int v : views) all.push_back(view_geometry(model, capture, v, train, background));
   for (auto f : fields) {
     double sum = 0;
     int n = 0;

@@ -34,13 +34,15 @@ struct ViewGeometry {
 cv::Mat1b covered_pixels(const Capture& capture, int view, const std::vector<int>& train,
                          double tolerance = 0.01);
 
-// Renders the model at `view` (RGB, depth, alpha) and scores it; throws InputError when the view
-// has no ground-truth depth.
+// Renders the model at `view` (RGB over `background`, depth, alpha) and scores it; throws
+// InputError when the view has no ground-truth depth.
 ViewGeometry view_geometry(const GaussianModel& model, const Capture& capture, int view,
-                           const std::vector<int>& train);
+                           const std::vector<int>& train,
+                           const Eigen::Vector3f& background = Eigen::Vector3f::Zero());
 
 // The mean of each field over the given views (NaN fields are left out of their mean).
 ViewGeometry mean_view_geometry(const GaussianModel& model, const Capture& capture,
-                                const std::vector<int>& views, const std::vector<int>& train);
+                                const std::vector<int>& views, const std::vector<int>& train,
+                                const Eigen::Vector3f& background = Eigen::Vector3f::Zero());
 
 }  // namespace gslift

@@ -65,6 +65,10 @@ TEST_CASE("view geometry: an empty model is all holes; a front plane is all floa
   CHECK(none.depth_within_5pct == 0.0);
   CHECK(none.floaters == 0.0);
   CHECK(std::isnan(none.depth_abs_rel_median));
+  // The held-out image is scored over the background the model was trained on.
+  capture.views[0].rgb = ImageSource::in_memory(cv::Mat3b(30, 40, cv::Vec3b(255, 255, 255)));
+  CHECK(view_geometry(empty, capture, 0, {1}).psnr == Approx(0.0).margin(1e-9));
+  CHECK(std::isinf(view_geometry(empty, capture, 0, {1}, Eigen::Vector3f::Ones()).psnr));
 
   // One large opaque flat Gaussian at z = 1.5 covering the view: every pixel is drawn 25% in
   // front of the true surface.
