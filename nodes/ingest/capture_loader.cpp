@@ -125,8 +125,7 @@ Capture load_capture(const fs::path& input, const CaptureOptions& options) {
   if (!named_held_out && options.holdout_every > 0)
     for (size_t i = 0; i < views.size(); ++i)
       views[i].held_out = i % static_cast<size_t>(options.holdout_every) == 0;
-  for (const auto& v : views)
-    capture.views.push_back(make_view(v, options.downscale, options.undistort));
+  for (const auto& v : views) capture.views.push_back(make_view(v, options));
   return capture;
 }
 
@@ -145,7 +144,10 @@ const ParamTable<CaptureOptions>& capture_param_table() {
                "integer image downscale on load; intrinsics are scaled to match", 1, 64)
           .add("undistort", &O::undistort,
                "undistort images of cameras with distortion on load, so views are ideal "
-               "pinholes; off keeps the images and Camera::distortion as captured");
+               "pinholes; off keeps the images and Camera::distortion as captured")
+          .add("undistort_crop", &O::undistort_crop,
+               "undistort: crop to the rectangle of valid pixels (COLMAP's undistorter), so no "
+               "pixel is black for want of a source; off keeps the captured size");
   return table;
 }
 

@@ -22,6 +22,11 @@ struct CaptureOptions {
   // the view the same camera without distortion, so every later stage sees an ideal pinhole
   // (camera.hpp). Off: images stay as captured and Camera::distortion is kept.
   bool undistort = true;
+  // With undistort: crop each undistorted image to the rectangle whose pixels all come from inside
+  // the captured image (COLMAP's image_undistorter does the same), shifting the principal point.
+  // Off: the captured size, with 1-3 black pixels along the border of a radially distorted
+  // camera; on DTU scan 24 those cost about 1 dB of held-out PSNR (bench/splat_recon).
+  bool undistort_crop = true;
 };
 
 // The params of ingest.capture that shape the reading: one entry per field above.

@@ -1,5 +1,7 @@
 #include "nodes/ingest/view_files.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <functional>
 #include <memory>
 #include <mutex>
@@ -17,23 +19,29 @@ namespace {
 
 using Decode = std::function<cv::Mat(const std::filesystem::path&)>;
 
-// Undistortion maps of one camera, computed on the first load and shared by later loads (and
-// threads): they cost about as much as decoding the image.
+cv::Mat opencv_k(const Camera& c) {
+  cv::Mat k;
+  cv::eigen2cv(c.K(), k);
+  // OpenCV puts pixel centres at integer coordinates, gslift at +0.5 (camera.hpp).
+  k.at<double>(0, 2) -= 0.5;
+  k.at<double>(1, 2) -= 0.5;
+  return k;
+}
+
+// Undistortion maps from a captured camera (with distortion) to an ideal pinhole `target`,
+// computed on the first load and shared by later loads (and threads): they cost about as much as
+// decoding the image.
 class Undistorter {
  public:
-  explicit Undistorter(const Camera& camera) : camera_(camera) {}
+  Undistorter(const Camera& captured, const Camera& target)
+      : captured_(captured), target_(target) {}
 
-  // The image an ideal pinhole with the same K would have seen.
+  // The image the ideal pinhole would have seen.
   cv::Mat apply(const cv::Mat& m, int interpolation) {
     std::call_once(once_, [&] {
-      cv::Mat k;
-      cv::eigen2cv(camera_.K(), k);
-      // OpenCV puts pixel centres at integer coordinates, gslift at +0.5 (camera.hpp).
-      k.at<double>(0, 2) -= 0.5;
-      k.at<double>(1, 2) -= 0.5;
-      cv::initUndistortRectifyMap(k, camera_.distortion, cv::noArray(), k,
-                                  cv::Size(camera_.width, camera_.height), CV_32FC1, map_x_,
-                                  map_y_);
+      cv::initUndistortRectifyMap(opencv_k(captured_), captured_.distortion, cv::noArray(),
+                                  opencv_k(target_), cv::Size(target_.width, target_.height),
+                                  CV_32FC1, map_x_, map_y_);
     });
     cv::Mat out;
     cv::remap(m, out, map_x_, map_y_, interpolation, cv::BORDER_CONSTANT, cv::Scalar::all(0));
@@ -41,17 +49,20 @@ class Undistorter {
   }
 
  private:
-  Camera camera_;
+  Camera captured_, target_;
   std::once_flag once_;
   cv::Mat map_x_, map_y_;
 };
 
-ImageSource checked_source(const std::filesystem::path& path, const Camera& camera, int downscale,
-                           bool undistort, Decode decode, int interpolation) {
+// `camera` is the captured one; `target` the full-resolution pinhole it is undistorted into (the
+// same camera when nothing is undistorted).
+ImageSource checked_source(const std::filesystem::path& path, const Camera& camera,
+                           const Camera& target, int downscale, Decode decode, int interpolation) {
   if (path.empty()) return {};
-  const Camera scaled = camera.scaled(1.0 / downscale);
+  const Camera scaled = target.scaled(1.0 / downscale);
   std::shared_ptr<Undistorter> undistorter;
-  if (undistort && !camera.distortion.empty()) undistorter = std::make_shared<Undistorter>(camera);
+  if (!camera.distortion.empty() && target.distortion.empty())
+    undistorter = std::make_shared<Undistorter>(camera, target);
   return ImageSource::on_disk(path, [=](const std::filesystem::path& p) {
     cv::Mat m = decode(p);
     if (m.cols != camera.width || m.rows != camera.height)
@@ -74,28 +85,73 @@ cv::Mat read_gt_labels(const std::filesystem::path& p) {
 
 }  // namespace
 
-View make_view(const ViewFiles& f, int downscale, bool undistort) {
+cv::Rect undistorted_valid_rect(const Camera& c, int multiple) {
+  const cv::Rect whole(0, 0, c.width, c.height);
+  if (c.distortion.empty()) return whole;
+  // The border of the captured image, every pixel edge of it, in OpenCV pixel coordinates.
+  std::vector<cv::Point2d> border;
+  const double x0 = -0.5, y0 = -0.5, x1 = c.width - 0.5, y1 = c.height - 0.5;
+  for (int u = 0; u <= c.width; ++u) border.push_back({x0 + u, y0}), border.push_back({x0 + u, y1});
+  for (int v = 0; v <= c.height; ++v)
+    border.push_back({x0, y0 + v}), border.push_back({x1, y0 + v});
+  std::vector<cv::Point2d> ideal;
+  const cv::Mat k = opencv_k(c);
+  cv::undistortPoints(border, ideal, k, c.distortion, cv::noArray(), k);
+  // In gslift coordinates (corner at 0), the tightest bound of each side of the ideal image.
+  double left = 0, right = c.width, top = 0, bottom = c.height;
+  for (size_t i = 0; i < ideal.size(); ++i) {
+    const double x = ideal[i].x + 0.5, y = ideal[i].y + 0.5;
+    const cv::Point2d& b = border[i];
+    if (b.x == x0) left = std::max(left, x);
+    if (b.x == x1) right = std::min(right, x);
+    if (b.y == y0) top = std::max(top, y);
+    if (b.y == y1) bottom = std::min(bottom, y);
+  }
+  // One more pixel on each side: bilinear interpolation reads the neighbours of a pixel mapped
+  // just inside the border.
+  const int l = static_cast<int>(std::ceil(left)) + 1, t = static_cast<int>(std::ceil(top)) + 1;
+  int w = static_cast<int>(std::floor(right)) - 1 - l,
+      h = static_cast<int>(std::floor(bottom)) - 1 - t;
+  w -= w % std::max(multiple, 1);
+  h -= h % std::max(multiple, 1);
+  if (w <= 0 || h <= 0)
+    throw InputError("camera " + std::to_string(c.width) + "x" + std::to_string(c.height) +
+                     ": its distortion leaves no valid rectangle to crop to");
+  return cv::Rect(l, t, w, h) & whole;
+}
+
+View make_view(const ViewFiles& f, const CaptureOptions& options) {
   const Camera& c = f.camera;
+  const int downscale = options.downscale;
+  // The full-resolution pinhole the images are read into.
+  Camera target = c;
+  if (options.undistort && !c.distortion.empty()) {
+    target.distortion.clear();
+    if (options.undistort_crop) {
+      const cv::Rect r = undistorted_valid_rect(c, downscale);
+      target.width = r.width;
+      target.height = r.height;
+      target.cx -= r.x;
+      target.cy -= r.y;
+    }
+  }
   View v;
   v.name = f.name;
-  v.camera = downscale == 1 ? c : c.scaled(1.0 / downscale);
-  if (undistort) v.camera.distortion.clear();
+  v.camera = downscale == 1 ? target : target.scaled(1.0 / downscale);
   v.pose = f.pose;
   v.held_out = f.held_out;
-  v.rgb = checked_source(
-      f.rgb, c, downscale, undistort, [](const auto& p) { return read_rgb(p); }, cv::INTER_AREA);
+  auto source = [&](const std::filesystem::path& path, Decode decode, int interpolation) {
+    return checked_source(path, c, target, downscale, std::move(decode), interpolation);
+  };
+  v.rgb = source(
+      f.rgb, [](const auto& p) { return read_rgb(p); }, cv::INTER_AREA);
   const double scale = f.depth_scale;
-  v.depth = checked_source(
-      f.depth, c, downscale, undistort, [scale](const auto& p) { return read_depth(p, scale); },
-      cv::INTER_NEAREST);
-  v.gt_instance =
-      checked_source(f.gt_instance, c, downscale, undistort, read_gt_labels, cv::INTER_NEAREST);
-  v.gt_semantic =
-      checked_source(f.gt_semantic, c, downscale, undistort, read_gt_labels, cv::INTER_NEAREST);
-  v.gt_depth =
-      checked_source(f.gt_depth, c, downscale, undistort, read_float_tiff, cv::INTER_NEAREST);
-  v.gt_normal =
-      checked_source(f.gt_normal, c, downscale, undistort, read_float_tiff, cv::INTER_NEAREST);
+  v.depth = source(
+      f.depth, [scale](const auto& p) { return read_depth(p, scale); }, cv::INTER_NEAREST);
+  v.gt_instance = source(f.gt_instance, read_gt_labels, cv::INTER_NEAREST);
+  v.gt_semantic = source(f.gt_semantic, read_gt_labels, cv::INTER_NEAREST);
+  v.gt_depth = source(f.gt_depth, read_float_tiff, cv::INTER_NEAREST);
+  v.gt_normal = source(f.gt_normal, read_float_tiff, cv::INTER_NEAREST);
   return v;
 }
 

@@ -8,6 +8,9 @@
 #include <string>
 #include <vector>
 
+#include <opencv2/core.hpp>
+
+#include "nodes/ingest/capture_options.hpp"
 #include "nodes/scene/camera.hpp"
 #include "nodes/scene/capture.hpp"
 
@@ -25,10 +28,19 @@ struct ViewFiles {
   bool held_out = false;
 };
 
-// The view read at 1/downscale resolution: camera.scaled(1 / downscale), RGB resized with the
-// area filter, depth and label maps with nearest neighbour (averaging across a depth edge or an
-// instance border invents values). With `undistort`, images of a camera with distortion are
-// undistorted to the same K before the resize and the view's camera has no distortion.
-View make_view(const ViewFiles& files, int downscale, bool undistort);
+// The rectangle of the image undistorted into the same K (full resolution) that holds only pixels
+// seen by the captured image, as COLMAP's image_undistorter crops: bounded by the captured image's
+// border pixels undistorted, less one pixel for bilinear interpolation; width and height rounded
+// down to multiples of `multiple` (the downscale). The whole image without distortion. Throws
+// InputError when nothing is left.
+cv::Rect undistorted_valid_rect(const Camera& camera, int multiple = 1);
+
+// The view read at 1/options.downscale resolution: camera.scaled(1 / downscale), RGB resized
+// with the area filter, depth and label maps with nearest neighbour (averaging across a depth
+// edge or an instance border invents values). With options.undistort, images of a camera with
+// distortion are undistorted to the same focal lengths before the resize, cropped to
+// undistorted_valid_rect with options.undistort_crop (so no pixel is the black of nowhere), and
+// the view's camera is that pinhole.
+View make_view(const ViewFiles& files, const CaptureOptions& options);
 
 }  // namespace gslift

@@ -48,13 +48,15 @@ bool is_density_step(const DensityControlOptions& o, int step, int iterations) {
 }
 
 DensityChange densify_and_prune(GaussianModel& model, const DensityStats& stats,
-                                const DensityControlOptions& o, double extent, uint64_t seed) {
+                                const DensityControlOptions& o, double extent, uint64_t seed,
+                                const std::vector<char>& also_prune) {
   const size_t n = model.size();
   DensityChange change;
   std::vector<char> prune(n, 0);
   for (size_t i = 0; i < n; ++i) {
     const double opacity = 1 / (1 + std::exp(-static_cast<double>(model.opacity_logits[i])));
-    prune[i] = opacity < o.prune_opacity || max_scale(model, i) > o.prune_max_scale * extent;
+    prune[i] = opacity < o.prune_opacity || max_scale(model, i) > o.prune_max_scale * extent ||
+               (i < also_prune.size() && also_prune[i]);
   }
   // Growth candidates by mean gradient, largest first (index breaks ties: deterministic).
   std::vector<std::pair<double, size_t>> grow;

@@ -55,8 +55,10 @@ bool is_density_step(const DensityControlOptions& options, int step, int iterati
 // children. A Gaussian that is both pruned and selected for growth is pruned. Split children are
 // sampled from the parent's Gaussian with an RNG seeded by (seed, parent index), so the result
 // does not depend on thread count or on which other Gaussians split. extent is the scene radius
-// (3DGS: 1.1 x the largest camera distance from the cameras' centroid).
+// (3DGS: 1.1 x the largest camera distance from the cameras' centroid). Gaussians marked in
+// also_prune (empty = none; free_space.hpp) are pruned as well.
 DensityChange densify_and_prune(GaussianModel& model, const DensityStats& stats,
-                                const DensityControlOptions& options, double extent, uint64_t seed);
+                                const DensityControlOptions& options, double extent, uint64_t seed,
+                                const std::vector<char>& also_prune = {});
 
 }  // namespace gslift

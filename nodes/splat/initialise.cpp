@@ -102,11 +102,15 @@ GaussianModel gaussians_from_points(const ColouredPoints& points, double voxel,
     const Eigen::Vector3d& p = down->points_[i];
     // 3 nearest neighbours other than the point itself (the query returns it first).
     const int found = tree.SearchKNN(p, 4, neighbours, dist2);
-    double mean_d2 = 0;
-    for (int k = 1; k < found; ++k) mean_d2 += dist2[k];
-    mean_d2 = found > 1 ? mean_d2 / (found - 1) : 0;
-    const float log_scale = static_cast<float>(0.5 * std::log(std::max(mean_d2, 1e-7)) +
-                                               std::log(options.scale_factor));
+    double sum = 0;
+    for (int k = 1; k < found; ++k)
+      sum += options.scale_distance == NeighbourDistance::Rms ? dist2[k] : std::sqrt(dist2[k]);
+    const double mean = found > 1 ? sum / (found - 1) : 0;
+    // log of the distance floored at sqrt(1e-7): RMS = sqrt(mean of squares), mean as it is.
+    const double log_distance = options.scale_distance == NeighbourDistance::Rms
+                                    ? 0.5 * std::log(std::max(mean, 1e-7))
+                                    : std::log(std::max(mean, std::sqrt(1e-7)));
+    const float log_scale = static_cast<float>(log_distance + std::log(options.scale_factor));
     // The voxel's mean normal; views that see a thin surface from both sides cancel out, and such
     // voxels stay isotropic.
     const Eigen::Vector3d normal = down->HasNormals() ? down->normals_[i] : Eigen::Vector3d::Zero();
@@ -129,6 +133,12 @@ GaussianModel gaussians_from_points(const ColouredPoints& points, double voxel,
     model.opacity_logits[i] = logit;
   }
   return model;
+}
+
+const EnumNames<NeighbourDistance>& neighbour_distance_names() {
+  static const EnumNames<NeighbourDistance> names = {{NeighbourDistance::Rms, "rms"},
+                                                     {NeighbourDistance::Mean, "mean"}};
+  return names;
 }
 
 const EnumNames<InitSource>& init_source_names() {

@@ -33,6 +33,11 @@ struct ColouredPoints {
 enum class InitSource { Auto, Depth, Points, Random };
 const EnumNames<InitSource>& init_source_names();  // auto, depth, points, random
 
+// Which distance to the 3 nearest neighbours sets a point's initial scale: the root mean square
+// (3DGS's distCUDA2) or the plain mean (OpenSplat: the mean of the 3 nearest distances).
+enum class NeighbourDistance { Rms, Mean };
+const EnumNames<NeighbourDistance>& neighbour_distance_names();  // rms, mean
+
 struct InitialiseOptions {
   InitSource source = InitSource::Auto;
   // Keep every stride-th pixel in x and y when back-projecting (1 = all). The voxel filter below
@@ -52,6 +57,7 @@ struct InitialiseOptions {
   // (the rasterizer's cost); at 0.5 about a quarter as many, and the splats still overlap (their
   // 3-sigma radius is 1.5 neighbour spacings). Optimisation grows them where needed.
   double scale_factor = 0.5;
+  NeighbourDistance scale_distance = NeighbourDistance::Rms;
   // Scale along the depth-prior normal as a fraction of the in-plane scale, the Gaussian rotated so
   // that this (shortest) axis is the normal. 1 = isotropic (3DGS). [decision] 0.3: with isotropic
   // Gaussians the rasterizer's normal (the shortest axis) is an arbitrary axis, so the normal loss
@@ -102,11 +108,11 @@ ColouredPoints random_volume_points(const Capture& capture, const std::vector<in
                                     uint64_t seed);
 
 // Gaussians at the voxel-downsampled points: colour as SH DC ((rgb - 0.5) / C0), scale s =
-// options.scale_factor x sqrt of the mean squared distance to the 3 nearest neighbours (3DGS's
-// distCUDA2, floored at 1e-7), opacity options.opacity. Where the voxel's mean normal is defined
-// (points with normals), the local z axis is rotated onto it and scaled by normal_thickness
-// (scales s, s, s x thickness); elsewhere identity rotation and isotropic s. voxel <= 0 keeps
-// every point.
+// options.scale_factor x the RMS (3DGS's distCUDA2) or mean (OpenSplat) distance to the 3 nearest
+// neighbours (options.scale_distance; floored at sqrt(1e-7)), opacity options.opacity. Where the
+// voxel's mean normal is defined (points with normals), the local z axis is rotated onto it and
+// scaled by normal_thickness (scales s, s, s x thickness); elsewhere identity rotation and
+// isotropic s. voxel <= 0 keeps every point.
 GaussianModel gaussians_from_points(const ColouredPoints& points, double voxel,
                                     const InitialiseOptions& options);
 

@@ -1,5 +1,6 @@
 #include "nodes/splat/losses.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <vector>
@@ -162,6 +163,23 @@ double flatness_loss(const std::vector<float>& log_scales, std::vector<float>* g
     sum += scale;
     // d exp(s_k) / d s_k = exp(s_k); the min picks one axis (a subgradient at ties).
     if (grad) (*grad)[i * 3 + k] = static_cast<float>(scale / static_cast<double>(n));
+  }
+  return sum / static_cast<double>(n);
+}
+
+double opacity_entropy_loss(const std::vector<float>& opacity_logits, std::vector<float>* grad) {
+  const size_t n = opacity_logits.size();
+  if (grad) grad->assign(n, 0.f);
+  if (n == 0) return 0;
+  double sum = 0;
+  for (size_t i = 0; i < n; ++i) {
+    const double l = opacity_logits[i];
+    const double o = 1 / (1 + std::exp(-l));
+    // H via log-sigmoids, stable for large |l|: ln o = -softplus(-l), ln(1 - o) = -softplus(l).
+    const double softplus_neg = std::max(-l, 0.0) + std::log1p(std::exp(-std::abs(l)));
+    const double softplus_pos = softplus_neg + l;
+    sum += o * softplus_neg + (1 - o) * softplus_pos;
+    if (grad) (*grad)[i] = static_cast<float>(-l * o * (1 - o) / static_cast<double>(n));
   }
   return sum / static_cast<double>(n);
 }

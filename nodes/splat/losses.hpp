@@ -39,4 +39,11 @@ double normal_cosine_loss(const cv::Mat& rendered, const cv::Mat& target, cv::Ma
 // surface. log_scales is N x 3; grad (resized to N x 3) receives dL/d(log_scales).
 double flatness_loss(const std::vector<float>& log_scales, std::vector<float>* grad = nullptr);
 
+// Opacity entropy (issue 11 lever: push each Gaussian towards opaque or gone, so that no
+// half-transparent haze can explain the training views): mean over Gaussians of the binary
+// entropy H(o) = -o ln o - (1 - o) ln(1 - o) of o = sigmoid(logit). grad (resized to N) receives
+// dL/d(logit) = -logit o (1 - o) / N (dH/do = ln((1 - o) / o) = -logit).
+double opacity_entropy_loss(const std::vector<float>& opacity_logits,
+                            std::vector<float>* grad = nullptr);
+
 }  // namespace gslift

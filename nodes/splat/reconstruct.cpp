@@ -174,9 +174,16 @@ ReconstructResult reconstruct(const Capture& capture, const ReconstructOptions& 
   std::vector<float> sh_lr(K * 3, static_cast<float>(lr.sh_rest));
   std::fill_n(sh_lr.begin(), 3, static_cast<float>(lr.sh_dc));
 
+  // The depth priors that observe free space, at full resolution.
+  std::vector<DepthObservation> observations;
+  for (const TrainTarget& t : targets)
+    if (!t.full.depth.empty())
+      observations.push_back({&t.view->camera, &t.view->pose, t.full.depth});
+
   DensityStats stats;
   ModelGrads grads;
-  std::vector<float> flatness_grad;
+  std::vector<float> flatness_grad, opacity_grad;
+  RandomStream background_rng(stream_seed(options.seed, "reconstruct.background"));
   std::vector<int> order;
   RandomStream view_rng(stream_seed(options.seed, "reconstruct.views"));
   std::vector<LossSummary> history;
@@ -196,6 +203,9 @@ ReconstructResult reconstruct(const Capture& capture, const ReconstructOptions& 
 
     RenderSettings settings;
     settings.background = background;
+    if (options.random_background)
+      for (int c = 0; c < 3; ++c)
+        settings.background[c] = static_cast<float>(background_rng.uniform());
     settings.sh_degree = std::min(options.sh_degree, step / std::max(options.sh_interval, 1));
     const bool use_depth = options.depth_weight > 0 && !target.depth.empty();
     const bool use_normal = options.normal_weight > 0 && !target.normals.empty();
@@ -229,8 +239,15 @@ ReconstructResult reconstruct(const Capture& capture, const ReconstructOptions& 
       for (size_t i = 0; i < flatness_grad.size(); ++i)
         grads.log_scales[i] += static_cast<float>(options.scale_weight * flatness_grad[i]);
     }
+    if (options.opacity_entropy_weight > 0) {
+      loss.opacity_entropy = opacity_entropy_loss(model.opacity_logits, &opacity_grad);
+      for (size_t i = 0; i < opacity_grad.size(); ++i)
+        grads.opacity_logits[i] +=
+            static_cast<float>(options.opacity_entropy_weight * opacity_grad[i]);
+    }
     loss.total = loss.photometric + options.depth_weight * loss.depth +
-                 options.normal_weight * loss.normal + options.scale_weight * loss.flatness;
+                 options.normal_weight * loss.normal + options.scale_weight * loss.flatness +
+                 options.opacity_entropy_weight * loss.opacity_entropy;
     clock.charge(phases.losses);
     history.push_back(loss);
     result.loss_history.push_back(loss.total);
@@ -250,8 +267,13 @@ ReconstructResult reconstruct(const Capture& capture, const ReconstructOptions& 
     if (options.densify) {
       stats.add(grads.mean2d_abs, grads.visible);
       if (is_density_step(options.density, step, options.iterations)) {
+        std::vector<char> floaters;
+        if (options.floaters.active() && !observations.empty())
+          floaters = free_space_prune_mask(
+              free_space_counts(model, observations, options.floaters.tolerance), options.floaters);
+        result.free_space_pruned += std::count(floaters.begin(), floaters.end(), 1);
         const DensityChange change =
-            densify_and_prune(model, stats, options.density, extent, options.seed + step);
+            densify_and_prune(model, stats, options.density, extent, options.seed + step, floaters);
         adam.remap(change.source);
         stats.clear();
       }
@@ -279,6 +301,7 @@ ReconstructResult reconstruct(const Capture& capture, const ReconstructOptions& 
     result.final_loss.depth += history[i].depth / tail;
     result.final_loss.normal += history[i].normal / tail;
     result.final_loss.flatness += history[i].flatness / tail;
+    result.final_loss.opacity_entropy += history[i].opacity_entropy / tail;
   }
   result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   result.train_psnr = mean_psnr(model, capture, train, background);
@@ -300,6 +323,7 @@ const ParamTable<ReconstructOptions>& reconstruct_param_table() {
   using O = ReconstructOptions;
   using D = DensityControlOptions;
   using I = InitialiseOptions;
+  using F = FreeSpacePruneOptions;
   static const ParamTable<O> table =
       ParamTable<O>()
           .add("iterations", &O::iterations, "optimisation steps (LangOR: 500)", 1, 1e6)
@@ -313,11 +337,30 @@ const ParamTable<ReconstructOptions>& reconstruct_param_table() {
                "flatness regulariser, mean smallest scale in metres; 0 = off", 0)
           .add("white_background", &O::white_background,
                "render RGB over white (NeRF-synthetic captures, RGBA composited onto white)")
+          .add("random_background", &O::random_background,
+               "train over a random background colour each step, so transparency is never free")
+          .add("opacity_entropy_weight", &O::opacity_entropy_weight,
+               "binary entropy of the opacities, pushing each towards 0 or 1; 0 = off", 0)
           .add("coarse_fraction", &O::coarse_fraction,
                "fraction of the steps trained at half resolution first; 0 = off", 0, 1)
           .add("densify", &O::densify, "clone/split/prune on the compressed schedule")
-          .nest(&O::density, ParamTable<D>().add("max_gaussians", &D::max_gaussians,
-                                                 "Gaussian budget for densification", 1))
+          .nest(&O::density,
+                ParamTable<D>()
+                    .add("max_gaussians", &D::max_gaussians, "Gaussian budget for densification", 1)
+                    .add("prune_opacity", &D::prune_opacity,
+                         "densification rounds prune Gaussians below this opacity", 0, 1))
+          .nest(&O::floaters,
+                ParamTable<F>()
+                    .add("prune_free_space_views", &F::free_space_views,
+                         "densification rounds prune Gaussians whose centre this many training "
+                         "depth priors see as empty space; 0 = off",
+                         0, 255)
+                    .add("prune_min_seen_views", &F::min_seen_views,
+                         "densification rounds prune Gaussians that fewer training views see; 0 "
+                         "= off",
+                         0, 255)
+                    .add("free_space_tolerance", &F::tolerance,
+                         "relative depth margin of the free-space and seen tests", 0, 1))
           .add("feature_dim", &O::feature_dim,
                "feature channels allocated (zero) for later stages, not trained here", 0, 512)
           .nest(&O::init,
@@ -334,6 +377,11 @@ const ParamTable<ReconstructOptions>& reconstruct_param_table() {
                          "initial scale along the depth prior's normal / in-plane scale (1 = "
                          "isotropic)",
                          0.01, 1)
+                    .add("init_scale_factor", &I::scale_factor,
+                         "initial scale = this x the distance to the 3 nearest initial points",
+                         1e-3, 100)
+                    .add("init_scale_distance", &I::scale_distance, neighbour_distance_names(),
+                         "that distance: rms (3DGS) or mean (OpenSplat) of the 3 nearest")
                     .add("random_points", &I::random_points,
                          "init random: points drawn in the volume the training views share", 1, 1e7)
                     .add("random_min_views", &I::random_min_views,

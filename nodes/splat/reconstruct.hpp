@@ -16,6 +16,7 @@
 #include "nodes/scene/gaussian_model.hpp"
 #include "nodes/splat/adam.hpp"
 #include "nodes/splat/density_control.hpp"
+#include "nodes/splat/free_space.hpp"
 #include "nodes/splat/initialise.hpp"
 #include "nodes/splat/view_geometry.hpp"
 
@@ -49,11 +50,16 @@ struct ReconstructOptions {
   // white: over black the model must build a white shell around the object, which a held-out
   // view then sees as haze).
   bool white_background = false;
+  // A new uniformly random background colour every step (overrides white_background in training;
+  // the PSNR records keep black/white): with a fixed background a half-transparent model can
+  // blend towards it for free, with a random one every transparent pixel costs loss.
+  bool random_background = false;
   // Loss weights; 0 switches a term off (ablation). Anchors: DN-Splatter depth 0.2, normal 0.1;
   // [decision] defaults measured in bench/splat_recon.
-  double depth_weight = 0.2;   // depth log-L1 against the depth prior, valid pixels only
-  double normal_weight = 0.1;  // 1 - cos(rendered normal, normal from the depth prior)
-  double scale_weight = 0.01;  // flatness: mean smallest scale (metres)
+  double depth_weight = 0.2;          // depth log-L1 against the depth prior, valid pixels only
+  double normal_weight = 0.1;         // 1 - cos(rendered normal, normal from the depth prior)
+  double scale_weight = 0.01;         // flatness: mean smallest scale (metres)
+  double opacity_entropy_weight = 0;  // binary entropy of the opacities (losses.hpp); 0 = off
   // Coarse-to-fine: the first coarse_fraction of the steps render and compare at half resolution
   // (a quarter of the pixels), the rest at full resolution. 0 = off. [decision] 0.4: on the
   // embedded OR (footprint 12) 86 -> 78 s CPU for 500 steps and train PSNR 29.49 -> 29.99 dB
@@ -61,6 +67,9 @@ struct ReconstructOptions {
   double coarse_fraction = 0.4;
   bool densify = true;
   DensityControlOptions density;
+  // Gaussians pruned at each densification round for sitting in the free space that the training
+  // views' depth priors observe (free_space.hpp); off by default.
+  FreeSpacePruneOptions floaters;
   // Early stop when the mean loss of the last `plateau_window` steps improves on the previous
   // window by less than plateau_tolerance (relative). 0 = off.
   int plateau_window = 0;
@@ -77,7 +86,7 @@ const ParamTable<ReconstructOptions>& reconstruct_param_table();
 
 // Mean of each loss term over the last 10% of the steps (at least one step).
 struct LossSummary {
-  double total = 0, photometric = 0, depth = 0, normal = 0, flatness = 0;
+  double total = 0, photometric = 0, depth = 0, normal = 0, flatness = 0, opacity_entropy = 0;
 };
 
 // Wall seconds spent in each phase of the optimisation loop, summed over the steps (profiling;
@@ -94,6 +103,7 @@ struct PhaseSeconds {
 struct ReconstructResult {
   GaussianModel model;
   size_t initial_gaussians = 0;
+  size_t free_space_pruned = 0;  // Gaussians the free-space rules pruned, over all rounds
   int iterations_run = 0;
   bool stopped_early = false;
   double seconds = 0;  // wall time of initialisation and optimisation

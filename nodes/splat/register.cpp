@@ -30,6 +30,8 @@ void run_reconstruct(NodeContext& ctx, ReconstructOptions o) {
       });
   ctx.record("gaussians", static_cast<double>(r.model.size()));
   ctx.record("initial_gaussians", static_cast<double>(r.initial_gaussians));
+  if (o.floaters.active())
+    ctx.record("free_space_pruned", static_cast<double>(r.free_space_pruned));
   ctx.record("model_bytes",
              static_cast<double>(sizeof(float) *
                                  (r.model.means.size() + r.model.log_scales.size() +
@@ -44,6 +46,8 @@ void run_reconstruct(NodeContext& ctx, ReconstructOptions o) {
   ctx.record("loss_depth", r.final_loss.depth);
   ctx.record("loss_normal", r.final_loss.normal);
   ctx.record("loss_flatness", r.final_loss.flatness);
+  if (o.opacity_entropy_weight > 0)
+    ctx.record("loss_opacity_entropy", r.final_loss.opacity_entropy);
   ctx.record("train_psnr", r.train_psnr);
   if (!std::isnan(r.test_psnr)) ctx.record("test_psnr", r.test_psnr);
   if (r.test_geometry) {

@@ -177,10 +177,22 @@ TEST_CASE("DTU scan 24 workspace: binary sparse/0 is found first") {
   CHECK(c.views.size() == 25);
   CHECK(c.points.size() == 34673);
   CHECK(c.views[0].camera.distortion.size() == 4);
-  // Undistorted by default: a pinhole camera, and images of the same size.
+  // Undistorted by default: a pinhole camera, cropped to the valid rectangle (k1 > 0 leaves
+  // 2-3 px of black along the 400 x 300 border); uncropped, images of the captured size.
   const Capture u = load_capture(test::shared_data("dtu_scan24"), {0, true, 4});
   CHECK(u.views[0].camera.distortion.empty());
-  CHECK(u.views[0].rgb.load().size() == cv::Size(400, 300));
+  CHECK(u.views[0].rgb.load().size() == cv::Size(396, 297));
+  CHECK(u.views[0].camera.width == 396);
+  const cv::Mat rgb = u.views[0].rgb.load();
+  CHECK(rgb.at<cv::Vec3b>(0, 0) != cv::Vec3b(0, 0, 0));  // the corners have a source
+  CHECK(rgb.at<cv::Vec3b>(296, 395) != cv::Vec3b(0, 0, 0));
+  CaptureOptions uncropped{0, true, 4};
+  uncropped.undistort_crop = false;
+  const Capture k = load_capture(test::shared_data("dtu_scan24"), uncropped);
+  CHECK(k.views[0].rgb.load().size() == cv::Size(400, 300));
+  const cv::Mat black = k.views[0].rgb.load();  // corners mapped from outside the photo
+  CHECK(black.at<cv::Vec3b>(0, 0) == cv::Vec3b(0, 0, 0));
+  CHECK(black.at<cv::Vec3b>(299, 399) == cv::Vec3b(0, 0, 0));
 }
 
 TEST_CASE("NeRF lego and instant-ngp fox") {

@@ -24,6 +24,14 @@ Eigen::Vector2d centroid(const cv::Mat& rgb) {
   return {sx / sum, sy / sum};
 }
 
+CaptureOptions reading(bool undistort, bool crop = false, int downscale = 1) {
+  CaptureOptions o;
+  o.undistort = undistort;
+  o.undistort_crop = crop;
+  o.downscale = downscale;
+  return o;
+}
+
 }  // namespace
 
 TEST_CASE("undistortion moves a point to its ideal pinhole projection") {
@@ -48,14 +56,43 @@ TEST_CASE("undistortion moves a point to its ideal pinhole projection") {
   write_rgb_png(dir / "v.png", rgb);
   f.rgb = dir / "v.png";
 
-  const View raw = make_view(f, 1, false);
+  const View raw = make_view(f, reading(false));
   CHECK(raw.camera.distortion.size() == 4);
   CHECK((centroid(raw.rgb.load()) - distorted).norm() < 0.1);
 
-  const View v = make_view(f, 1, true);
+  const View v = make_view(f, reading(true));
   CHECK(v.camera.distortion.empty());
   CHECK(v.camera.fx == 50);
   CHECK((centroid(v.rgb.load()) - ideal).norm() < 0.15);
+
+  // Cropped to the valid rectangle: same focal length, the principal point and the point moved
+  // by the crop's corner, and no pixel left black for want of a source.
+  const cv::Rect r = undistorted_valid_rect(f.camera);
+  CHECK(r.x > 0);
+  CHECK(r.y > 0);
+  CHECK(r.br().x < 64);
+  CHECK(r.br().y < 48);
+  const View cropped = make_view(f, reading(true, true));
+  CHECK(cropped.camera.width == r.width);
+  CHECK(cropped.camera.height == r.height);
+  CHECK(cropped.camera.fx == 50);
+  CHECK(cropped.camera.cx == 32 - r.x);
+  CHECK((centroid(cropped.rgb.load()) - (ideal - Eigen::Vector2d(r.x, r.y))).norm() < 0.15);
+  write_rgb_png(dir / "white.png", cv::Mat(48, 64, CV_8UC3, cv::Scalar::all(255)));
+  f.rgb = dir / "white.png";
+  double lowest = 0;
+  cv::minMaxLoc(make_view(f, reading(true, true)).rgb.load().reshape(1), &lowest);
+  CHECK(lowest == 255);
+  // Uncropped, the corners are black: the pixels the crop removes.
+  cv::minMaxLoc(make_view(f, reading(true, false)).rgb.load().reshape(1), &lowest);
+  CHECK(lowest == 0);
+  // With a downscale the crop is a multiple of it, and the view its scaled camera.
+  const View half = make_view(f, reading(true, true, 2));
+  const cv::Rect r2 = undistorted_valid_rect(f.camera, 2);
+  CHECK(r2.width % 2 == 0);
+  CHECK(r2.height % 2 == 0);
+  CHECK(half.rgb.load().size() == cv::Size(r2.width / 2, r2.height / 2));
+  CHECK(half.camera.width == r2.width / 2);
 }
 
 TEST_CASE("views check every file's size when it is loaded") {
@@ -69,7 +106,7 @@ TEST_CASE("views check every file's size when it is loaded") {
   f.gt_instance = dir / "ids.png";
   write_rgb_png(f.rgb, cv::Mat(2, 4, CV_8UC3, cv::Scalar::all(1)));
   write_label_png16(f.gt_instance, cv::Mat1i(3, 4, 5));
-  const View v = make_view(f, 1, true);  // nothing is read yet
+  const View v = make_view(f, reading(true));  // nothing is read yet
   CHECK(v.rgb.load().size() == cv::Size(4, 2));
   CHECK_THROWS_WITH(v.gt_instance.load(), Contains("ids.png") && Contains("4 x 3"));
   CHECK_FALSE(v.depth.present());

@@ -180,3 +180,19 @@ TEST_CASE("density steps follow the compressed schedule") {
     if (is_density_step(o, s, 500)) steps.push_back(s);
   CHECK(steps == std::vector<int>{100, 150, 200, 250, 300});
 }
+
+TEST_CASE("initial scale: RMS (3DGS) or mean (OpenSplat) distance to the 3 nearest points") {
+  // The origin's neighbours lie at 1, 2 and 2: RMS sqrt(9 / 3) = sqrt(3), mean 5 / 3.
+  ColouredPoints points;
+  points.xyz = {{0, 0, 0}, {1, 0, 0}, {0, 2, 0}, {0, 0, 2}};
+  points.rgb.assign(4, Eigen::Vector3d(0.5, 0.5, 0.5));
+  InitialiseOptions options;
+  options.scale_factor = 0.5;
+  const GaussianModel rms = gaussians_from_points(points, 0, options);
+  CHECK(std::exp(rms.log_scales[0]) == Approx(0.5 * std::sqrt(3.0)).epsilon(1e-6));
+  options.scale_distance = NeighbourDistance::Mean;
+  options.scale_factor = 1;
+  const GaussianModel mean = gaussians_from_points(points, 0, options);
+  CHECK(std::exp(mean.log_scales[0]) == Approx(5.0 / 3).epsilon(1e-6));
+  CHECK(mean.log_scales[0] == mean.log_scales[2]);  // no normals: isotropic
+}

@@ -250,3 +250,25 @@ TEST_CASE("smoothing a noisy depth prior brings its normals back to the surface'
   // A longer baseline averages the noise too.
   CHECK(normal_cosine_loss(normals_from_depth(depth, cam, Pose(), 0.1, 4), exact) < 0.5 * raw);
 }
+
+TEST_CASE("opacity entropy: binary entropy of sigmoid(logit), gradient by finite differences") {
+  // o = 0.5 (logit 0): ln 2 and a zero gradient; o = sigmoid(2) and sigmoid(-30) by hand.
+  const std::vector<float> logits = {0.f, 2.f, -30.f};
+  const double o1 = 1 / (1 + std::exp(-2.0));
+  const double h1 = -o1 * std::log(o1) - (1 - o1) * std::log(1 - o1);
+  const double o2 = 1 / (1 + std::exp(30.0));
+  const double h2 = -o2 * std::log(o2) - (1 - o2) * std::log1p(-o2);  // about 31 e^-30
+  std::vector<float> grad;
+  CHECK(opacity_entropy_loss(logits, &grad) == Approx((std::log(2.0) + h1 + h2) / 3).epsilon(1e-9));
+  CHECK(h2 == Approx(31 * std::exp(-30.0)).epsilon(1e-6));
+  CHECK(grad[0] == 0.f);
+  CHECK(grad[1] < 0.f);  // towards opaque: the logit grows under gradient descent
+  for (size_t i = 0; i < 2; ++i) {
+    std::vector<float> up = logits, down = logits;
+    up[i] += 1e-3f;
+    down[i] -= 1e-3f;
+    CHECK((opacity_entropy_loss(up) - opacity_entropy_loss(down)) / 2e-3 ==
+          Approx(grad[i]).margin(1e-5));
+  }
+  CHECK(opacity_entropy_loss({}) == 0);
+}

@@ -1,0 +1,58 @@
+// Multi-view free-space consistency of Gaussians (issue 11's first lever; the idea of the
+// multi-view-consistent pruning in fast sparse-view 3DGS recipes): every training view with a
+// depth prior says which space is empty, namely the stretch of each pixel's ray in front of the
+// surface it observed. A Gaussian whose centre sits in that empty stretch in some training view
+// is drawn there as a floater by any other camera, however well it fits the views it was
+// trained on (behind a surface, or seen along the ray it blends into, it costs them nothing).
+// Gaussians that only one training view ever sees are under-constrained for the same reason.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "nodes/scene/camera.hpp"
+#include "nodes/scene/gaussian_model.hpp"
+
+namespace gslift {
+
+// One training view's depth observation (CV_32FC1 metres, 0 or non-finite = none), borrowed.
+struct DepthObservation {
+  const Camera* camera = nullptr;
+  const Pose* pose = nullptr;
+  cv::Mat1f depth;
+};
+
+// Per Gaussian: the number of views whose observed free space holds its centre, and the number
+// of views that see it (in free space or on the observed surface, not hidden behind it).
+struct FreeSpaceCounts {
+  std::vector<uint8_t> in_free_space;
+  std::vector<uint8_t> seen;
+};
+
+// The centre x (camera depth z, pixel (u, v)) of a Gaussian is tested against the observed depths
+// D of the 3x3 pixels around (u, v): it lies in free space when z < (1 - tolerance) min D, and is
+// seen when z <= (1 + tolerance) max D. The 3x3 minimum keeps a Gaussian on an object's silhouette
+// (whose own pixel may observe the wall behind it) out of free space; pixels without a depth are
+// left out, and a centre whose window has none is neither. Counts saturate at 255. Parallel over
+// Gaussians; deterministic.
+FreeSpaceCounts free_space_counts(const GaussianModel& model,
+                                  const std::vector<DepthObservation>& views, double tolerance);
+
+// When to prune by these counts (0 switches a rule off).
+struct FreeSpacePruneOptions {
+  // Prune a Gaussian whose centre at least this many training views see as empty space.
+  int free_space_views = 0;
+  // Prune a Gaussian that fewer than this many training views see.
+  int min_seen_views = 0;
+  // Relative depth tolerance of both tests: the depth prior's noise and the Gaussians' extent.
+  double tolerance = 0.1;
+  bool active() const { return free_space_views > 0 || min_seen_views > 0; }
+};
+
+// 1 for the Gaussians the options prune, else 0.
+std::vector<char> free_space_prune_mask(const FreeSpaceCounts& counts,
+                                        const FreeSpacePruneOptions& options);
+
+}  // namespace gslift
