@@ -167,6 +167,34 @@ double flatness_loss(const std::vector<float>& log_scales, std::vector<float>* g
   return sum / static_cast<double>(n);
 }
 
+double masked_l1_loss(const cv::Mat& rendered, const cv::Mat& target, const cv::Mat1b& mask,
+                      cv::Mat* grad) {
+  if (rendered.type() != target.type() || rendered.size() != target.size() ||
+      mask.size() != rendered.size() || rendered.depth() != CV_32F)
+    throw std::invalid_argument("masked_l1_loss: rendered, target and mask must match");
+  const int channels = rendered.channels();
+  const double count = static_cast<double>(cv::countNonZero(mask)) * channels;
+  if (grad) *grad = cv::Mat::zeros(rendered.size(), rendered.type());
+  if (count == 0) return 0;
+  double sum = 0;
+  for (int y = 0; y < rendered.rows; ++y) {
+    const float* r = rendered.ptr<float>(y);
+    const float* t = target.ptr<float>(y);
+    const uchar* m = mask.ptr<uchar>(y);
+    float* g = grad ? grad->ptr<float>(y) : nullptr;
+    for (int x = 0; x < rendered.cols; ++x) {
+      if (!m[x]) continue;
+      for (int c = 0; c < channels; ++c) {
+        const float d = r[x * channels + c] - t[x * channels + c];
+        sum += std::abs(d);
+        if (g)
+          g[x * channels + c] = static_cast<float>((d > 0) - (d < 0)) / static_cast<float>(count);
+      }
+    }
+  }
+  return sum / count;
+}
+
 double opacity_entropy_loss(const std::vector<float>& opacity_logits, std::vector<float>* grad) {
   const size_t n = opacity_logits.size();
   if (grad) grad->assign(n, 0.f);

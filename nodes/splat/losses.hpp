@@ -25,6 +25,13 @@ PhotometricLoss photometric_loss(const cv::Mat& rendered, const SsimTarget& targ
 PhotometricLoss photometric_loss(const cv::Mat& rendered, const cv::Mat& target, double ssim_lambda,
                                  cv::Mat* grad = nullptr);
 
+// Mean absolute difference over the pixels of `mask` (CV_8U, non-zero = counted) and the channels:
+// the photometric loss of a pseudo-view, whose warped target exists only where the warp landed
+// (pseudo_views.hpp). rendered and target of one type (any float channel count). grad receives
+// dL/d(rendered), zero outside the mask. 0 when the mask is empty.
+double masked_l1_loss(const cv::Mat& rendered, const cv::Mat& target, const cv::Mat1b& mask,
+                      cv::Mat* grad = nullptr);
+
 // DN-Splatter depth loss: mean over valid pixels (target > 0 and finite) of log(1 + |d_hat - d|).
 // Both CV_32FC1 metres. Returns 0 (and a zero gradient) when no pixel is valid.
 double depth_log_l1_loss(const cv::Mat& rendered, const cv::Mat& target, cv::Mat* grad = nullptr);

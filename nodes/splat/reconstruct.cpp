@@ -117,7 +117,23 @@ std::vector<float> scaled_vector(const cv::Mat& m, double weight) {
   return out;
 }
 
+// The mean colour of the training images (full resolution).
+Eigen::Vector3f mean_colour(const std::vector<TrainTarget>& targets) {
+  cv::Scalar sum;
+  for (const TrainTarget& t : targets) sum += cv::mean(t.full.rgb);
+  const double n = static_cast<double>(targets.size());
+  return Eigen::Vector3f(float(sum[0] / n), float(sum[1] / n), float(sum[2] / n));
+}
+
 }  // namespace
+
+const EnumNames<Background>& background_names() {
+  static const EnumNames<Background> names = {{Background::Black, "black"},
+                                              {Background::White, "white"},
+                                              {Background::Random, "random"},
+                                              {Background::Mean, "mean"}};
+  return names;
+}
 
 double psnr(const cv::Mat& rendered, const cv::Mat& target_rgb8, const cv::Mat1b& mask) {
   cv::Mat clamped, target;
@@ -152,8 +168,8 @@ ReconstructResult reconstruct(const Capture& capture, const ReconstructOptions& 
   ReconstructResult result;
   PhaseClock clock;
   PhaseSeconds& phases = result.phases;
-  const Eigen::Vector3f background =
-      options.white_background ? Eigen::Vector3f::Ones() : Eigen::Vector3f::Zero();
+  // The background of the records (and of training unless random).
+  Eigen::Vector3f background = Eigen::Vector3f::Zero();
   InitialiseOptions init = options.init;
   init.sh_degree = options.sh_degree;
   init.feature_dim = options.feature_dim;
@@ -168,6 +184,9 @@ ReconstructResult reconstruct(const Capture& capture, const ReconstructOptions& 
   for (int v : train)
     targets.push_back(make_target(capture.views[v], options.normal_weight > 0, coarse_steps > 0));
 
+  if (options.background == Background::White) background = Eigen::Vector3f::Ones();
+  if (options.background == Background::Mean) background = mean_colour(targets);
+
   const int K = GaussianModel::sh_coeffs(options.sh_degree);
   ModelOptimiser adam(K * 3, options.adam);
   const LearningRates& lr = options.rates;
@@ -179,6 +198,17 @@ ReconstructResult reconstruct(const Capture& capture, const ReconstructOptions& 
   for (const TrainTarget& t : targets)
     if (!t.full.depth.empty())
       observations.push_back({&t.view->camera, &t.view->pose, t.full.depth});
+
+  // Pseudo-views between the training cameras, warped from their images through the depth prior.
+  std::vector<PseudoView> pseudo;
+  if (options.pseudo_weight > 0) {
+    std::vector<WarpSource> sources;
+    for (const TrainTarget& t : targets)
+      if (!t.full.depth.empty())
+        sources.push_back({&t.view->camera, &t.view->pose, t.full.rgb, t.full.depth});
+    pseudo = pseudo_views_between(sources, options.pseudo_max_angle, 0.5);
+  }
+  result.pseudo_views = pseudo.size();
 
   DensityStats stats;
   ModelGrads grads;
@@ -203,7 +233,7 @@ ReconstructResult reconstruct(const Capture& capture, const ReconstructOptions& 
 
     RenderSettings settings;
     settings.background = background;
-    if (options.random_background)
+    if (options.background == Background::Random)
       for (int c = 0; c < 3; ++c)
         settings.background[c] = static_cast<float>(background_rng.uniform());
     settings.sh_degree = std::min(options.sh_degree, step / std::max(options.sh_interval, 1));
@@ -233,6 +263,26 @@ ReconstructResult reconstruct(const Capture& capture, const ReconstructOptions& 
     clock.charge(phases.losses);
     grads.reset(model);
     render_backward(model, target.camera, view.pose, settings, out, rgrads, grads);
+    if (!pseudo.empty() && step % std::max(options.pseudo_every, 1) == 0) {
+      const PseudoView& p = pseudo[(step / std::max(options.pseudo_every, 1)) % pseudo.size()];
+      RenderSettings ps = settings;
+      ps.depth = options.depth_weight > 0;
+      ps.normal = false;
+      RenderOutput po = render(model, p.camera, p.pose, ps);
+      clock.charge(phases.render);
+      RenderGrads pg;
+      loss.pseudo =
+          masked_l1_loss(wrap(po.rgb, po.height, po.width, CV_32FC3), p.rgb, p.valid, &grad);
+      pg.rgb = scaled_vector(grad, options.pseudo_weight);
+      if (ps.depth) {
+        loss.pseudo +=
+            options.depth_weight *
+            depth_log_l1_loss(wrap(po.depth, po.height, po.width, CV_32FC1), p.depth, &grad);
+        pg.depth = scaled_vector(grad, options.pseudo_weight * options.depth_weight);
+      }
+      clock.charge(phases.losses);
+      render_backward(model, p.camera, p.pose, ps, po, pg, grads);
+    }
     clock.charge(phases.backward);
     if (options.scale_weight > 0) {
       loss.flatness = flatness_loss(model.log_scales, &flatness_grad);
@@ -247,7 +297,8 @@ ReconstructResult reconstruct(const Capture& capture, const ReconstructOptions& 
     }
     loss.total = loss.photometric + options.depth_weight * loss.depth +
                  options.normal_weight * loss.normal + options.scale_weight * loss.flatness +
-                 options.opacity_entropy_weight * loss.opacity_entropy;
+                 options.opacity_entropy_weight * loss.opacity_entropy +
+                 options.pseudo_weight * loss.pseudo;
     clock.charge(phases.losses);
     history.push_back(loss);
     result.loss_history.push_back(loss.total);
@@ -302,6 +353,7 @@ ReconstructResult reconstruct(const Capture& capture, const ReconstructOptions& 
     result.final_loss.normal += history[i].normal / tail;
     result.final_loss.flatness += history[i].flatness / tail;
     result.final_loss.opacity_entropy += history[i].opacity_entropy / tail;
+    result.final_loss.pseudo += history[i].pseudo / tail;
   }
   result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   result.train_psnr = mean_psnr(model, capture, train, background);
@@ -335,15 +387,19 @@ const ParamTable<ReconstructOptions>& reconstruct_param_table() {
                "1 - cos between rendered normals and depth-prior normals; 0 = off", 0)
           .add("scale_weight", &O::scale_weight,
                "flatness regulariser, mean smallest scale in metres; 0 = off", 0)
-          .add("white_background", &O::white_background,
-               "render RGB over white (NeRF-synthetic captures, RGBA composited onto white)")
-          .add("random_background", &O::random_background,
-               "train over a random background colour each step, so transparency is never free")
+          .add("background", &O::background, background_names(),
+               "rendered behind the model in training and records: black, white (NeRF-synthetic "
+               "captures), random (a new colour each step, records over black), mean (the "
+               "training images' mean colour, the best guess for what no view saw)")
           .add("opacity_entropy_weight", &O::opacity_entropy_weight,
                "binary entropy of the opacities, pushing each towards 0 or 1; 0 = off", 0)
           .add("coarse_fraction", &O::coarse_fraction,
                "fraction of the steps trained at half resolution first; 0 = off", 0, 1)
           .add("densify", &O::densify, "clone/split/prune on the compressed schedule")
+          .add("pseudo_weight", &O::pseudo_weight,
+               "weight of the depth-warped pseudo-views between training cameras; 0 = off", 0)
+          .add("pseudo_every", &O::pseudo_every, "a pseudo-view joins every this many steps", 1,
+               1000)
           .nest(&O::density,
                 ParamTable<D>()
                     .add("max_gaussians", &D::max_gaussians, "Gaussian budget for densification", 1)

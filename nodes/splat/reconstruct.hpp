@@ -18,6 +18,7 @@
 #include "nodes/splat/density_control.hpp"
 #include "nodes/splat/free_space.hpp"
 #include "nodes/splat/initialise.hpp"
+#include "nodes/splat/pseudo_views.hpp"
 #include "nodes/splat/view_geometry.hpp"
 
 namespace gslift {
@@ -37,6 +38,9 @@ struct LearningRates {
   double rotation = 1e-3;
 };
 
+enum class Background { Black, White, Random, Mean };
+const EnumNames<Background>& background_names();  // black, white, random, mean
+
 struct ReconstructOptions {
   int iterations = 500;  // LangOR: 500
   // Highest SH degree; training starts at 0 and adds one degree every sh_interval steps (3DGS
@@ -45,21 +49,30 @@ struct ReconstructOptions {
   int sh_interval = 100;
   int feature_dim = 0;       // feature channels allocated (zero) for later stages; not trained here
   double ssim_lambda = 0.2;  // photometric (1 - lambda) L1 + lambda D-SSIM
-  // Render RGB over white instead of black, in training and in the PSNR records (3DGS's
-  // --white_background, for NeRF-synthetic captures, whose RGBA images ingest composites onto
-  // white: over black the model must build a white shell around the object, which a held-out
-  // view then sees as haze).
-  bool white_background = false;
-  // A new uniformly random background colour every step (overrides white_background in training;
-  // the PSNR records keep black/white): with a fixed background a half-transparent model can
-  // blend towards it for free, with a random one every transparent pixel costs loss.
-  bool random_background = false;
+  // What the model is rendered over, in training and in the PSNR records.
+  //  black: 3DGS's default.
+  //  white: 3DGS's --white_background, for NeRF-synthetic captures, whose RGBA images ingest
+  //    composites onto white: over black the model must build a white shell around the object,
+  //    which a held-out view then sees as haze.
+  //  random: a new uniformly random colour every training step, so that a half-transparent model
+  //    can never blend towards a known background for free; records over black.
+  //  mean: the mean colour of the training images. A held-out view shows surfaces no training
+  //    view saw (a fifth of the embedded OR's held-out view): nothing can reconstruct them, and
+  //    the mean colour is the estimate of their colour with the least expected squared error,
+  //    where black is about the worst (docs: bench/splat_recon/README.md).
+  Background background = Background::Black;
   // Loss weights; 0 switches a term off (ablation). Anchors: DN-Splatter depth 0.2, normal 0.1;
   // [decision] defaults measured in bench/splat_recon.
   double depth_weight = 0.2;          // depth log-L1 against the depth prior, valid pixels only
   double normal_weight = 0.1;         // 1 - cos(rendered normal, normal from the depth prior)
   double scale_weight = 0.01;         // flatness: mean smallest scale (metres)
   double opacity_entropy_weight = 0;  // binary entropy of the opacities (losses.hpp); 0 = off
+  // Depth-warped pseudo-views (pseudo_views.hpp): every pseudo_every-th step also renders one of
+  // the half-resolution views between two training cameras (in turn) and adds pseudo_weight x
+  // (masked L1 + depth_weight x depth log-L1) against the warped training images. 0 = off.
+  double pseudo_weight = 0;
+  int pseudo_every = 4;
+  double pseudo_max_angle = 100;  // degrees between the optical axes of a pair
   // Coarse-to-fine: the first coarse_fraction of the steps render and compare at half resolution
   // (a quarter of the pixels), the rest at full resolution. 0 = off. [decision] 0.4: on the
   // embedded OR (footprint 12) 86 -> 78 s CPU for 500 steps and train PSNR 29.49 -> 29.99 dB
@@ -86,7 +99,8 @@ const ParamTable<ReconstructOptions>& reconstruct_param_table();
 
 // Mean of each loss term over the last 10% of the steps (at least one step).
 struct LossSummary {
-  double total = 0, photometric = 0, depth = 0, normal = 0, flatness = 0, opacity_entropy = 0;
+  double total = 0, photometric = 0, depth = 0, normal = 0, flatness = 0, opacity_entropy = 0,
+         pseudo = 0;
 };
 
 // Wall seconds spent in each phase of the optimisation loop, summed over the steps (profiling;
@@ -104,6 +118,7 @@ struct ReconstructResult {
   GaussianModel model;
   size_t initial_gaussians = 0;
   size_t free_space_pruned = 0;  // Gaussians the free-space rules pruned, over all rounds
+  size_t pseudo_views = 0;       // pseudo-views trained on (pseudo_weight > 0)
   int iterations_run = 0;
   bool stopped_early = false;
   double seconds = 0;  // wall time of initialisation and optimisation

@@ -46,6 +46,10 @@ void run_reconstruct(NodeContext& ctx, ReconstructOptions o) {
   ctx.record("loss_depth", r.final_loss.depth);
   ctx.record("loss_normal", r.final_loss.normal);
   ctx.record("loss_flatness", r.final_loss.flatness);
+  if (o.pseudo_weight > 0) {
+    ctx.record("pseudo_views", static_cast<double>(r.pseudo_views));
+    ctx.record("loss_pseudo", r.final_loss.pseudo);
+  }
   if (o.opacity_entropy_weight > 0)
     ctx.record("loss_opacity_entropy", r.final_loss.opacity_entropy);
   ctx.record("train_psnr", r.train_psnr);

@@ -111,7 +111,7 @@ TEST_CASE("a capture with neither points nor depth reconstructs from random poin
   REQUIRE(capture.points.size() == 0u);
   ReconstructOptions o;
   o.iterations = 300;
-  o.white_background = true;  // ingest composites the RGBA renders onto white
+  o.background = Background::White;  // ingest composites the RGBA renders onto white
   const ReconstructResult r = reconstruct(capture, o);
   CHECK(r.initial_gaussians == 20000u);
   // Measured 22.9 / 14.3 dB (3 s on 2 cores); over black instead of white the model builds a
