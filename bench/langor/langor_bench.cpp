@@ -3,13 +3,18 @@
 //   bench_langor [--seeds N] [--variants langor,no_geometry,...] [--out DIR] [--set NODE.P=V]...
 //                [--capture "&width=320&height=240"] [--no-timing] [--query-graph GRAPH]
 //
+// A variant is a graph (langor or an ablation's file name) optionally followed by its own sets:
+// "langor+recon.pseudo_weight=0.1+recon.background=mean" is langor.yaml with those two params
+// (a reconstruction lever of the held-out geometry sweep, bench/splat_recon/README.md).
+//
 // Accuracy: runs graphs/langor.yaml and each ablation (graphs/ablations/*.yaml) with the gslift
 // executable on embedded:or?seed=S for S = 0..N-1 (default 5; default difficulty), one child
 // process per run so that each run's peak memory (wait4 ru_maxrss) is its own; reads mIoU,
-// mLocAcc, mAcc from the run's run.json. Query speed: runs the full graph once in this process
-// (seed 0) and times text queries (instance selection + one mask of the held-out view) on its
-// segmented scene. Writes langor.json, langor.csv and langor.svg into --out (default
-// bench/results).
+// mLocAcc, mAcc from the run's run.json, and the reconstruction's held-out geometry records
+// (test_psnr, test_psnr_covered, test_floaters, ...) from its recon node. Query speed: runs the
+// full graph once in this process (seed 0) and times text queries (instance selection + one mask of
+// the held-out view) on its segmented scene. Writes langor.json, langor.csv and langor.svg into
+// --out (default bench/results).
 #include <spawn.h>
 #include <sys/resource.h>
 #include <sys/wait.h>
@@ -20,6 +25,7 @@
 #include <cstdio>
 #include <fstream>
 #include <iostream>
+#include <map>
 #include <sstream>
 #include <string>
 #include <thread>
@@ -42,8 +48,23 @@ namespace fs = std::filesystem;
 namespace {
 
 const char* kMetrics[] = {"mIoU", "mLocAcc", "mAcc", "mLocAcc_box", "mIoU_class"};
+// splat.reconstruct's records (node id "recon"): held-out geometry (view_geometry.hpp).
+const char* kReconMetrics[] = {
+    "train_psnr",    "test_psnr",  "test_psnr_covered",  "test_coverage",
+    "test_floaters", "test_holes", "test_holes_covered", "test_depth_abs_rel_median",
+    "gaussians"};
 
-fs::path variant_graph(const std::string& v) {
+// "graph+NODE.P=V+..." -> the graph's name and the variant's own sets.
+std::pair<std::string, std::vector<std::string>> split_variant(const std::string& v) {
+  std::vector<std::string> parts;
+  std::stringstream list(v);
+  for (std::string p; std::getline(list, p, '+');) parts.push_back(p);
+  if (parts.empty()) return {v, {}};
+  return {parts[0], std::vector<std::string>(parts.begin() + 1, parts.end())};
+}
+
+fs::path variant_graph(const std::string& variant) {
+  const std::string v = split_variant(variant).first;
   const fs::path src(GSLIFT_SOURCE_DIR);
   return v == "langor" ? src / "graphs/langor.yaml" : src / "graphs/ablations" / (v + ".yaml");
 }
@@ -58,7 +79,10 @@ struct RunStats {
 // One child `gslift run`; its own peak RSS comes from wait4.
 RunStats run_child(const std::string& variant, int seed, const std::string& capture_settings,
                    const std::vector<std::string>& sets, const fs::path& scratch) {
-  const fs::path out = scratch / (variant + "_seed" + std::to_string(seed));
+  std::string folder = variant;  // the variant's name with its sets, as a folder name
+  std::replace_if(
+      folder.begin(), folder.end(), [](char c) { return c == '/' || c == '='; }, '_');
+  const fs::path out = scratch / (folder + "_seed" + std::to_string(seed));
   fs::remove_all(out);
   std::vector<std::string> args = {GSLIFT_BINARY,
                                    "run",
@@ -69,7 +93,9 @@ RunStats run_child(const std::string& variant, int seed, const std::string& capt
                                    out.string(),
                                    "--log-level",
                                    "warn"};
-  for (const auto& s : sets) {
+  std::vector<std::string> all_sets = sets;
+  for (const auto& s : split_variant(variant).second) all_sets.push_back(s);
+  for (const auto& s : all_sets) {
     args.push_back("--set");
     args.push_back(s);
   }
@@ -92,10 +118,15 @@ RunStats run_child(const std::string& variant, int seed, const std::string& capt
   if (!in) return r;
   const nlohmann::json run = nlohmann::json::parse(in);
   r.ok = run["run"]["status"] == "ok";
-  for (const auto& node : run["nodes"])
+  for (const auto& node : run["nodes"]) {
     if (node["id"] == "eval")
       for (const char* m : kMetrics)
         if (node["records"].contains(m)) r.metrics[m] = node["records"][m].get<double>();
+    if (node["id"] == "recon")
+      for (const char* m : kReconMetrics)
+        if (node["records"].contains(m) && node["records"][m].is_number())
+          r.metrics[m] = node["records"][m].get<double>();
+  }
   if (r.ok) r.wall_s = run["run"]["total_s"].get<double>();  // the pipeline without process start
   return r;
 }
@@ -264,7 +295,9 @@ int main(int argc, char** argv) {
   const fs::path scratch = fs::temp_directory_path() / "gslift_bench_langor";
   nlohmann::json results = nlohmann::json::array();
   std::ostringstream csv;
-  csv << "variant,seed,ok,mIoU,mLocAcc,mAcc,mLocAcc_box,mIoU_class,wall_s,peak_mb\n";
+  csv << "variant,seed,ok,mIoU,mLocAcc,mAcc,mLocAcc_box,mIoU_class,wall_s,peak_mb";
+  for (const char* m : kReconMetrics) csv << ',' << m;
+  csv << '\n';
   for (const auto& variant : variants) {
     std::map<std::string, std::vector<double>> series;
     nlohmann::json runs = nlohmann::json::array();
@@ -276,7 +309,10 @@ int main(int argc, char** argv) {
       csv << variant << ',' << seed << ',' << r.ok;
       for (const char* m : kMetrics)
         csv << ',' << (r.metrics.count(m) ? std::to_string(r.metrics.at(m)) : "");
-      csv << ',' << r.wall_s << ',' << r.peak_mb << '\n';
+      csv << ',' << r.wall_s << ',' << r.peak_mb;
+      for (const char* m : kReconMetrics)
+        csv << ',' << (r.metrics.count(m) ? std::to_string(r.metrics.at(m)) : "");
+      csv << '\n';
       nlohmann::json run = {
           {"seed", seed}, {"ok", r.ok}, {"wall_s", r.wall_s}, {"peak_mb", r.peak_mb}};
       for (const auto& [k, v] : r.metrics) run[k] = v;
@@ -288,8 +324,11 @@ int main(int argc, char** argv) {
     }
     nlohmann::json entry = {
         {"variant", variant}, {"graph", variant_graph(variant).filename()}, {"runs", runs}};
-    for (const char* k :
-         {"mIoU", "mLocAcc", "mAcc", "mLocAcc_box", "mIoU_class", "wall_s", "peak_mb"}) {
+    std::vector<std::string> keys = {"mIoU",       "mLocAcc", "mAcc",   "mLocAcc_box",
+                                     "mIoU_class", "wall_s",  "peak_mb"};
+    keys.insert(keys.end(), std::begin(kReconMetrics), std::end(kReconMetrics));
+    for (const std::string& k : keys) {
+      if (!series.count(k)) continue;
       const auto [m, s] = mean_std(series[k]);
       entry[k] = {{"mean", std::isnan(m) ? nlohmann::json() : nlohmann::json(m)},
                   {"std", std::isnan(s) ? nlohmann::json() : nlohmann::json(s)}};

@@ -106,6 +106,17 @@ nlohmann::json run_case(const Case& c, int repeat) {
   j["gaussians_final"] = r.model.size();
   j["train_psnr"] = r.train_psnr;
   j["test_psnr"] = std::isnan(r.test_psnr) ? nlohmann::json() : nlohmann::json(r.test_psnr);
+  if (r.test_geometry) {  // held-out geometry against ground-truth depth (view_geometry.hpp)
+    const ViewGeometry& g = *r.test_geometry;
+    auto number = [](double v) { return std::isnan(v) ? nlohmann::json() : nlohmann::json(v); };
+    j["test_geometry"] = {{"psnr_covered", number(g.psnr_covered)},
+                          {"coverage", number(g.coverage)},
+                          {"depth_abs_rel_median", number(g.depth_abs_rel_median)},
+                          {"depth_within_5pct", number(g.depth_within_5pct)},
+                          {"floaters", number(g.floaters)},
+                          {"holes", number(g.holes)},
+                          {"holes_covered", number(g.holes_covered)}};
+  }
   j["final_loss"] = {{"total", r.final_loss.total},
                      {"photometric", r.final_loss.photometric},
                      {"depth", r.final_loss.depth},
