@@ -49,10 +49,10 @@ namespace {
 
 const char* kMetrics[] = {"mIoU", "mLocAcc", "mAcc", "mLocAcc_box", "mIoU_class"};
 // splat.reconstruct's records (node id "recon"): held-out geometry (view_geometry.hpp).
-const char* kReconMetrics[] = {
-    "train_psnr",    "test_psnr",  "test_psnr_covered",  "test_coverage",
-    "test_floaters", "test_holes", "test_holes_covered", "test_depth_abs_rel_median",
-    "gaussians"};
+const char* kReconMetrics[] = {"train_psnr",    "test_psnr",          "test_psnr_covered",
+                               "test_coverage", "test_floaters",      "test_floaters_covered",
+                               "test_holes",    "test_holes_covered", "test_depth_abs_rel_median",
+                               "gaussians"};
 
 // "graph+NODE.P=V+..." -> the graph's name and the variant's own sets.
 std::pair<std::string, std::vector<std::string>> split_variant(const std::string& v) {

@@ -114,6 +114,7 @@ nlohmann::json run_case(const Case& c, int repeat) {
                           {"depth_abs_rel_median", number(g.depth_abs_rel_median)},
                           {"depth_within_5pct", number(g.depth_within_5pct)},
                           {"floaters", number(g.floaters)},
+                          {"floaters_covered", number(g.floaters_covered)},
                           {"holes", number(g.holes)},
                           {"holes_covered", number(g.holes_covered)}};
   }

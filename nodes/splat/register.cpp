@@ -63,6 +63,7 @@ void run_reconstruct(NodeContext& ctx, ReconstructOptions o) {
         {"test_depth_abs_rel_median", g.depth_abs_rel_median},
         {"test_depth_within_5pct", g.depth_within_5pct},
         {"test_floaters", g.floaters},
+        {"test_floaters_covered", g.floaters_covered},
         {"test_holes", g.holes},
         {"test_holes_covered", g.holes_covered}};
     for (const auto& [key, value] : geometry)

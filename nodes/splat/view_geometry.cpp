@@ -75,7 +75,8 @@ ViewGeometry view_geometry(const GaussianModel& model, const Capture& capture, i
   ViewGeometry g;
   g.psnr = psnr(rgb, target);
   g.psnr_covered = psnr(rgb, target, covered);
-  double surface = 0, n_covered = 0, within = 0, floaters = 0, holes = 0, holes_covered = 0;
+  double surface = 0, n_covered = 0, within = 0, floaters = 0, floaters_covered = 0, holes = 0,
+         holes_covered = 0;
   std::vector<double> abs_rel;
   for (int y = 0; y < truth.rows; ++y)
     for (int x = 0; x < truth.cols; ++x) {
@@ -93,12 +94,14 @@ ViewGeometry view_geometry(const GaussianModel& model, const Capture& capture, i
       abs_rel.push_back(rel);
       within += rel < 0.05;
       floaters += d < 0.9 * t;
+      floaters_covered += d < 0.9 * t && covered(y, x);
     }
   g.coverage = ratio(n_covered, surface);
   g.depth_within_5pct = ratio(within, surface);
   g.floaters = ratio(floaters, surface);
   g.holes = ratio(holes, surface);
   g.holes_covered = ratio(holes_covered, n_covered);
+  g.floaters_covered = ratio(floaters_covered, n_covered);
   if (!abs_rel.empty()) {
     auto mid = abs_rel.begin() + abs_rel.size() / 2;
     std::nth_element(abs_rel.begin(), mid, abs_rel.end());
@@ -116,6 +119,7 @@ ViewGeometry mean_view_geometry(const GaussianModel& model, const Capture& captu
                                     &ViewGeometry::depth_abs_rel_median,
                                     &ViewGeometry::depth_within_5pct,
                                     &ViewGeometry::floaters,
+                                    &ViewGeometry::floaters_covered,
                                     &ViewGeometry::holes,
                                     &ViewGeometry::holes_covered};
   ViewGeometry mean;

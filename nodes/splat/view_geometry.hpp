@@ -23,6 +23,7 @@ struct ViewGeometry {
   double depth_abs_rel_median = kNone;  // median |d - d*| / d* where the model draws (alpha >= 0.5)
   double depth_within_5pct = kNone;     // |d - d*| < 0.05 d* and drawn, over all surface pixels
   double floaters = kNone;              // drawn and d < 0.9 d* (more than 10% in front)
+  double floaters_covered = kNone;      // floaters among the covered surface pixels
   double holes = kNone;                 // alpha < 0.5
   double holes_covered = kNone;         // alpha < 0.5 among the covered surface pixels
 };

@@ -64,6 +64,7 @@ TEST_CASE("view geometry: an empty model is all holes; a front plane is all floa
   CHECK(none.holes_covered == 1.0);
   CHECK(none.depth_within_5pct == 0.0);
   CHECK(none.floaters == 0.0);
+  CHECK(none.floaters_covered == 0.0);
   CHECK(std::isnan(none.depth_abs_rel_median));
   // The held-out image is scored over the background the model was trained on.
   capture.views[0].rgb = ImageSource::in_memory(cv::Mat3b(30, 40, cv::Vec3b(255, 255, 255)));
@@ -80,6 +81,7 @@ TEST_CASE("view geometry: an empty model is all holes; a front plane is all floa
   const ViewGeometry g = view_geometry(front, capture, 0, {1});
   CHECK(g.holes == 0.0);
   CHECK(g.floaters == 1.0);
+  CHECK(g.floaters_covered == 1.0);
   CHECK(g.depth_within_5pct == 0.0);
   CHECK(g.depth_abs_rel_median == Approx(0.25).epsilon(1e-3));
 }
