@@ -1,7 +1,8 @@
 // bench_splat_recon: reconstruction time, Gaussian count and PSNR on training and held-out views,
 // with the estimated floating-point work per step next to the measured time.
 //
-//   bench_splat_recon [--or DIR] [--dtu DIR|none] [--iterations N] [--out DIR] [--threads N]
+//   bench_splat_recon [--or DIR] [--dtu DIR|none] [--lego FILE|none] [--iterations N] [--out DIR]
+//                     [--threads N]
 //                     [--ablation 0|1] [--repeat N] [--set KEY=VALUE]...
 //   bench_splat_recon --merge NAME OUT_DIR REPORT[:CPU_SECONDS[:LABEL]]...
 //
@@ -13,7 +14,10 @@
 // held out). --dtu: DTU scan 24 (default ../shared/data/dtu_scan24/sparse/0, its COLMAP model
 // with SfM points, beside the checkout), loaded
 // downscaled 4x with every 8th image held out; its background is NOT masked (the photos are
-// trained as they are). Writes splat_recon.json and splat_recon.svg into --out (default
+// trained as they are). --lego: the NeRF-synthetic lego subset (default
+// ../shared/data/nerf_synthetic_lego_subset/transforms_subset.json) at 200x200 with every 8th
+// view held out, initialised from random points (it has neither points nor depth), 1000 steps
+// over white. Writes splat_recon.json and splat_recon.svg into --out (default
 // bench/results).
 #include <algorithm>
 #include <chrono>
@@ -269,6 +273,9 @@ int main(int argc, char** argv) {
   // sparse/0: the COLMAP model with 34k SfM points to initialise from (colmap/ has none).
   fs::path dtu =
       fs::path(GSLIFT_SOURCE_DIR) / ".." / "shared" / "data" / "dtu_scan24" / "sparse" / "0";
+  // The NeRF-synthetic lego subset: no points and no depth, so random initialisation (issue 11).
+  fs::path lego = fs::path(GSLIFT_SOURCE_DIR) / ".." / "shared" / "data" /
+                  "nerf_synthetic_lego_subset" / "transforms_subset.json";
   int iterations = 500;
   int threads = 0;
   int repeat = 1;
@@ -280,6 +287,8 @@ int main(int argc, char** argv) {
       or_dir = value;
     else if (key == "--dtu")
       dtu = value;
+    else if (key == "--lego")
+      lego = value;
     else if (key == "--out")
       out = value;
     else if (key == "--iterations")
@@ -316,6 +325,15 @@ int main(int argc, char** argv) {
     load.holdout_every = 8;
     load.skip_missing_images = true;
     cases.push_back({"dtu_scan24", dtu, load, defaults});  // no depth prior: sparse points init
+  }
+  if (fs::exists(lego)) {
+    CaptureOptions load;
+    load.downscale = 4;      // 200 x 200
+    load.holdout_every = 8;  // r_0, r_32, r_64, r_96 held out: 21 training views
+    ReconstructOptions o = defaults;
+    o.iterations = std::max(iterations, 1000);  // from random points: twice the steps
+    o.background = Background::White;           // RGBA renders composited onto white
+    cases.push_back({"lego_subset_random_init", lego, load, o});
   }
   if (!or_dir.empty() && ablation) {  // the geometry-loss ablation
     ReconstructOptions photometric = defaults;
