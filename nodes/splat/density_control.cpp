@@ -42,6 +42,18 @@ void DensityStats::add(const std::vector<float>& mean2d_abs, const std::vector<i
   for (size_t i = 0; i < seen.size(); ++i) visible[i] += seen[i];
 }
 
+void DensityStats::remap(const std::vector<int>& source) {
+  std::vector<double> g(source.size(), 0.0);
+  std::vector<int> v(source.size(), 0);
+  for (size_t i = 0; i < source.size(); ++i)
+    if (source[i] >= 0 && static_cast<size_t>(source[i]) < grad_sum.size()) {
+      g[i] = grad_sum[source[i]];
+      v[i] = visible[source[i]];
+    }
+  grad_sum = std::move(g);
+  visible = std::move(v);
+}
+
 bool is_density_step(const DensityControlOptions& o, int step, int iterations) {
   const int stop = static_cast<int>(o.stop * iterations);
   return o.interval > 0 && step >= o.start && step <= stop && (step - o.start) % o.interval == 0;

@@ -39,6 +39,9 @@ struct DensityStats {
   // Adds one backward pass's statistics (ModelGrads::mean2d_abs and ::visible), growing as needed.
   void add(const std::vector<float>& mean2d_abs, const std::vector<int32_t>& seen);
   void clear() { grad_sum.clear(), visible.clear(); }
+  // Row i becomes old row source[i] (DensityChange::source; -1 = a new Gaussian, zero), so the
+  // statistics follow the Gaussians through a prune between densification rounds.
+  void remap(const std::vector<int>& source);
 };
 
 struct DensityChange {

@@ -317,16 +317,26 @@ ReconstructResult reconstruct(const Capture& capture, const ReconstructOptions& 
 
     if (options.densify) {
       stats.add(grads.mean2d_abs, grads.visible);
-      if (is_density_step(options.density, step, options.iterations)) {
+      const DensityControlOptions& d = options.density;
+      const bool density_step = is_density_step(d, step, options.iterations);
+      // Free-space pruning keeps its rounds after growth stops (floaters can drift in late).
+      const bool floater_step = options.floaters.active() && !observations.empty() &&
+                                d.interval > 0 && step >= d.start &&
+                                (step - d.start) % d.interval == 0;
+      if (density_step || floater_step) {
         std::vector<char> floaters;
-        if (options.floaters.active() && !observations.empty())
+        if (floater_step)
           floaters = free_space_prune_mask(
               free_space_counts(model, observations, options.floaters.tolerance), options.floaters);
         result.free_space_pruned += std::count(floaters.begin(), floaters.end(), 1);
-        const DensityChange change =
-            densify_and_prune(model, stats, options.density, extent, options.seed + step, floaters);
+        // Outside density rounds no statistics are passed: pruning only, no growth.
+        const DensityChange change = densify_and_prune(model, density_step ? stats : DensityStats{},
+                                                       d, extent, options.seed + step, floaters);
         adam.remap(change.source);
-        stats.clear();
+        if (density_step)
+          stats.clear();
+        else
+          stats.remap(change.source);
       }
       clock.charge(phases.density);
     }

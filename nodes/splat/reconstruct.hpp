@@ -80,8 +80,9 @@ struct ReconstructOptions {
   double coarse_fraction = 0.4;
   bool densify = true;
   DensityControlOptions density;
-  // Gaussians pruned at each densification round for sitting in the free space that the training
-  // views' depth priors observe (free_space.hpp); off by default.
+  // Gaussians pruned for sitting in the free space that the training views' depth priors observe
+  // (free_space.hpp), at each densification round and every density.interval steps after growth
+  // stops; off by default.
   FreeSpacePruneOptions floaters;
   // Early stop when the mean loss of the last `plateau_window` steps improves on the previous
   // window by less than plateau_tolerance (relative). 0 = off.

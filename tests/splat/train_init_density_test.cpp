@@ -171,6 +171,18 @@ TEST_CASE("density control clones small, splits large, prunes transparent and hu
   CHECK(limited.split == 1);
   CHECK(limited.cloned == 0);
   CHECK(capped.size() == 4);
+
+  // Pruning only (no statistics, as between rounds): the marked Gaussian 0 goes with the two
+  // transparent/oversized ones, nothing grows, and the statistics follow the kept rows.
+  GaussianModel pruned = m;
+  const DensityChange only = densify_and_prune(pruned, DensityStats{}, DensityControlOptions{},
+                                               extent, 7, {1, 0, 0, 0, 0});
+  CHECK(only.source == std::vector<int>{1, 4});
+  CHECK(only.cloned + only.split == 0);
+  DensityStats followed = stats;
+  followed.remap(only.source);
+  CHECK(followed.grad_sum == std::vector<double>{stats.grad_sum[1], stats.grad_sum[4]});
+  CHECK(followed.visible == std::vector<int>{1, 2});
 }
 
 TEST_CASE("density steps follow the compressed schedule") {
