@@ -119,6 +119,7 @@ nlohmann::json run_case(const Case& c, int repeat) {
                           {"depth_within_5pct", number(g.depth_within_5pct)},
                           {"floaters", number(g.floaters)},
                           {"floaters_covered", number(g.floaters_covered)},
+                          {"floaters_expected_depth", number(g.floaters_expected_depth)},
                           {"holes", number(g.holes)},
                           {"holes_covered", number(g.holes_covered)}};
   }

@@ -64,6 +64,7 @@ void run_reconstruct(NodeContext& ctx, ReconstructOptions o) {
         {"test_depth_within_5pct", g.depth_within_5pct},
         {"test_floaters", g.floaters},
         {"test_floaters_covered", g.floaters_covered},
+        {"test_floaters_expected_depth", g.floaters_expected_depth},
         {"test_holes", g.holes},
         {"test_holes_covered", g.holes_covered}};
     for (const auto& [key, value] : geometry)

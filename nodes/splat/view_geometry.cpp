@@ -8,6 +8,7 @@
 #include "base/errors.hpp"
 #include "nodes/splat/rasterizer.hpp"
 #include "nodes/splat/reconstruct.hpp"
+#include "nodes/splat/render_cache.hpp"
 
 namespace gslift {
 namespace {
@@ -24,6 +25,32 @@ double ratio(double num, double den) {
 }
 
 }  // namespace
+
+std::vector<float> median_depth(const GaussianModel& model, const Pose& pose,
+                                const RenderOutput& forward) {
+  const RenderCache cache(forward);
+  std::vector<float> z(model.size());
+  for (size_t i = 0; i < z.size(); ++i)
+    z[i] = static_cast<float>(
+        pose.to_camera(
+                Eigen::Vector3d(model.means[i * 3], model.means[i * 3 + 1], model.means[i * 3 + 2]))
+            .z());
+  const auto& offsets = cache.pixel_offsets();
+  const auto& ids = cache.ids();
+  const auto& weights = cache.weights();
+  std::vector<float> depth(offsets.size() - 1, 0.f);
+  tbb::parallel_for(size_t(0), depth.size(), [&](size_t p) {
+    float sum = 0;
+    for (uint32_t k = offsets[p]; k < offsets[p + 1]; ++k) {
+      sum += weights[k];  // front to back: the weights so far are 1 - T
+      if (sum >= 0.5f) {
+        depth[p] = z[ids[k]];
+        break;
+      }
+    }
+  });
+  return depth;
+}
 
 cv::Mat1b covered_pixels(const Capture& capture, int view, const std::vector<int>& train,
                          double tolerance) {
@@ -69,14 +96,15 @@ ViewGeometry view_geometry(const GaussianModel& model, const Capture& capture, i
   settings.normalize_depth = true;
   settings.background = background;
   RenderOutput out = render(model, v.camera, v.pose, settings);
+  const std::vector<float> surface_depth = median_depth(model, v.pose, out);
   const cv::Mat rgb(out.height, out.width, CV_32FC3, out.rgb.data());
   const cv::Mat target = v.rgb.load();
 
   ViewGeometry g;
   g.psnr = psnr(rgb, target);
   g.psnr_covered = psnr(rgb, target, covered);
-  double surface = 0, n_covered = 0, within = 0, floaters = 0, floaters_covered = 0, holes = 0,
-         holes_covered = 0;
+  double surface = 0, n_covered = 0, within = 0, floaters = 0, floaters_covered = 0,
+         floaters_expected = 0, holes = 0, holes_covered = 0;
   std::vector<double> abs_rel;
   for (int y = 0; y < truth.rows; ++y)
     for (int x = 0; x < truth.cols; ++x) {
@@ -84,7 +112,7 @@ ViewGeometry view_geometry(const GaussianModel& model, const Capture& capture, i
       if (!(t > 0)) continue;
       const size_t p = size_t(y) * truth.cols + x;
       const bool drawn = out.alpha[p] >= 0.5f;
-      const double d = out.depth[p];
+      const double d = surface_depth[p];
       surface += 1;
       n_covered += covered(y, x);
       holes += !drawn;
@@ -95,6 +123,7 @@ ViewGeometry view_geometry(const GaussianModel& model, const Capture& capture, i
       within += rel < 0.05;
       floaters += d < 0.9 * t;
       floaters_covered += d < 0.9 * t && covered(y, x);
+      floaters_expected += out.depth[p] < 0.9 * t;
     }
   g.coverage = ratio(n_covered, surface);
   g.depth_within_5pct = ratio(within, surface);
@@ -102,6 +131,7 @@ ViewGeometry view_geometry(const GaussianModel& model, const Capture& capture, i
   g.holes = ratio(holes, surface);
   g.holes_covered = ratio(holes_covered, n_covered);
   g.floaters_covered = ratio(floaters_covered, n_covered);
+  g.floaters_expected_depth = ratio(floaters_expected, surface);
   if (!abs_rel.empty()) {
     auto mid = abs_rel.begin() + abs_rel.size() / 2;
     std::nth_element(abs_rel.begin(), mid, abs_rel.end());
@@ -120,6 +150,7 @@ ViewGeometry mean_view_geometry(const GaussianModel& model, const Capture& captu
                                     &ViewGeometry::depth_within_5pct,
                                     &ViewGeometry::floaters,
                                     &ViewGeometry::floaters_covered,
+                                    &ViewGeometry::floaters_expected_depth,
                                     &ViewGeometry::holes,
                                     &ViewGeometry::holes_covered};
   ViewGeometry mean;

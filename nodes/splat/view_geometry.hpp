@@ -10,8 +10,17 @@
 
 #include "nodes/scene/capture.hpp"
 #include "nodes/scene/gaussian_model.hpp"
+#include "nodes/splat/rasterizer.hpp"
 
 namespace gslift {
+
+// Per pixel of a forward pass (row-major), the median depth: the camera depth of the Gaussian
+// at which the accumulated opacity front to back reaches 0.5, the surface the pixel's ray hits
+// (2DGS and RaDe-GS evaluate geometry with it); 0 where it never does. The expected depth
+// sum w_i z_i / alpha of a pixel on a silhouette lies between the object and what is behind
+// it, so a band around every silhouette would read as floating in front of the background.
+std::vector<float> median_depth(const GaussianModel& model, const Pose& pose,
+                                const RenderOutput& forward);
 
 struct ViewGeometry {
   static constexpr double kNone = std::numeric_limits<double>::quiet_NaN();
@@ -19,13 +28,15 @@ struct ViewGeometry {
   double psnr = kNone, psnr_covered = kNone;
   // Fraction of the view's surface pixels whose surface point some training view sees.
   double coverage = kNone;
-  // Over surface pixels (ground-truth depth > 0), d = rendered depth (divided by alpha), d* = true:
+  // Over surface pixels (ground-truth depth > 0), d = rendered median depth, d* = true:
   double depth_abs_rel_median = kNone;  // median |d - d*| / d* where the model draws (alpha >= 0.5)
   double depth_within_5pct = kNone;     // |d - d*| < 0.05 d* and drawn, over all surface pixels
   double floaters = kNone;              // drawn and d < 0.9 d* (more than 10% in front)
   double floaters_covered = kNone;      // floaters among the covered surface pixels
-  double holes = kNone;                 // alpha < 0.5
-  double holes_covered = kNone;         // alpha < 0.5 among the covered surface pixels
+  // Floaters by the expected depth (sum w_i z_i / alpha) instead: silhouette bands included.
+  double floaters_expected_depth = kNone;
+  double holes = kNone;          // alpha < 0.5
+  double holes_covered = kNone;  // alpha < 0.5 among the covered surface pixels
 };
 
 // Pixels of view `view` whose ground-truth surface point is seen by one of `train` views: it

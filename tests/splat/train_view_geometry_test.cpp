@@ -85,3 +85,43 @@ TEST_CASE("view geometry: an empty model is all holes; a front plane is all floa
   CHECK(g.depth_within_5pct == 0.0);
   CHECK(g.depth_abs_rel_median == Approx(0.25).epsilon(1e-3));
 }
+
+TEST_CASE("median depth: the surface where the accumulated opacity reaches one half",
+          "[splat][geometry]") {
+  Capture capture;
+  capture.views = {plane_view("test", 0), plane_view("train", 0)};
+  capture.views[0].held_out = true;
+  // Two view-filling flat Gaussians: a faint one at z = 1 (opacity 0.4) before the opaque true
+  // surface at z = 2. Accumulated: 0.4 at the first, ~1 at the second: the median depth is 2 and
+  // no pixel floats, while the expected depth (0.4 x 1 + 0.6 x 2) / 1 = 1.6 puts every pixel 20%
+  // in front. With the front one at opacity 0.6 the front one is the surface: all floaters.
+  auto layers = [](float front_opacity) {
+    GaussianModel m;
+    m.resize(2);
+    m.means = {0.f, 0.f, 1.f, 0.f, 0.f, 2.f};
+    for (int i = 0; i < 2; ++i) {
+      m.log_scales[i * 3] = m.log_scales[i * 3 + 1] = std::log(50.f);
+      m.log_scales[i * 3 + 2] = std::log(0.001f);
+    }
+    m.opacity_logits = {std::log(front_opacity / (1 - front_opacity)), 10.f};
+    return m;
+  };
+  const GaussianModel faint = layers(0.4f);
+  RenderSettings settings;
+  settings.depth = true;
+  settings.alpha = true;
+  settings.normalize_depth = true;
+  const View& v = capture.views[0];
+  const RenderOutput out = render(faint, v.camera, v.pose, settings);
+  const std::vector<float> median = median_depth(faint, v.pose, out);
+  CHECK(median[15 * 40 + 20] == 2.f);
+  // The rasterizer clamps a Gaussian's alpha at 0.99: (0.4 + 0.6 x 0.99 x 2) / (0.4 + 0.6 x 0.99).
+  CHECK(out.depth[15 * 40 + 20] == Approx(1.588 / 0.994).epsilon(1e-3));
+  const ViewGeometry g = view_geometry(faint, capture, 0, {1});
+  CHECK(g.floaters == 0.0);
+  CHECK(g.floaters_expected_depth == 1.0);
+  CHECK(g.depth_abs_rel_median == Approx(0.0).margin(1e-6));
+  const ViewGeometry front = view_geometry(layers(0.6f), capture, 0, {1});
+  CHECK(front.floaters == 1.0);
+  CHECK(front.depth_abs_rel_median == Approx(0.5).epsilon(1e-4));
+}
