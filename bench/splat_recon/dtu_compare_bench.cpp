@@ -3,6 +3,7 @@
 // time and charted against wall time for both initial scales.
 //
 //   bench_dtu_compare [--dtu DIR] [--out DIR] [--steps 100,200,300] [--large 0|1]
+//                     [--variants rms:0.5:crop,mean:1:crop,...]
 //
 // Split and settings (stated in the JSON): the 25 photos of ../shared/data/dtu_scan24/sparse/0
 // (its COLMAP model, 34,673 SfM points), view 000024 held out and the other 24 trained on;
@@ -11,10 +12,11 @@
 // the steps at half resolution). Variants: initial scale 0.5 x the RMS 3-NN distance (gslift's
 // default) or 1 x the mean 3-NN distance (OpenSplat's), each with the undistorted images cropped
 // to their valid rectangle (gslift's default) or kept at the captured size with their black
-// border. Held-out PSNR is reported on every pixel and with the outer 3 pixels left out (how the
-// OpenSplat comparison was scored). Each (variant, steps) is one run: a PSNR-against-time curve
-// whose points are runs of 100, 200, 300 steps (the position learning rate decays over each run).
-// Writes dtu_compare.json and dtu_compare.svg into --out (default bench/results).
+// border (--variants picks others: DISTANCE:FACTOR:crop|border). Held-out PSNR is reported on every
+// pixel and with the outer 3 pixels left out (how the OpenSplat comparison was scored). Each
+// (variant, steps) is one run: a PSNR-against-time curve whose points are runs of 100, 200, 300
+// steps (the position learning rate decays over each run). Writes dtu_compare.json and
+// dtu_compare.svg into --out (default bench/results).
 #include <algorithm>
 #include <array>
 #include <filesystem>
@@ -107,6 +109,11 @@ int main(int argc, char** argv) {
   fs::path out = fs::path(GSLIFT_SOURCE_DIR) / "bench" / "results";
   std::vector<int> steps = {100, 200, 300};
   bool large = false;
+  std::vector<Variant> variants = {
+      {"init 0.5 x RMS 3-NN (gslift), cropped", NeighbourDistance::Rms, 0.5, true},
+      {"init 1 x mean 3-NN (OpenSplat), cropped", NeighbourDistance::Mean, 1.0, true},
+      {"init 0.5 x RMS 3-NN (gslift), black border", NeighbourDistance::Rms, 0.5, false},
+      {"init 1 x mean 3-NN (OpenSplat), black border", NeighbourDistance::Mean, 1.0, false}};
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string key = argv[i], value = argv[i + 1];
     if (key == "--dtu") {
@@ -115,6 +122,26 @@ int main(int argc, char** argv) {
       out = value;
     } else if (key == "--large") {
       large = value != "0";
+    } else if (key == "--variants") {
+      variants.clear();
+      std::stringstream list(value);
+      for (std::string item; std::getline(list, item, ',');) {
+        // DISTANCE:FACTOR:crop|border
+        std::stringstream fields(item);
+        std::string distance, factor, crop;
+        std::getline(fields, distance, ':');
+        std::getline(fields, factor, ':');
+        std::getline(fields, crop, ':');
+        if ((distance != "rms" && distance != "mean") || factor.empty() ||
+            (crop != "crop" && crop != "border")) {
+          std::cerr << "bad variant " << item << " (want rms|mean:FACTOR:crop|border)\n";
+          return 2;
+        }
+        variants.push_back({"init " + factor + " x " + (distance == "rms" ? "RMS" : "mean") +
+                                " 3-NN, " + (crop == "crop" ? "cropped" : "black border"),
+                            distance == "rms" ? NeighbourDistance::Rms : NeighbourDistance::Mean,
+                            std::stod(factor), crop == "crop"});
+      }
     } else if (key == "--steps") {
       steps.clear();
       std::stringstream s(value);
@@ -128,11 +155,6 @@ int main(int argc, char** argv) {
     std::cerr << "DTU scan 24 not found at " << dtu << " (../shared/data beside the checkout)\n";
     return 4;
   }
-  const std::vector<Variant> variants = {
-      {"init 0.5 x RMS 3-NN (gslift), cropped", NeighbourDistance::Rms, 0.5, true},
-      {"init 1 x mean 3-NN (OpenSplat), cropped", NeighbourDistance::Mean, 1.0, true},
-      {"init 0.5 x RMS 3-NN (gslift), black border", NeighbourDistance::Rms, 0.5, false},
-      {"init 1 x mean 3-NN (OpenSplat), black border", NeighbourDistance::Mean, 1.0, false}};
   std::vector<int> downscales = {4};
   if (large) downscales.push_back(2);
 
