@@ -372,7 +372,8 @@ ReconstructResult reconstruct(const Capture& capture, const ReconstructOptions& 
                                     [](const View& v) { return v.gt_depth.present(); });
   // With ground-truth depth the held-out views are rendered once, for their PSNR and geometry.
   if (!test.empty() && gt_depth) {
-    result.test_geometry = mean_view_geometry(model, capture, test, train, background);
+    result.test_geometry =
+        mean_view_geometry(model, capture, test, train, background, &result.test_pictures);
     result.test_psnr = result.test_geometry->psnr;
   } else {
     result.test_psnr = mean_psnr(model, capture, test, background);

@@ -132,6 +132,9 @@ struct ReconstructResult {
   // Held-out geometry against ground-truth depth (mean over the held-out views), when every view
   // has ground-truth depth (synthetic captures).
   std::optional<ViewGeometry> test_geometry;
+  // With test_geometry: per held-out view (capture.test_views() order) the render with its
+  // floaters, holes and uncovered surfaces painted (view_geometry).
+  std::vector<cv::Mat3b> test_pictures;
 };
 
 // Called after every step with (step index, total steps, current total loss, Gaussian count). It

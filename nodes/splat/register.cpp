@@ -71,7 +71,14 @@ void run_reconstruct(NodeContext& ctx, ReconstructOptions o) {
       if (std::isfinite(value)) ctx.record(key, value);
   }
   const auto dir = ctx.out_dir();
-  if (!dir.empty()) write_ply(r.model, dir / "model.ply");
+  if (!dir.empty()) {
+    write_ply(r.model, dir / "model.ply");
+    const Capture& capture = *ctx.input<Capture>("capture");
+    const std::vector<int> test = capture.test_views();
+    for (size_t k = 0; k < r.test_pictures.size() && k < test.size(); ++k)
+      write_rgb_png(dir / (capture.views[test[k]].name + "_heldout_geometry.png"),
+                    r.test_pictures[k]);
+  }
   ctx.output("model", std::move(r.model));
 }
 
@@ -80,7 +87,9 @@ void add_reconstruct(Registry& registry) {
       "splat.reconstruct",
       "geometry-constrained 3DGS reconstruction of the capture's training views (LangOR 3.2)",
       {capture_port()},
-      {model_port("the trained Gaussians; also written as model.ply (INRIA layout)")}};
+      {model_port("the trained Gaussians; also written as model.ply (INRIA layout), and with "
+                  "ground-truth depth <view>_heldout_geometry.png per held-out view (floaters "
+                  "red, holes blue, surfaces no training view saw grey)")}};
   registry.add(std::move(spec), reconstruct_param_table(), run_reconstruct);
 }
 

@@ -86,7 +86,8 @@ cv::Mat1b covered_pixels(const Capture& capture, int view, const std::vector<int
 }
 
 ViewGeometry view_geometry(const GaussianModel& model, const Capture& capture, int view,
-                           const std::vector<int>& train, const Eigen::Vector3f& background) {
+                           const std::vector<int>& train, const Eigen::Vector3f& background,
+                           cv::Mat3b* picture) {
   const View& v = capture.views[view];
   const cv::Mat1f truth = ground_truth_depth(v);
   const cv::Mat1b covered = covered_pixels(capture, view, train);
@@ -125,6 +126,26 @@ ViewGeometry view_geometry(const GaussianModel& model, const Capture& capture, i
       floaters_covered += d < 0.9 * t && covered(y, x);
       floaters_expected += out.depth[p] < 0.9 * t;
     }
+  if (picture) {
+    // The render, with what went wrong painted over it: floaters red, holes on covered pixels
+    // blue, and the surfaces no training view saw greyed out (nothing could reconstruct them).
+    rgb.convertTo(*picture, CV_8UC3, 255.0);
+    for (int y = 0; y < truth.rows; ++y)
+      for (int x = 0; x < truth.cols; ++x) {
+        const size_t p = size_t(y) * truth.cols + x;
+        const double t = truth(y, x);
+        cv::Vec3b& c = (*picture)(y, x);
+        const bool drawn = out.alpha[p] >= 0.5f;
+        if (!(t > 0)) continue;
+        if (!covered(y, x)) {
+          c = c / 3 + cv::Vec3b(85, 85, 85);
+        } else if (!drawn) {
+          c = cv::Vec3b(0, 64, 255);
+        } else if (surface_depth[p] < 0.9 * t) {
+          c = cv::Vec3b(255, 0, 0);
+        }
+      }
+  }
   g.coverage = ratio(n_covered, surface);
   g.depth_within_5pct = ratio(within, surface);
   g.floaters = ratio(floaters, surface);
@@ -142,7 +163,8 @@ ViewGeometry view_geometry(const GaussianModel& model, const Capture& capture, i
 
 ViewGeometry mean_view_geometry(const GaussianModel& model, const Capture& capture,
                                 const std::vector<int>& views, const std::vector<int>& train,
-                                const Eigen::Vector3f& background) {
+                                const Eigen::Vector3f& background,
+                                std::vector<cv::Mat3b>* pictures) {
   double ViewGeometry::*fields[] = {&ViewGeometry::psnr,
                                     &ViewGeometry::psnr_covered,
                                     &ViewGeometry::coverage,
@@ -155,7 +177,12 @@ ViewGeometry mean_view_geometry(const GaussianModel& model, const Capture& captu
                                     &ViewGeometry::holes_covered};
   ViewGeometry mean;
   std::vector<ViewGeometry> all;
-  for (const int v : views) all.push_back(view_geometry(model, capture, v, train, background));
+  for (const int v : views) {
+    cv::Mat3b picture;
+    all.push_back(
+        view_geometry(model, capture, v, train, background, pictures ? &picture : nullptr));
+    if (pictures) pictures->push_back(picture);
+  }
   for (auto f : fields) {
     double sum = 0;
     int n = 0;

@@ -47,14 +47,19 @@ cv::Mat1b covered_pixels(const Capture& capture, int view, const std::vector<int
                          double tolerance = 0.01);
 
 // Renders the model at `view` (RGB over `background`, depth, alpha) and scores it; throws
-// InputError when the view has no ground-truth depth.
+// InputError when the view has no ground-truth depth. With `picture`, also draws the render
+// (8-bit RGB) with the floaters red, the holes on covered pixels blue and the uncovered surfaces
+// greyed out, for a person to see where the geometry fails.
 ViewGeometry view_geometry(const GaussianModel& model, const Capture& capture, int view,
                            const std::vector<int>& train,
-                           const Eigen::Vector3f& background = Eigen::Vector3f::Zero());
+                           const Eigen::Vector3f& background = Eigen::Vector3f::Zero(),
+                           cv::Mat3b* picture = nullptr);
 
-// The mean of each field over the given views (NaN fields are left out of their mean).
+// The mean of each field over the given views (NaN fields are left out of their mean); with
+// `pictures`, each view's picture (view_geometry) in the order of `views`.
 ViewGeometry mean_view_geometry(const GaussianModel& model, const Capture& capture,
                                 const std::vector<int>& views, const std::vector<int>& train,
-                                const Eigen::Vector3f& background = Eigen::Vector3f::Zero());
+                                const Eigen::Vector3f& background = Eigen::Vector3f::Zero(),
+                                std::vector<cv::Mat3b>* pictures = nullptr);
 
 }  // namespace gslift

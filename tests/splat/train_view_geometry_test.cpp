@@ -125,3 +125,23 @@ TEST_CASE("median depth: the surface where the accumulated opacity reaches one h
   CHECK(front.floaters == 1.0);
   CHECK(front.depth_abs_rel_median == Approx(0.5).epsilon(1e-4));
 }
+
+TEST_CASE("view geometry picture: floaters red, holes blue, uncovered surfaces grey",
+          "[splat][geometry]") {
+  // The training camera 1 m to the right covers the test view's columns 10..39 (first case).
+  Capture capture;
+  capture.views = {plane_view("test", 0), plane_view("train", 1)};
+  capture.views[0].held_out = true;
+  cv::Mat3b picture;
+  view_geometry(GaussianModel{}, capture, 0, {1}, Eigen::Vector3f::Zero(), &picture);
+  REQUIRE(picture.size() == cv::Size(40, 30));
+  CHECK(picture(5, 20) == cv::Vec3b(0, 64, 255));  // covered and empty: a hole
+  CHECK(picture(5, 5) == cv::Vec3b(85, 85, 85));   // uncovered: black render greyed
+  GaussianModel front;  // the opaque plane at z = 1.5 of the first case: all floaters
+  front.resize(1);
+  front.means = {0.f, 0.f, 1.5f};
+  front.log_scales = {std::log(20.f), std::log(20.f), std::log(0.001f)};
+  front.opacity_logits = {10.f};
+  view_geometry(front, capture, 0, {1}, Eigen::Vector3f::Zero(), &picture);
+  CHECK(picture(5, 20) == cv::Vec3b(255, 0, 0));
+}
