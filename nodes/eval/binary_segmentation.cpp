@@ -55,10 +55,11 @@ BinarySegmentationSummary score_binary_segmentation(const MaskSet& predictions,
       if (!truth_labels.count(pm.label))
         throw InputError("eval.binary_segmentation: the prediction '" + pm.label +
                          "' names no ground-truth mask of any view");
-      cv::Mat1b gt = cv::Mat1b::zeros(pm.pixels.size());
+      const Mask* gt = nullptr;
       for (const Mask& tm : tv->second->masks)
-        if (tm.label == pm.label) gt = tm.pixels;
-      BinaryViewScore v{pm.label, pv.view, binary_counts(pm.pixels, gt)};
+        if (tm.label == pm.label) gt = &tm;
+      if (!gt) continue;  // the object is not in this view: not a target view for it
+      BinaryViewScore v{pm.label, pv.view, binary_counts(pm.pixels, gt->pixels)};
       v.iou = binary_iou(v.counts);
       v.accuracy = binary_accuracy(v.counts);
       auto [it, added] = label_index.emplace(pm.label, s.labels.size());

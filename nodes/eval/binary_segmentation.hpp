@@ -57,9 +57,10 @@ struct BinarySegmentationSummary {
 
 // Scores every predicted mask of a view that `truth` also has (truth views without a
 // prediction, and predicted views without truth, are not target views). The ground truth of a
-// prediction is the truth mask of the same view with the same label; a view of `truth` without
-// that label holds no such object (an empty truth mask), and a label found in no truth view at all
-// is an InputError, as are size mismatches.
+// prediction is the truth mask of the same view with the same label; a view whose truth lacks
+// that label does not show the object and is no target view for it (NVOS and SPIn-NeRF score
+// views that show the object). A label found in no truth view at all is an InputError, as are
+// size mismatches.
 BinarySegmentationSummary score_binary_segmentation(const MaskSet& predictions,
                                                     const MaskSet& truth,
                                                     const BinarySegmentationOptions& options);

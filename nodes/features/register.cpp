@@ -5,6 +5,7 @@
 #include "nodes/scene/capture.hpp"
 #include "nodes/scene/gaussian_model.hpp"
 #include "nodes/scene/masks.hpp"
+#include "nodes/splat/ply_io.hpp"
 
 namespace gslift {
 namespace {
@@ -51,6 +52,9 @@ void run_correspondence(NodeContext& ctx, CorrespondenceOptions o) {
   ctx.record("loss_end", r.loss_end);
   ctx.record("cache_bytes", static_cast<double>(r.cache_bytes));
   ctx.record("seconds", r.seconds);
+  // The feature model `gslift segment` loads (SAGA saves its contrastive_feature_point_cloud.ply).
+  const auto dir = ctx.out_dir();
+  if (!dir.empty()) write_ply(r.model, dir / "model.ply");
   ctx.output("model", std::move(r.model));
 }
 
@@ -64,7 +68,8 @@ void add_correspondence(Registry& registry) {
        {"masks", PortTypeName<MaskSet>::value,
         "automatic masks per view, overlapping granularities (ingest.sam_masks auto, masks.auto)"}},
       {{"model", PortTypeName<GaussianModel>::value,
-        "the same Gaussians with dim trained affinity channels"}}};
+        "the same Gaussians with dim trained affinity channels (file: model.ply, what gslift "
+        "segment loads)"}}};
   registry.add(std::move(spec), correspondence_param_table(), run_correspondence);
 }
 

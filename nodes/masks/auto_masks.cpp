@@ -1,6 +1,9 @@
 #include "nodes/masks/auto_masks.hpp"
 
 #include <tbb/parallel_for.h>
+#include <map>
+
+#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/ximgproc/segmentation.hpp>
 
@@ -54,6 +57,53 @@ MaskSet ground_truth_masks(const Capture& capture, ViewSet which) {
     const View& view = capture.views[v];
     if (!view.gt_instance.present()) continue;
     set.views.push_back({view.name, masks_from_instance_map(view.gt_instance.load())});
+  }
+  return set;
+}
+
+namespace {
+
+// The stem as a number when it is all digits, else -1.
+long long stem_number(const std::string& stem) {
+  if (stem.empty() || stem.size() > 18 || stem.find_first_not_of("0123456789") != std::string::npos)
+    return -1;
+  return std::stoll(stem);
+}
+
+}  // namespace
+
+MaskSet mask_folder(const Capture& capture, const std::filesystem::path& folder, ViewSet which,
+                    const std::string& label) {
+  if (!std::filesystem::is_directory(folder))
+    throw InputError("masks.folder: no folder " + folder.string());
+  std::map<std::string, std::filesystem::path> by_stem;
+  std::map<long long, std::filesystem::path> by_number;
+  for (const auto& e : std::filesystem::directory_iterator(folder)) {
+    if (!e.is_regular_file()) continue;
+    const std::string stem = e.path().stem().string();
+    by_stem[stem] = e.path();
+    if (stem_number(stem) >= 0) by_number[stem_number(stem)] = e.path();
+  }
+  MaskSet set;
+  for (int v : capture.views_named(which)) {
+    const View& view = capture.views[v];
+    auto it = by_stem.find(view.name);
+    std::filesystem::path file;
+    if (it != by_stem.end()) {
+      file = it->second;
+    } else if (stem_number(view.name) >= 0 && by_number.count(stem_number(view.name))) {
+      file = by_number[stem_number(view.name)];
+    } else {
+      continue;
+    }
+    cv::Mat m = cv::imread(file.string(), cv::IMREAD_GRAYSCALE);
+    if (m.empty()) throw InputError("masks.folder: cannot read " + file.string());
+    const cv::Size size(view.camera.width, view.camera.height);
+    if (m.size() != size) cv::resize(m, m, size, 0, 0, cv::INTER_AREA);
+    Mask mask;
+    mask.pixels = m > 127;
+    mask.label = label;
+    set.views.push_back({view.name, {mask}});
   }
   return set;
 }

@@ -8,6 +8,8 @@
 // embedded OR is measured in docs/saga.md.
 #pragma once
 
+#include <filesystem>
+#include <string>
 #include <vector>
 
 #include <opencv2/core.hpp>
@@ -44,5 +46,12 @@ MaskSet auto_mask_set(const Capture& capture, const AutoMaskOptions& options);
 // The ground-truth instance masks of the views of `which` that have an instance map, one mask per
 // instance id, labelled with the id in decimal (masks_from_instance_map).
 MaskSet ground_truth_masks(const Capture& capture, ViewSet which);
+
+// Binary object masks from image files, one per view (DTU's mask/0NN.png): the file whose stem is
+// the view's name, or is the same number (view "000024", file "024.png"). Read as grayscale,
+// resized to the view's size (area filter) and thresholded at > 127; the mask is labelled
+// `label`. Views of `which` without a file get none; unreadable files are InputErrors.
+MaskSet mask_folder(const Capture& capture, const std::filesystem::path& folder, ViewSet which,
+                    const std::string& label);
 
 }  // namespace gslift

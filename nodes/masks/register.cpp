@@ -54,6 +54,38 @@ void run_ground_truth(NodeContext& ctx, const GroundTruthOptions& o) {
   ctx.output("masks", std::move(set));
 }
 
+struct MaskFolderOptions {
+  std::string folder;
+  std::string label = "object";
+  ViewSet views = ViewSet::All;
+};
+
+const ParamTable<MaskFolderOptions>& mask_folder_table() {
+  using O = MaskFolderOptions;
+  static const ParamTable<O> table =
+      ParamTable<O>()
+          .add("folder", &O::folder,
+               "folder of mask images, one per view (stem = view name or "
+               "the same number); relative: to the capture's folder first")
+          .required()
+          .add("label", &O::label, "label of every mask (prompts and evaluation match on it)")
+          .add("views", &O::views, view_set_names(), "views to read masks for");
+  return table;
+}
+
+void run_mask_folder(NodeContext& ctx, const MaskFolderOptions& o) {
+  const auto capture = ctx.input<Capture>("capture");
+  std::filesystem::path folder = o.folder;
+  if (folder.is_relative() && !capture->root.empty() && !std::filesystem::exists(folder))
+    folder = capture->root / folder;
+  MaskSet set = mask_folder(*capture, folder, o.views, o.label);
+  if (set.views.empty())
+    throw InputError("masks.folder: no file of " + folder.string() + " matches a view of '" +
+                     capture->name + "'");
+  ctx.record("views", static_cast<double>(set.views.size()));
+  ctx.output("masks", std::move(set));
+}
+
 }  // namespace
 
 void register_masks_nodes(Registry& registry) {
@@ -72,6 +104,12 @@ void register_masks_nodes(Registry& registry) {
                {{"capture", PortTypeName<Capture>::value, "views with ground-truth instance maps"}},
                {{"masks", PortTypeName<MaskSet>::value, "per view one mask per instance"}}},
       ground_truth_table(), run_ground_truth);
+  registry.add(
+      NodeSpec{"masks.folder",
+               "binary object masks from image files, one per view (e.g. DTU's mask/)",
+               {{"capture", PortTypeName<Capture>::value, "the views the masks belong to"}},
+               {{"masks", PortTypeName<MaskSet>::value, "per view one mask, labelled `label`"}}},
+      mask_folder_table(), run_mask_folder);
 }
 
 }  // namespace gslift

@@ -36,8 +36,8 @@ TEST_CASE("binary IoU and accuracy of a hand-counted mask pair") {
 
 TEST_CASE("scores average over target views per prompt, then over prompts") {
   MaskSet pred, truth;
-  // Prompt "a": perfect in v1, IoU 0.25 / accuracy 10/16 in v2. Prompt "b": absent from v2's
-  // truth (an empty truth mask), predicted 2 px there: IoU 0, accuracy 14/16; perfect in v1.
+  // Prompt "a": perfect in v1, IoU 0.25 / accuracy 10/16 in v2. Prompt "b": perfect in v1 and
+  // absent from v2's truth: v2 does not show it and is no target view for it.
   pred.views = {
       {"v1", {labelled(block(4, 4, {0, 0, 2, 2}), "a"), labelled(block(4, 4, {3, 3, 1, 1}), "b")}},
       {"v2", {labelled(block(4, 4, {0, 0, 2, 2}), "a"), labelled(block(4, 4, {0, 3, 2, 1}), "b")}},
@@ -47,17 +47,19 @@ TEST_CASE("scores average over target views per prompt, then over prompts") {
       {"v2", {labelled(block(4, 4, {1, 0, 3, 2}), "a")}}};
   BinarySegmentationSummary s = score_binary_segmentation(pred, truth, {});
   REQUIRE(s.labels.size() == 2);
-  CHECK(s.views.size() == 4);
+  CHECK(s.views.size() == 3);
   CHECK(s.labels[0].label == "a");
   CHECK(s.labels[0].views == 2);
   CHECK(s.labels[0].iou == Approx(100 * (1.0 + 0.25) / 2));
   CHECK(s.labels[0].accuracy == Approx(100 * (1.0 + 10.0 / 16) / 2));
-  CHECK(s.labels[1].iou == Approx(50.0));
-  CHECK(s.labels[1].accuracy == Approx(100 * (1.0 + 14.0 / 16) / 2));
-  CHECK(s.miou == Approx((62.5 + 50.0) / 2));
+  CHECK(s.labels[1].views == 1);
+  CHECK(s.labels[1].iou == Approx(100.0));
+  CHECK(s.labels[1].accuracy == Approx(100.0));
+  CHECK(s.miou == Approx((62.5 + 100.0) / 2));
   // Excluding v1 (say, the prompt's view) leaves v2 alone.
   s = score_binary_segmentation(pred, truth, {{"v1"}});
-  CHECK(s.views.size() == 2);
+  REQUIRE(s.views.size() == 1);
+  CHECK(s.labels.size() == 1);
   CHECK(s.labels[0].iou == Approx(25.0));
   // A prediction whose label no truth view has is an error, not a silent zero.
   pred.views[0].masks[0].label = "c";
