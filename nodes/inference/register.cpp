@@ -160,6 +160,8 @@ void run_prompt(NodeContext& ctx, PromptNodeOptions o) {
     selections.push_back(segmenter.select(p));
     seconds.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
     ctx.record("selected/" + p.name, static_cast<double>(selections.back().count));
+    if (p.kind == PromptKind::Sam)
+      ctx.record("pooled/" + p.name, selections.back().pooled ? 1.0 : 0.0);
   }
   ctx.record("prompts", static_cast<double>(prompts.prompts.size()));
   if (!seconds.empty()) {

@@ -22,8 +22,7 @@ TEST_CASE("a scripted segment session") {
   v.name = "v0";
   v.camera = test::query_camera();
   capture.views.push_back(v);
-  const auto dir = std::filesystem::temp_directory_path() / "gslift_segment_session_test";
-  std::filesystem::remove_all(dir);
+  const auto dir = test::scratch_dir("segment_session");
   std::istringstream in(
       R"({"name": "left", "view": "v0", "positive": [[17, 24]], "output": ")" + dir.string() +
       R"(", "ply": true})"
@@ -62,5 +61,4 @@ TEST_CASE("a scripted segment session") {
   CHECK(replies[2]["line"] == 4);  // the blank line 3 is skipped, not answered
   CHECK(replies[3]["error"].get<std::string>().find("outside") != std::string::npos);
   CHECK(replies[6]["ok"] == true);
-  std::filesystem::remove_all(dir);
 }

@@ -36,9 +36,7 @@ TEST_CASE("selection masks and PLY exports") {
       CHECK(cv::countNonZero(fast != full) == 0);
       CHECK(cv::countNonZero(fast) > 0);
     }
-  const auto dir = std::filesystem::temp_directory_path() / "gslift_selection_output_test";
-  std::filesystem::remove_all(dir);
-  std::filesystem::create_directories(dir);
+  const auto dir = test::scratch_dir("selection_output");
   write_selection_files(masks, model, {"Right Blob"}, capture, dir);
   CHECK(cv::imread((dir / "v0__right_blob_mask.png").string(), cv::IMREAD_GRAYSCALE)
             .at<uint8_t>(24, 47) == 255);
@@ -54,5 +52,4 @@ TEST_CASE("selection masks and PLY exports") {
   const GaussianModel scene = read_ply(dir / "scene_selection.ply");
   CHECK(scene.means == model.means);
   CHECK(scene.instance_ids == model.instance_ids);
-  std::filesystem::remove_all(dir);
 }
