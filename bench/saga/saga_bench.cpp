@@ -133,7 +133,7 @@ nlohmann::json dtu_pose_only(const Run& r) {
   return {{"views", s.views.size()}, {"mIoU", s.miou}, {"mAcc", s.macc}};
 }
 
-nlohmann::json prompt_latency(const fs::path& feature_ply, int threads) {
+nlohmann::json prompt_latency(const fs::path& feature_ply, int threads, bool early_exit) {
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
   GaussianModel model = read_ply(feature_ply);
   const size_t original = model.size();
@@ -150,7 +150,7 @@ nlohmann::json prompt_latency(const fs::path& feature_ply, int threads) {
   const QueryView qv(model, target.camera, target.pose);
   RandomStream rng(stream_seed(0, "bench.saga.clicks"));
   const Camera& cam = capture.views[prompt_view].camera;
-  std::vector<double> ms;
+  std::vector<double> ms, select_ms;
   size_t pixels = 0;
   for (int k = -20; k < 200; ++k) {  // 20 untimed warm-up prompts
     Prompt p;
@@ -159,13 +159,18 @@ nlohmann::json prompt_latency(const fs::path& feature_ply, int threads) {
         {static_cast<int>(rng.below(cam.width)), static_cast<int>(rng.below(cam.height))}};
     const auto t0 = std::chrono::steady_clock::now();
     const PromptSelection s = segmenter.select(p);
-    const cv::Mat1b mask = qv.selection_mask(s.selected, 0.5f);
+    const double t_select =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    const cv::Mat1b mask =
+        early_exit ? qv.selection_mask(s.selected, 0.5f)
+                   : qv.mask(std::vector<float>(s.selected.begin(), s.selected.end()), 0.5f);
     const double t =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     pixels += static_cast<size_t>(cv::countNonZero(mask));
-    if (k >= 0) ms.push_back(t);
+    if (k >= 0) ms.push_back(t), select_ms.push_back(t_select);
   }
   std::sort(ms.begin(), ms.end());
+  std::sort(select_ms.begin(), select_ms.end());
   return {{"gaussians", model.size()},
           {"gaussians_trained", original},
           {"threads", threads},
@@ -175,6 +180,7 @@ nlohmann::json prompt_latency(const fs::path& feature_ply, int threads) {
           {"median_ms", ms[ms.size() / 2]},
           {"min_ms", ms.front()},
           {"max_ms", ms.back()},
+          {"select_median_ms", select_ms[select_ms.size() / 2]},
           {"mask_pixels", pixels}};
 }
 
@@ -301,7 +307,9 @@ int main(int argc, char** argv) {
     }
   }
   nlohmann::json latency = nullptr;
-  if (!feature_model.empty()) latency = prompt_latency(feature_model, threads);
+  if (!feature_model.empty())
+    latency = {{"early_exit_walk", prompt_latency(feature_model, threads, true)},
+               {"sparse_product", prompt_latency(feature_model, threads, false)}};
   std::cerr << "[saga] latency " << (latency.is_null() ? "-" : latency.dump()) << "\n";
   const nlohmann::json masks = auto_vs_sam();
   std::cerr << "[saga] masks " << masks.dump() << "\n";

@@ -1,6 +1,11 @@
 #include "nodes/features/correspondence_features.hpp"
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
+#include <mutex>
+
+#include <tbb/parallel_for.h>
 
 #include "base/errors.hpp"
 #include "base/random.hpp"
@@ -65,13 +70,45 @@ CorrespondenceResult train_correspondence_features(const GaussianModel& model,
   result.views = static_cast<int>(views.size());
 
   const int dim = o.dim;
+  const bool normalize = o.normalize_gaussians;
   std::vector<float> features(model.size() * dim);
   RandomStream init(stream_seed(o.seed, "correspondence.init"));
   for (float& f : features) f = static_cast<float>(init.normal(0.0, o.init_std));
   std::vector<float> no_extras;
 
   const size_t batches = static_cast<size_t>(o.views_per_iteration);
-  auto step = [&](int it, size_t b, const float* current, const float*, PixelBatch& batch) {
+  // With normalize_gaussians the batches render unit features u = f / |f|, computed once per
+  // iteration by whichever batch needs them first (the same values whoever computes them), and
+  // the gradient is taken through the normalisation before the Adam step.
+  std::vector<float> unit(normalize ? features.size() : 0), norms(normalize ? model.size() : 0);
+  std::mutex unit_mutex;
+  int unit_iteration = -1;
+  auto rendered_attributes = [&](int it, const float* current) -> const float* {
+    if (!normalize) return current;
+    std::lock_guard<std::mutex> lock(unit_mutex);
+    if (unit_iteration != it) {
+      tbb::parallel_for(size_t(0), model.size(), [&](size_t g) {
+        double s = 0;
+        for (int c = 0; c < dim; ++c) s += double(current[g * dim + c]) * current[g * dim + c];
+        norms[g] = static_cast<float>(std::max(std::sqrt(s), 1e-12));
+        for (int c = 0; c < dim; ++c) unit[g * dim + c] = current[g * dim + c] / norms[g];
+      });
+      unit_iteration = it;
+    }
+    return unit.data();
+  };
+  // dL/df = (dL/du - <dL/du, u> u) / |f|, in place.
+  auto through_normalisation = [&](int, const float*, const float*, float* grad, float*) {
+    tbb::parallel_for(size_t(0), model.size(), [&](size_t g) {
+      float along = 0;
+      for (int c = 0; c < dim; ++c) along += grad[g * dim + c] * unit[g * dim + c];
+      for (int c = 0; c < dim; ++c)
+        grad[g * dim + c] = (grad[g * dim + c] - along * unit[g * dim + c]) / norms[g];
+    });
+    return 0.0;
+  };
+  auto step = [&](int it, size_t b, const float* raw, const float*, PixelBatch& batch) {
+    const float* current = rendered_attributes(it, raw);
     RandomStream rng(stream_seed(o.seed, "correspondence.pixels", it * batches + b));
     batch.view = static_cast<int>(rng.below(views.size()));
     const MaskedView& v = views[batch.view];
@@ -89,8 +126,10 @@ CorrespondenceResult train_correspondence_features(const GaussianModel& model,
   s.iterations = o.iterations;
   s.dim = dim;
   s.lr = o.lr;
-  const PixelTrainingLoss loss =
-      train_pixel_features(rows, batches, s, step, features, no_extras, {}, progress);
+  const PixelTrainingLoss loss = train_pixel_features(
+      rows, batches, s, step, features, no_extras,
+      normalize ? PixelTrainingExtraTerm(through_normalisation) : PixelTrainingExtraTerm(),
+      progress);
   result.loss_start = loss.start;
   result.loss_end = loss.end;
   result.model = model;
@@ -112,6 +151,8 @@ const ParamTable<CorrespondenceOptions>& correspondence_param_table() {
           .add("views_per_iteration", &O::views_per_iteration, "views drawn per step", 1, 1e4)
           .add("init_std", &O::init_std, "standard deviation of the random initial features", 1e-9,
                100)
+          .add("normalize_gaussians", &O::normalize_gaussians,
+               "render L2-normalised per-Gaussian features (SAGA code: norm_point_features)")
           .add("min_weight", &O::min_weight,
                "blend weights below this are dropped from the stored rows (memory)", 0, 1);
   return table;
