@@ -29,6 +29,7 @@ double ms_since(Clock::time_point t0) {
 }
 
 std::vector<int> requested_views(const nlohmann::json& j, const Capture& capture, const Prompt& p) {
+  if (capture.find_view(p.view) < 0) throw InputError("the capture has no view '" + p.view + "'");
   if (!j.contains("views")) return {capture.find_view(p.view)};
   std::vector<int> views;
   if (j["views"] == "all") {

@@ -59,6 +59,7 @@ TEST_CASE("a scripted segment session") {
     CHECK(!replies[k]["error"].get<std::string>().empty());
   }
   CHECK(replies[2]["line"] == 4);  // the blank line 3 is skipped, not answered
+  CHECK(replies[2]["error"].get<std::string>().find("no view 'v9'") != std::string::npos);
   CHECK(replies[3]["error"].get<std::string>().find("outside") != std::string::npos);
   CHECK(replies[6]["ok"] == true);
 }
