@@ -7,6 +7,7 @@
 #include "nodes/inference/register.hpp"
 #include "nodes/ingest/register.hpp"
 #include "nodes/lifting/register.hpp"
+#include "nodes/masks/register.hpp"
 #include "nodes/splat/register.hpp"
 #include "nodes/synth/register.hpp"
 #include "nodes/text/register.hpp"
@@ -26,6 +27,7 @@ void register_builtin_nodes(Registry& registry) {
   register_eval_nodes(registry);
   register_features_nodes(registry);
   register_vlm_nodes(registry);
+  register_masks_nodes(registry);
 }
 
 }  // namespace gslift

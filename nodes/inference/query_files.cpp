@@ -42,6 +42,12 @@ cv::Mat overlay(const cv::Mat& rgb, const cv::Mat1b& mask) {
 
 }  // namespace
 
+void write_mask_files(const std::filesystem::path& dir, const std::string& stem,
+                      const cv::Mat1b& mask, const cv::Mat& rgb) {
+  write_png(dir / (stem + "_mask.png"), mask);
+  if (rgb.size() == mask.size()) write_rgb_png(dir / (stem + "_overlay.png"), overlay(rgb, mask));
+}
+
 std::string query_file_stem(const std::string& query) {
   std::string stem;
   for (char c : query) {
@@ -70,10 +76,8 @@ void write_query_files(const TextQueryResults& results, const Capture& capture,
         vi >= 0 && capture.views[vi].rgb.present() ? capture.views[vi].rgb.load() : cv::Mat();
     for (size_t q = 0; q < results.queries.size(); ++q) {
       const std::string stem = answers.view + "__" + query_file_stem(results.queries[q]);
-      write_png(dir / (stem + "_mask.png"), answers.masks[q]);
+      write_mask_files(dir, stem, answers.masks[q], rgb);
       write_png(dir / (stem + "_relevancy.png"), relevancy_png(answers.relevancy[q]));
-      if (rgb.size() == answers.masks[q].size())
-        write_rgb_png(dir / (stem + "_overlay.png"), overlay(rgb, answers.masks[q]));
     }
   }
 }

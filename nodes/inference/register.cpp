@@ -2,8 +2,14 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
+#include <chrono>
+
 #include "nodes/inference/filter_3d.hpp"
+#include "nodes/inference/prompt_io.hpp"
+#include "nodes/inference/prompt_segmentation.hpp"
 #include "nodes/inference/query_files.hpp"
+#include "nodes/inference/selection_output.hpp"
 #include "nodes/inference/text_query.hpp"
 #include "nodes/splat/ply_io.hpp"
 #include "runtime/atomic_file.hpp"
@@ -106,10 +112,130 @@ void add_filter_3d(Registry& registry) {
   registry.add(std::move(spec), filter_3d_param_table(), run_filter_3d);
 }
 
+// The params of inference.prompt: where the prompts come from, and how they are answered.
+struct PromptNodeOptions {
+  std::string file;  // a prompt file (prompt_io.hpp); empty = prompts from the reference masks
+  std::string view;  // reference masks: the view they are taken from; empty = first training view
+  PromptKind kind = PromptKind::Point;  // reference masks: the prompt each mask becomes
+  PromptOptions answer;
+};
+
+const ParamTable<PromptNodeOptions>& prompt_node_table() {
+  using O = PromptNodeOptions;
+  static const ParamTable<O> table =
+      ParamTable<O>()
+          .add("file", &O::file, "prompt file (JSON); empty = one prompt per reference mask")
+          .add("view", &O::view,
+               "reference masks: the view the prompts are given in (empty = first training view)")
+          .add("kind", &O::kind, prompt_kind_names(),
+               "reference masks: point (centre pixel), mask or sam (the mask itself)")
+          .nest(&O::answer, prompt_param_table());
+  return table;
+}
+
+void run_prompt(NodeContext& ctx, PromptNodeOptions o) {
+  const auto model = ctx.input<GaussianModel>("model");
+  const auto capture = ctx.input<Capture>("capture");
+  PromptSet prompts;
+  if (!o.file.empty()) {
+    prompts = read_prompt_file(o.file);
+  } else {
+    if (!ctx.has_input("reference"))
+      throw InputError("inference.prompt: give a prompt file (param 'file') or wire 'reference'");
+    if (o.view.empty()) {
+      const std::vector<int> train = capture->train_views();
+      if (train.empty()) throw InputError("inference.prompt: the capture has no training view");
+      o.view = capture->views[train[0]].name;
+    }
+    prompts = prompts_from_masks(*ctx.input<MaskSet>("reference"), o.view, o.kind);
+  }
+  o.answer.seed = ctx.seed();
+  PromptSegmenter segmenter(*model, *capture, o.answer);
+  std::vector<PromptSelection> selections;
+  std::vector<double> seconds;
+  for (const Prompt& p : prompts.prompts) {
+    const int v = capture->find_view(p.view);
+    if (v >= 0) segmenter.feature_map(v);  // rendered once per view, outside the prompt's time
+    const auto t0 = std::chrono::steady_clock::now();
+    selections.push_back(segmenter.select(p));
+    seconds.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    ctx.record("selected/" + p.name, static_cast<double>(selections.back().count));
+    if (p.kind == PromptKind::Sam)
+      ctx.record("pooled/" + p.name, selections.back().pooled ? 1.0 : 0.0);
+  }
+  ctx.record("prompts", static_cast<double>(prompts.prompts.size()));
+  if (!seconds.empty()) {
+    std::nth_element(seconds.begin(), seconds.begin() + seconds.size() / 2, seconds.end());
+    ctx.record("select_ms_median", 1e3 * seconds[seconds.size() / 2]);
+  }
+  GaussianModel out = *model;
+  out.instance_ids = selection_instance_ids(selections);
+  ctx.output("model", std::move(out));
+  ctx.output("prompts", std::move(prompts));
+}
+
+void add_prompt(Registry& registry) {
+  NodeSpec spec{
+      "inference.prompt",
+      "point / scribble / mask / SAM-style prompts -> per-Gaussian selections (SAGA 4.4)",
+      {{"model", PortTypeName<GaussianModel>::value, "Gaussians with affinity features"},
+       {"capture", PortTypeName<Capture>::value, "the views prompts are given in"},
+       {"reference", PortTypeName<MaskSet>::value,
+        "masks that become prompts when no file is given (e.g. masks.ground_truth)", true}},
+      {{"model", PortTypeName<GaussianModel>::value,
+        "the same Gaussians, instance_ids = the prompt that selected each (-1 = none)"},
+       {"prompts", PortTypeName<PromptSet>::value, "the prompts answered, in id order"}}};
+  registry.add(std::move(spec), prompt_node_table(), run_prompt);
+}
+
+struct RenderSelectionOptions {
+  ViewSet views = ViewSet::All;
+  double threshold = 0.5;  // SAGA render.py thresholds the rendered 0/1 mask at 0.5
+};
+
+const ParamTable<RenderSelectionOptions>& render_selection_table() {
+  using O = RenderSelectionOptions;
+  static const ParamTable<O> table =
+      ParamTable<O>()
+          .add("views", &O::views, view_set_names(), "views to render the selections in")
+          .add("threshold", &O::threshold,
+               "accumulated alpha of a selection that makes a pixel part of its mask", 0, 1);
+  return table;
+}
+
+void run_render_selection(NodeContext& ctx, const RenderSelectionOptions& o) {
+  const auto model = ctx.input<GaussianModel>("model");
+  const auto capture = ctx.input<Capture>("capture");
+  std::vector<std::string> names;
+  for (const Prompt& p : ctx.input<PromptSet>("prompts")->prompts) names.push_back(p.name);
+  MaskSet masks = render_selection_masks(*model, *capture, capture->views_named(o.views), names,
+                                         static_cast<float>(o.threshold));
+  ctx.record("views", static_cast<double>(masks.views.size()));
+  const auto dir = ctx.out_dir();
+  if (!dir.empty()) write_selection_files(masks, *model, names, *capture, dir);
+  ctx.output("masks", std::move(masks));
+}
+
+void add_render_selection(Registry& registry) {
+  NodeSpec spec{
+      "inference.render_selection",
+      "selected Gaussians -> a 2D mask per view and prompt (PNGs, overlays) and PLY exports",
+      {{"model", PortTypeName<GaussianModel>::value, "instance_ids = selection (inference.prompt)"},
+       {"capture", PortTypeName<Capture>::value, "the views to render in"},
+       {"prompts", PortTypeName<PromptSet>::value, "names of the selections"}},
+      {{"masks", PortTypeName<MaskSet>::value,
+        "per view one mask per prompt, labelled with its name (files: <view>__<name>_mask.png, "
+        "_overlay.png, <name>.ply = the object alone, scene_selection.ply = the scene with "
+        "instance_id = selection)"}}};
+  registry.add(std::move(spec), render_selection_table(), run_render_selection);
+}
+
 }  // namespace
 
 void register_inference_nodes(Registry& registry) {
   add_filter_3d(registry);
+  add_prompt(registry);
+  add_render_selection(registry);
   NodeSpec spec{
       "inference.text_query",
       "text query -> instances -> Gaussians -> a mask and a relevancy map per view (LangOR 3.3)",

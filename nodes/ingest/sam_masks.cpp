@@ -3,6 +3,7 @@
 #include <map>
 
 #include <nlohmann/json.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include "base/errors.hpp"
 #include "nodes/ingest/coco_rle.hpp"
@@ -30,6 +31,17 @@ float number_or(const json& record, const char* key, float fallback, const std::
 }
 
 }  // namespace
+
+json sam_mask_record(const cv::Mat1b& mask, double predicted_iou, double stability) {
+  const cv::Rect b = cv::boundingRect(mask);
+  const json rle = {{"size", {mask.rows, mask.cols}},
+                    {"counts", rle_counts_to_string(rle_encode(mask))}};
+  return {{"segmentation", rle},
+          {"bbox", {b.x, b.y, b.width, b.height}},
+          {"area", cv::countNonZero(mask)},
+          {"predicted_iou", predicted_iou},
+          {"stability_score", stability}};
+}
 
 std::vector<Mask> parse_sam_auto_masks(const std::string& json_text, const std::string& where) {
   const json list = parse_list(json_text, where);

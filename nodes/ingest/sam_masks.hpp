@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
 #include <opencv2/core.hpp>
 
 #include "nodes/scene/masks.hpp"
@@ -17,6 +18,11 @@ namespace gslift {
 // Mask::granularity = granularity (0 when absent). Masks have the RLE's size. Errors throw
 // InputError starting with `where`.
 std::vector<Mask> parse_sam_auto_masks(const std::string& json_text, const std::string& where);
+
+// The record SAM's generator writes for one mask: COCO RLE segmentation (compressed counts, as
+// SAM's "coco_rle" output mode writes them), bbox, area, predicted_iou and stability_score. The
+// inverse of one entry of parse_sam_auto_masks (a caller adds "granularity" when it has one).
+nlohmann::json sam_mask_record(const cv::Mat1b& mask, double predicted_iou, double stability);
 
 // Box-prompted SAM masks of one VLM round: a JSON list aligned with the reply's boxes, each entry
 // a COCO RLE, a record {segmentation: RLE, score | predicted_iou}, or null for "no mask".

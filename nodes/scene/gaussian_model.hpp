@@ -31,6 +31,8 @@ struct GaussianModel {
   static int sh_coeffs(int degree) { return (degree + 1) * (degree + 1); }
   // Resizes every per-Gaussian array to n (new entries zero, quaternions identity).
   void resize(size_t n);
+  // The Gaussians `indices` (in that order) as a model of their own, every array kept.
+  GaussianModel subset(const std::vector<size_t>& indices) const;
 };
 
 GSLIFT_PORT_TYPE(GaussianModel, "GaussianModel");

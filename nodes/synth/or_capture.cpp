@@ -10,8 +10,8 @@
 #include <nlohmann/json.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include "nodes/ingest/coco_rle.hpp"
 #include "nodes/ingest/colmap_model.hpp"
+#include "nodes/ingest/sam_masks.hpp"
 #include "nodes/scene/image_io.hpp"
 #include "nodes/synth/bvh.hpp"
 #include "nodes/synth/depth_prior_simulator.hpp"
@@ -35,19 +35,6 @@ std::ostringstream classic_stream() {
   s.imbue(std::locale::classic());
   s.precision(17);
   return s;
-}
-
-// A SAM-style mask record: COCO RLE segmentation (compressed counts, as SAM's "coco_rle" output
-// mode writes them) plus the fields SAM's generator reports.
-nlohmann::json mask_record(const cv::Mat1b& mask, double predicted_iou, double stability) {
-  const cv::Rect b = cv::boundingRect(mask);
-  const nlohmann::json rle = {{"size", {mask.rows, mask.cols}},
-                              {"counts", rle_counts_to_string(rle_encode(mask))}};
-  return {{"segmentation", rle},
-          {"bbox", {b.x, b.y, b.width, b.height}},
-          {"area", cv::countNonZero(mask)},
-          {"predicted_iou", predicted_iou},
-          {"stability_score", stability}};
 }
 
 std::string classes_yaml(const OrScene& scene) {
@@ -126,7 +113,8 @@ void write_view(const OrCaptureSettings& s, const OrScene& scene, const Bvh& bvh
     nlohmann::json masks = nlohmann::json::array();
     for (const VlmBox& b : rounds[q].boxes) {
       const SamBoxMask m = simulate_sam_box(b.box, r.instance, pixels, k, sam_rng);
-      masks.push_back(mask_record(m.mask, sam_rng.uniform(0.85, 1.0), sam_rng.uniform(0.9, 1.0)));
+      masks.push_back(
+          sam_mask_record(m.mask, sam_rng.uniform(0.85, 1.0), sam_rng.uniform(0.9, 1.0)));
     }
     write_file_atomically(dir / "sam_box" / stem / (round + ".json"), masks.dump());
   }
@@ -134,7 +122,7 @@ void write_view(const OrCaptureSettings& s, const OrScene& scene, const Bvh& bvh
   RandomStream auto_rng(stream_seed(seed, kSamAutoStream, index));
   nlohmann::json autos = nlohmann::json::array();
   for (const AutoMask& a : simulate_sam_auto(r.instance, r.part, k, auto_rng)) {
-    nlohmann::json rec = mask_record(a.mask, a.predicted_iou, a.stability_score);
+    nlohmann::json rec = sam_mask_record(a.mask, a.predicted_iou, a.stability_score);
     rec["granularity"] = a.granularity;
     autos.push_back(std::move(rec));
   }

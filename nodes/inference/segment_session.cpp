@@ -1,0 +1,187 @@
+#include "nodes/inference/segment_session.hpp"
+
+#include <chrono>
+#include <iostream>
+#include <map>
+#include <memory>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "base/errors.hpp"
+#include "nodes/inference/filter_3d.hpp"
+#include "nodes/inference/prompt_io.hpp"
+#include "nodes/inference/query_files.hpp"
+#include "nodes/inference/selection_output.hpp"
+#include "nodes/inference/text_query.hpp"
+#include "nodes/ingest/capture_loader.hpp"
+#include "nodes/ingest/capture_provider.hpp"
+#include "nodes/splat/ply_io.hpp"
+#include "runtime/exit_codes.hpp"
+
+namespace gslift {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double ms_since(Clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
+
+std::vector<int> requested_views(const nlohmann::json& j, const Capture& capture, const Prompt& p) {
+  if (capture.find_view(p.view) < 0) throw InputError("the capture has no view '" + p.view + "'");
+  if (!j.contains("views")) return {capture.find_view(p.view)};
+  std::vector<int> views;
+  if (j["views"] == "all") {
+    for (size_t v = 0; v < capture.views.size(); ++v) views.push_back(static_cast<int>(v));
+    return views;
+  }
+  if (!j["views"].is_array()) throw InputError("\"views\" must be a list of view names or \"all\"");
+  for (const auto& name : j["views"]) {
+    const int v = name.is_string() ? capture.find_view(name.get<std::string>()) : -1;
+    if (v < 0) throw InputError("the capture has no view " + name.dump());
+    views.push_back(v);
+  }
+  return views;
+}
+
+}  // namespace
+
+int run_segment_session(const GaussianModel& model, const Capture& capture,
+                        const PromptOptions& options, std::istream& in, std::ostream& out) {
+  PromptSegmenter segmenter(model, capture, options);
+  std::map<int, std::unique_ptr<QueryView>> mask_views;  // render caches, built on first use
+  int answered = 0;
+  std::string text;
+  for (int line = 1; std::getline(in, text); ++line) {
+    if (text.find_first_not_of(" \t\r") == std::string::npos) continue;
+    nlohmann::json reply;
+    try {
+      nlohmann::json j;
+      try {
+        j = nlohmann::json::parse(text);
+      } catch (const nlohmann::json::exception& e) {
+        throw InputError(std::string("not JSON: ") + e.what());
+      }
+      const Prompt p = prompt_from_json(j, ".", "prompt", static_cast<size_t>(line));
+      const std::vector<int> views = requested_views(j, capture, p);
+      const int pv = capture.find_view(p.view);
+      if (pv >= 0) segmenter.feature_map(pv);  // once per view, not part of a prompt's latency
+      for (int v : views)
+        if (!mask_views.count(v))
+          mask_views[v] =
+              std::make_unique<QueryView>(model, capture.views[v].camera, capture.views[v].pose);
+      const auto t0 = Clock::now();
+      const PromptSelection s = segmenter.select(p);
+      std::vector<uint8_t> indicator = s.selected;
+      if (j.value("filter", false)) {
+        std::vector<int32_t> ids(s.selected.size());
+        for (size_t g = 0; g < ids.size(); ++g) ids[g] = s.selected[g] ? 0 : -1;
+        const Filter3dResult f = filter_instances_3d(model.means, ids, Filter3dOptions{});
+        for (size_t g = 0; g < ids.size(); ++g) indicator[g] = f.instance_ids[g] == 0;
+      }
+      const double select_ms = ms_since(t0);
+      const auto t1 = Clock::now();
+      MaskSet masks;
+      for (int v : views) {
+        Mask m;
+        m.pixels = mask_views[v]->selection_mask(indicator, 0.5f);
+        m.label = p.name;
+        masks.views.push_back({capture.views[v].name, {std::move(m)}});
+      }
+      const double mask_ms = ms_since(t1);
+      int64_t selected = 0;
+      for (uint8_t x : indicator) selected += x;
+      reply = {{"ok", true},           {"name", p.name},
+               {"selected", selected}, {"select_ms", select_ms},
+               {"mask_ms", mask_ms},   {"latency_ms", select_ms + mask_ms}};
+      nlohmann::json names = nlohmann::json::array();
+      for (const ViewMasks& vm : masks.views) names.push_back(vm.view);
+      reply["views"] = names;
+      if (j.contains("output")) {
+        const std::filesystem::path dir = j["output"].get<std::string>();
+        std::filesystem::create_directories(dir);
+        if (j.value("ply", false)) {
+          GaussianModel labelled = model;
+          labelled.instance_ids.assign(model.size(), -1);
+          for (size_t g = 0; g < model.size(); ++g)
+            if (indicator[g]) labelled.instance_ids[g] = 0;
+          write_selection_files(masks, labelled, {p.name}, capture, dir);
+        } else {
+          for (const ViewMasks& vm : masks.views) {
+            const int vi = capture.find_view(vm.view);
+            const cv::Mat rgb =
+                capture.views[vi].rgb.present() ? capture.views[vi].rgb.load() : cv::Mat();
+            write_mask_files(dir, vm.view + "__" + query_file_stem(p.name), vm.masks[0].pixels,
+                             rgb);
+          }
+        }
+        reply["output"] = dir.string();
+      }
+      ++answered;
+    } catch (const std::exception& e) {
+      reply = {{"ok", false}, {"line", line}, {"error", e.what()}};
+    }
+    out << reply.dump() << std::endl;
+  }
+  return answered;
+}
+
+int segment_main(int argc, char** argv) {
+  std::string model_path, input;
+  PromptOptions options;
+  CaptureOptions capture_options;
+  capture_options.skip_missing_images = true;
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    if (arg == "--help" || arg == "-h") {
+      std::cout << "usage: gslift segment MODEL.ply --input CAPTURE [--tau T] [--adaptive]\n"
+                   "                      [--downscale N]\n\n"
+                   "Loads a model with affinity features (features.correspondence) and a capture\n"
+                   "once, then reads one JSON prompt per stdin line and prints one JSON reply per\n"
+                   "prompt (docs/saga.md, nodes/inference/segment_session.hpp).\n";
+      return exit_code::kOk;
+    }
+    if (arg == "--adaptive") {
+      options.threshold = PromptThreshold::Adaptive;
+      continue;
+    }
+    if (arg.rfind("--", 0) == 0) {
+      if (i + 1 >= argc) {
+        std::cerr << "gslift segment: " << arg << " needs a value\n";
+        return exit_code::kUsage;
+      }
+      const std::string value = argv[++i];
+      try {
+        if (arg == "--input")
+          input = value;
+        else if (arg == "--tau")
+          options.tau = std::stod(value);
+        else if (arg == "--downscale")
+          capture_options.downscale = std::stoi(value);
+        else
+          throw std::invalid_argument("unknown option " + arg);
+      } catch (const std::exception& e) {
+        std::cerr << "gslift segment: " << e.what() << " (see gslift segment --help)\n";
+        return exit_code::kUsage;
+      }
+      continue;
+    }
+    model_path = arg;
+  }
+  if (model_path.empty() || input.empty()) {
+    std::cerr << "gslift segment: MODEL.ply and --input CAPTURE are required\n";
+    return exit_code::kUsage;
+  }
+  try {
+    const GaussianModel model = read_ply(model_path);
+    const Capture capture = load_capture(resolve_capture_path(input), capture_options);
+    run_segment_session(model, capture, options, std::cin, std::cout);
+  } catch (const InputError& e) {
+    std::cerr << "gslift segment: " << e.what() << "\n";
+    return exit_code::kBadInput;
+  }
+  return exit_code::kOk;
+}
+
+}  // namespace gslift

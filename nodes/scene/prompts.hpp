@@ -1,0 +1,36 @@
+// Prompts of promptable 3D segmentation (SAGA, paper 001 §4.4): clicks, scribbles or masks given
+// in one view of the capture, each naming the object it asks for.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "base/port_type.hpp"
+#include "graph/param_table.hpp"
+
+namespace gslift {
+
+// point: positive / negative pixels; scribble: positive / negative strokes (polylines through
+// the listed pixels); mask: a binary mask (dense hint, K-means queries); sam: a reference mask
+// as SAM would return it (masked average pooling, with the 90% check).
+enum class PromptKind { Point, Scribble, Mask, Sam };
+const EnumNames<PromptKind>& prompt_kind_names();  // point, scribble, mask, sam
+
+struct Prompt {
+  std::string name;  // the object asked for; masks and files carry it
+  PromptKind kind = PromptKind::Point;
+  std::string view;                 // view name in the capture
+  std::vector<cv::Point> positive;  // pixels (x right, y down); scribble: stroke vertices
+  std::vector<cv::Point> negative;
+  cv::Mat1b mask;  // mask and sam prompts: 255 = the object, view-sized
+};
+
+struct PromptSet {
+  std::vector<Prompt> prompts;
+};
+
+GSLIFT_PORT_TYPE(PromptSet, "PromptSet");
+
+}  // namespace gslift

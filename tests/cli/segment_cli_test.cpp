@@ -1,0 +1,68 @@
+// `gslift segment` itself: a scripted session through the executable's stdin and stdout, on a
+// small synthetic capture and a hand-made feature model.
+#include <fstream>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "nodes/splat/ply_io.hpp"
+#include "runtime/exit_codes.hpp"
+#include "tests/cli/command.hpp"
+#include "tests/test_support.hpp"
+
+using namespace gslift;
+using gslift::test::run_command;
+namespace fs = std::filesystem;
+
+TEST_CASE("gslift segment answers a scripted session line by line", "[cli]") {
+  const fs::path dir = test::scratch_dir("cli_segment");
+  const std::string binary = GSLIFT_BINARY;
+  REQUIRE(run_command(binary + " synth --out '" + (dir / "capture").string() +
+                      "' --width 96 --height 72 --views 4")
+              .code == exit_code::kOk);
+  // 64 Gaussians on a grid around the room's centre, two feature directions.
+  GaussianModel model;
+  model.resize(64);
+  model.feature_dim = 2;
+  model.features.assign(128, 0.f);
+  for (int g = 0; g < 64; ++g) {
+    model.means[3 * g + 0] = -1.5f + 0.4f * (g % 8);
+    model.means[3 * g + 1] = -1.5f + 0.4f * (g / 8);
+    model.means[3 * g + 2] = 1.f;
+    for (int a = 0; a < 3; ++a) model.log_scales[3 * g + a] = -1.5f;
+    model.opacity_logits[g] = 2.f;
+    model.features[2 * g + (g % 2)] = 1.f;
+  }
+  write_ply(model, dir / "model.ply");
+  std::ofstream(dir / "prompts.jsonl")
+      << R"({"name": "a", "view": "cam_00", "positive": [[48, 36]], "output": ")"
+      << (dir / "out").string() << R"(", "views": "all"})"
+      << "\n"
+      << R"({"view": "cam_00", "positive": [[500, 36]]})"
+      << "\n"
+      << R"({"name": "b", "kind": "mask", "view": "cam_00"})"
+      << "\n"
+      << R"({"name": "c", "view": "cam_01", "positive": [[10, 10]], "negative": [[20, 20]]})"
+      << "\n";
+  const auto r =
+      run_command(binary + " segment '" + (dir / "model.ply").string() + "' --input '" +
+                  (dir / "capture").string() + "' < '" + (dir / "prompts.jsonl").string() + "'");
+  INFO(r.output);
+  REQUIRE(r.code == exit_code::kOk);
+  std::vector<nlohmann::json> replies;
+  std::istringstream lines(r.output);
+  for (std::string line; std::getline(lines, line);)
+    if (!line.empty() && line[0] == '{') replies.push_back(nlohmann::json::parse(line));
+  REQUIRE(replies.size() == 4);
+  CHECK(replies[0]["ok"] == true);
+  CHECK(replies[0]["views"].size() == 4);
+  CHECK(fs::exists(dir / "out/cam_03__a_mask.png"));
+  CHECK(replies[1]["ok"] == false);  // pixel outside the 96x72 view
+  CHECK(replies[2]["ok"] == false);  // a mask prompt without its mask
+  CHECK(replies[3]["ok"] == true);
+  CHECK(replies[3]["latency_ms"].get<double>() >= 0);
+  // Usage errors: no model, no capture.
+  CHECK(run_command(binary + " segment").code == exit_code::kUsage);
+  CHECK(run_command(binary + " segment '" + (dir / "model.ply").string() + "'").code ==
+        exit_code::kUsage);
+}
