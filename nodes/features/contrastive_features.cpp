@@ -5,15 +5,10 @@
 #include <string>
 #include <vector>
 
-#include <tbb/parallel_for.h>
-
 #include "base/errors.hpp"
 #include "base/random.hpp"
 #include "nodes/features/contrastive_loss.hpp"
-#include "nodes/splat/adam.hpp"
-#include "nodes/splat/pixel_rows.hpp"
-#include "nodes/splat/rasterizer.hpp"
-#include "nodes/splat/render_cache.hpp"
+#include "nodes/features/pixel_feature_training.hpp"
 
 namespace gslift {
 namespace {
@@ -24,13 +19,6 @@ struct TrainingMask {
   int rows = 0;  // index into view_rows
   cv::Mat1b pixels;
   std::vector<uint32_t> inside;
-};
-
-// The sampled pixels of one mask in one iteration (inside first, then outside) and dL/dF there.
-struct MaskStep {
-  std::vector<uint32_t> pixels;
-  std::vector<float> grad;  // pixels x dim
-  double loss = 0;
 };
 
 void validate(const GaussianModel& model, const ContrastiveOptions& o) {
@@ -72,9 +60,6 @@ ContrastiveResult train_contrastive_features(const GaussianModel& model, const C
   // Render view_rows of the training views that have masks, and their non-empty masks.
   std::vector<PixelRows> view_rows;
   std::vector<TrainingMask> training;
-  RenderSettings weights_only;
-  weights_only.rgb = false;
-  weights_only.alpha = true;
   for (const MaskView& mv : training_mask_views(capture, masks)) {
     const ViewMasks& vm = masks.views[mv.mask_view];
     const View& view = capture.views[mv.capture_view];
@@ -89,8 +74,8 @@ ContrastiveResult train_contrastive_features(const GaussianModel& model, const C
       if (!m.inside.empty()) training.push_back(std::move(m));
     }
     if (!training.empty() && training.back().rows == rows_index)
-      view_rows.emplace_back(RenderCache(render(model, view.camera, view.pose, weights_only)),
-                             static_cast<float>(o.min_weight));
+      view_rows.push_back(
+          render_pixel_rows(model, view.camera, view.pose, static_cast<float>(o.min_weight)));
   }
   if (training.empty())
     throw InputError("features.contrastive: no training view of capture '" + capture.name +
@@ -100,45 +85,36 @@ ContrastiveResult train_contrastive_features(const GaussianModel& model, const C
   result.masks = static_cast<int>(training.size());
   for (const auto& c : view_rows) result.cache_bytes += c.bytes();
 
-  const size_t n = model.size();
-  std::vector<float> features(n * dim);
+  std::vector<float> features(model.size() * dim);
   {
     RandomStream rng(stream_seed(o.seed, "contrastive.init"));
     for (float& f : features) f = static_cast<float>(rng.normal(0.0, o.init_std));
   }
-  std::vector<float> grad(n * dim);
-  AdamGroup adam(dim);
-  std::vector<MaskStep> steps(training.size());
-
-  for (int it = 0; it < o.iterations; ++it) {
-    tbb::parallel_for(size_t(0), training.size(), [&](size_t k) {
-      const TrainingMask& m = training[k];
-      MaskStep& s = steps[k];
-      // One stream per (iteration, mask), numbered row by row.
-      RandomStream rng(stream_seed(o.seed, "contrastive.pixels", it * training.size() + k));
-      s.pixels.clear();
-      const int n_out = sample_pixels(m, o.pixels_per_iteration, rng, s.pixels);
-      const int n_in = o.pixels_per_iteration;
-      std::vector<float> rendered(s.pixels.size() * dim);
-      view_rows[m.rows].render(features.data(), dim, s.pixels, rendered.data());
-      s.grad.resize(rendered.size());
-      s.loss =
-          mask_contrastive_loss(rendered.data(), n_in, rendered.data() + size_t(n_in) * dim, n_out,
-                                dim, o.lambda, s.grad.data(), s.grad.data() + size_t(n_in) * dim);
-    });
-    // Fixed mask order: the sums do not depend on the thread count.
-    double loss = 0;
-    std::fill(grad.begin(), grad.end(), 0.f);
-    for (size_t k = 0; k < training.size(); ++k) {
-      loss += steps[k].loss;
-      view_rows[training[k].rows].backward(steps[k].pixels, steps[k].grad.data(), dim, grad.data());
-    }
-    loss /= training.size();
-    if (it == 0) result.loss_start = loss;
-    result.loss_end = loss;
-    adam.step(features.data(), grad.data(), n, static_cast<float>(o.lr));
-    if (progress) progress(it, o.iterations);
-  }
+  // One batch per (iteration, mask): pixels inside and outside the mask, LangOR Eq. 3.
+  const PixelBatchStep step = [&](int it, size_t k, const float* f, const float*, PixelBatch& s) {
+    const TrainingMask& m = training[k];
+    // One stream per (iteration, mask), numbered row by row.
+    RandomStream rng(stream_seed(o.seed, "contrastive.pixels", it * training.size() + k));
+    s.view = m.rows;
+    s.pixels.clear();
+    const int n_out = sample_pixels(m, o.pixels_per_iteration, rng, s.pixels);
+    const int n_in = o.pixels_per_iteration;
+    std::vector<float> rendered(s.pixels.size() * dim);
+    view_rows[m.rows].render(f, dim, s.pixels, rendered.data());
+    s.grad.resize(rendered.size());
+    s.loss =
+        mask_contrastive_loss(rendered.data(), n_in, rendered.data() + size_t(n_in) * dim, n_out,
+                              dim, o.lambda, s.grad.data(), s.grad.data() + size_t(n_in) * dim);
+  };
+  PixelTrainingSettings settings;
+  settings.iterations = o.iterations;
+  settings.dim = dim;
+  settings.lr = o.lr;
+  std::vector<float> no_extras;
+  const PixelTrainingLoss loss = train_pixel_features(view_rows, training.size(), settings, step,
+                                                      features, no_extras, {}, progress);
+  result.loss_start = loss.start;
+  result.loss_end = loss.end;
 
   result.model = model;
   result.model.feature_dim = dim;

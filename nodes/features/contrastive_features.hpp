@@ -3,7 +3,8 @@
 // every iteration samples pixels of each mask, renders their features F(p) = sum_i w_i f_i
 // (LangOR Eq. 1) from the cached rows, evaluates LangOR Eq. 3 (contrastive_loss.hpp) and sends
 // dL/dF(p) back to the Gaussians through the same weights (the transpose of the product), then
-// takes one Adam step on the features only.
+// takes one Adam step on the features only. The loop is train_pixel_features
+// (pixel_feature_training.hpp), shared with the other feature objectives on frozen geometry.
 //
 // Only the sampled pixels are rendered and back-propagated: the full products W f and W^T dL/dF
 // of RenderCache cost O(entries of the whole image) per view and iteration; at the defaults the
