@@ -1,0 +1,104 @@
+#include "nodes/features/view_classifiers.hpp"
+
+#include <algorithm>
+#include <chrono>
+
+#include "base/errors.hpp"
+#include "base/random.hpp"
+#include "nodes/features/classifier_loss.hpp"
+#include "nodes/features/labelled_views.hpp"
+
+namespace gslift {
+
+ViewClassifierResult train_view_classifiers(const GaussianModel& model, const Capture& capture,
+                                            const LabelMapSet& partitions,
+                                            const ViewClassifierOptions& o,
+                                            const std::function<void(int, int)>& progress) {
+  const auto t0 = std::chrono::steady_clock::now();
+  view_classifier_param_table().validate(o, "features.view_classifiers");
+  if (model.size() == 0) throw InputError("features.view_classifiers: the model has no Gaussians");
+  const int dim = o.dim;
+  const LabelledViews views =
+      render_labelled_views(model, capture, partitions, o.min_weight, "features.view_classifiers");
+
+  // Classifier k occupies [offset[k], offset[k] + classes[k] dim) of the extra parameters.
+  const size_t nv = views.rows.size();
+  std::vector<int> classes(nv);
+  std::vector<size_t> offset(nv + 1, 0);
+  for (size_t k = 0; k < nv; ++k) {
+    int top = 0;
+    for (const int id : views.labels[k]) top = std::max(top, id);
+    classes[k] = top + 1;
+    offset[k + 1] = offset[k] + size_t(classes[k]) * dim;
+  }
+  std::vector<float> features(model.size() * dim), weights(offset[nv]);
+  {
+    RandomStream rng(stream_seed(o.seed, "view_classifiers.init"));
+    for (float& f : features) f = static_cast<float>(rng.normal(0.0, o.init_std));
+    for (float& w : weights) w = static_cast<float>(rng.normal(0.0, o.init_std));
+  }
+
+  // One batch per (iteration, view): uniform pixels, Eq. 6-7 against the view's SAM ids.
+  const PixelBatchStep step = [&](int it, size_t k, const float* f, const float* w, PixelBatch& b) {
+    RandomStream rng(stream_seed(o.seed, "view_classifiers.pixels", size_t(it) * nv + k));
+    b.view = static_cast<int>(k);
+    b.pixels.clear();
+    sample_uniform_pixels(o.pixels_per_view, views.labels[k].total(), rng, b.pixels);
+    std::vector<int> labels(b.pixels.size());
+    for (size_t p = 0; p < b.pixels.size(); ++p)
+      labels[p] = views.labels[k].ptr<int>()[b.pixels[p]];
+    std::vector<float> rendered(b.pixels.size() * dim);
+    views.rows[k].render(f, dim, b.pixels, rendered.data());
+    b.grad.resize(rendered.size());
+    b.extra_offset = offset[k];
+    b.extra_grad.assign(offset[k + 1] - offset[k], 0.f);
+    b.loss = cosine_classifier_loss(rendered.data(), static_cast<int>(b.pixels.size()), dim,
+                                    labels.data(), w + offset[k], classes[k], o.tau, b.grad.data(),
+                                    b.extra_grad.data());
+  };
+  PixelTrainingSettings settings;
+  settings.iterations = o.iterations;
+  settings.dim = dim;
+  settings.lr = o.lr;
+  settings.extra_lr = o.classifier_lr;
+  const PixelTrainingLoss loss =
+      train_pixel_features(views.rows, nv, settings, step, features, weights, {}, progress);
+
+  ViewClassifierResult r;
+  r.loss_start = loss.start;
+  r.loss_end = loss.end;
+  r.cache_bytes = views.bytes();
+  r.classifiers.dim = dim;
+  r.classifiers.tau = o.tau;
+  for (size_t k = 0; k < nv; ++k) {
+    ViewClassifier c;
+    c.view = capture.views[views.capture_views[k]].name;
+    c.classes = classes[k];
+    c.weights.assign(weights.begin() + offset[k], weights.begin() + offset[k + 1]);
+    r.classifiers.views.push_back(std::move(c));
+  }
+  r.model = model;
+  r.model.feature_dim = dim;
+  r.model.features = std::move(features);
+  r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return r;
+}
+
+const ParamTable<ViewClassifierOptions>& view_classifier_param_table() {
+  using O = ViewClassifierOptions;
+  static const ParamTable<O> table =
+      ParamTable<O>()
+          .add("iterations", &O::iterations, "Adam steps", 1, 1e7)
+          .add("dim", &O::dim, "feature channels per Gaussian (D = 16)", 1, 512)
+          .add("tau", &O::tau, "temperature of the cosine logits (Eq. 6: 10)", 1e-6, 1e6)
+          .add("lr", &O::lr, "Adam learning rate of the features (2.5e-3)", 1e-9, 10)
+          .add("classifier_lr", &O::classifier_lr, "Adam learning rate of the classifiers (5e-4)",
+               1e-9, 10)
+          .add("pixels_per_view", &O::pixels_per_view, "pixels sampled per view and step", 1, 1e7)
+          .add("init_std", &O::init_std, "standard deviation of the random initial parameters",
+               1e-9, 100)
+          .add("min_weight", &O::min_weight, "blend weights below this are dropped (memory)", 0, 1);
+  return table;
+}
+
+}  // namespace gslift
