@@ -21,17 +21,23 @@ ViewClassifierResult train_view_classifiers(const GaussianModel& model, const Ca
   const LabelledViews views =
       render_labelled_views(model, capture, partitions, o.min_weight, "features.view_classifiers");
 
-  // Classifier k occupies [offset[k], offset[k] + classes[k] dim) of the extra parameters.
+  // Extra parameters, rows of dim floats: with shared_background one class-0 ("no mask") row
+  // for every view first; then per view its own class-0 row (without sharing) and the rows of
+  // its classes 1..L_k.
   const size_t nv = views.rows.size();
   std::vector<int> classes(nv);
-  std::vector<size_t> offset(nv + 1, 0);
+  std::vector<size_t> background_row(nv), first_row(nv);
+  size_t rows = o.shared_background ? 1 : 0;
   for (size_t k = 0; k < nv; ++k) {
     int top = 0;
     for (const int id : views.labels[k]) top = std::max(top, id);
     classes[k] = top + 1;
-    offset[k + 1] = offset[k] + size_t(classes[k]) * dim;
+    background_row[k] = o.shared_background ? 0 : rows++;
+    first_row[k] = rows;
+    rows += top;
   }
-  std::vector<float> features(model.size() * dim), weights(offset[nv]);
+  auto row_of = [&](size_t k, int c) { return c > 0 ? first_row[k] + c - 1 : background_row[k]; };
+  std::vector<float> features(model.size() * dim), weights(rows * dim);
   {
     RandomStream rng(stream_seed(o.seed, "view_classifiers.init"));
     for (float& f : features) f = static_cast<float>(rng.normal(0.0, o.init_std));
@@ -50,11 +56,18 @@ ViewClassifierResult train_view_classifiers(const GaussianModel& model, const Ca
     std::vector<float> rendered(b.pixels.size() * dim);
     views.rows[k].render(f, dim, b.pixels, rendered.data());
     b.grad.resize(rendered.size());
-    b.extra_offset = offset[k];
-    b.extra_grad.assign(offset[k + 1] - offset[k], 0.f);
+    // The view's classifier gathered into classes x dim, its gradient scattered back.
+    std::vector<float> local(size_t(classes[k]) * dim), local_grad(local.size(), 0.f);
+    for (int c = 0; c < classes[k]; ++c)
+      std::copy_n(w + row_of(k, c) * dim, dim, local.begin() + size_t(c) * dim);
     b.loss = cosine_classifier_loss(rendered.data(), static_cast<int>(b.pixels.size()), dim,
-                                    labels.data(), w + offset[k], classes[k], o.tau, b.grad.data(),
-                                    b.extra_grad.data());
+                                    labels.data(), local.data(), classes[k], o.tau, b.grad.data(),
+                                    local_grad.data());
+    b.extra_offset = 0;
+    b.extra_grad.assign(weights.size(), 0.f);
+    for (int c = 0; c < classes[k]; ++c)
+      std::copy_n(local_grad.begin() + size_t(c) * dim, dim,
+                  b.extra_grad.begin() + row_of(k, c) * dim);
   };
   PixelTrainingSettings settings;
   settings.iterations = o.iterations;
@@ -74,7 +87,9 @@ ViewClassifierResult train_view_classifiers(const GaussianModel& model, const Ca
     ViewClassifier c;
     c.view = capture.views[views.capture_views[k]].name;
     c.classes = classes[k];
-    c.weights.assign(weights.begin() + offset[k], weights.begin() + offset[k + 1]);
+    c.weights.resize(size_t(classes[k]) * dim);
+    for (int cl = 0; cl < classes[k]; ++cl)
+      std::copy_n(weights.begin() + row_of(k, cl) * dim, dim, c.weights.begin() + size_t(cl) * dim);
     r.classifiers.views.push_back(std::move(c));
   }
   r.model = model;
@@ -97,7 +112,9 @@ const ParamTable<ViewClassifierOptions>& view_classifier_param_table() {
           .add("pixels_per_view", &O::pixels_per_view, "pixels sampled per view and step", 1, 1e7)
           .add("init_std", &O::init_std, "standard deviation of the random initial parameters",
                1e-9, 100)
-          .add("min_weight", &O::min_weight, "blend weights below this are dropped (memory)", 0, 1);
+          .add("min_weight", &O::min_weight, "blend weights below this are dropped (memory)", 0, 1)
+          .add("shared_background", &O::shared_background,
+               "one class-0 (no SAM mask) row shared by every view's classifier");
   return table;
 }
 
