@@ -1,7 +1,7 @@
 // protosaga_bench: accuracy, stability and speed of Proto-SaGa and Gaga on the embedded OR.
 //
 //   protosaga_bench [--seeds N] [--views V] [--models DIR] [--out DIR] [--no-timing]
-//                   [--set-views NODE.P=V]...
+//                   [--view-iterations N] [--lift-iterations N]
 //
 // For each capture seed S = 0..N-1 (default 5) of embedded:or?seed=S&views=V (default 5 views,
 // one held out; 8 views hold out two) it reconstructs the scene once (or reads DIR/or_vV_sS.ply
@@ -166,7 +166,8 @@ std::string svg_chart(const nlohmann::json& association, const nlohmann::json& e
 
 int main(int argc, char** argv) {
   keep_freed_memory_in_process();
-  int seeds = 5, views = 5;
+  int seeds = 5, views = 5, view_iterations = ViewClassifierOptions{}.iterations,
+      lift_iterations = LabelClassifierOptions{}.iterations;
   bool timing = true;
   fs::path out = fs::path(GSLIFT_SOURCE_DIR) / "bench/results", models;
   for (int i = 1; i < argc; ++i) {
@@ -183,11 +184,15 @@ int main(int argc, char** argv) {
       models = next();
     else if (a == "--out")
       out = next();
+    else if (a == "--view-iterations")
+      view_iterations = std::stoi(next());
+    else if (a == "--lift-iterations")
+      lift_iterations = std::stoi(next());
     else if (a == "--no-timing")
       timing = false;
     else {
       std::cerr << "usage: protosaga_bench [--seeds N] [--views V] [--models DIR] [--out DIR] "
-                   "[--no-timing]\n";
+                   "[--no-timing] [--view-iterations N] [--lift-iterations N]\n";
       return 2;
     }
   }
@@ -204,6 +209,7 @@ int main(int argc, char** argv) {
 
     ViewClassifierOptions vo;
     vo.seed = stream_seed(seed, "bench.view_classifiers");
+    vo.iterations = view_iterations;
     const ViewClassifierResult vc = train_view_classifiers(b.model, capture, *b.partitions, vo);
     seconds["view_classifiers"].push_back(vc.seconds);
 
@@ -226,6 +232,7 @@ int main(int argc, char** argv) {
     auto lifted = [&](const LabelMapSet& labels) {
       LabelClassifierOptions lo;
       lo.seed = stream_seed(seed, "bench.label_classifier");
+      lo.iterations = lift_iterations;
       LabelClassifierResult r = train_label_classifier(b.model, capture, labels, lo);
       seconds["label_classifier"].push_back(r.seconds);
       return infer_labels_by_classifier(r.model, capture, r.classifier, test);
@@ -252,6 +259,8 @@ int main(int argc, char** argv) {
   nlohmann::json doc;
   doc["capture"] = "embedded:or?seed=S&views=" + std::to_string(views);
   doc["seeds"] = seeds;
+  doc["view_iterations"] = view_iterations;
+  doc["lift_iterations"] = lift_iterations;
   doc["association"] = summary(assoc, {"depth", "probability", "both", "gaga"});
   doc["end_to_end"] = summary(e2e, {"protosaga", "kmeans", "cls", "depth_proto", "gaga"});
   for (const auto& [name, v] : ms_per_view) {

@@ -9,6 +9,11 @@
 #include "nodes/features/labelled_views.hpp"
 
 namespace gslift {
+namespace {
+// Classifier rows start as N(0, 0.01^2) draws: Eq. 6 divides by |w_c|, so only their directions
+// matter, and a small norm lets the Adam steps of 5e-4 turn them quickly.
+constexpr double kClassifierInitStd = 0.01;
+}  // namespace
 
 ViewClassifierResult train_view_classifiers(const GaussianModel& model, const Capture& capture,
                                             const LabelMapSet& partitions,
@@ -41,7 +46,7 @@ ViewClassifierResult train_view_classifiers(const GaussianModel& model, const Ca
   {
     RandomStream rng(stream_seed(o.seed, "view_classifiers.init"));
     for (float& f : features) f = static_cast<float>(rng.normal(0.0, o.init_std));
-    for (float& w : weights) w = static_cast<float>(rng.normal(0.0, o.init_std));
+    for (float& w : weights) w = static_cast<float>(rng.normal(0.0, kClassifierInitStd));
   }
 
   // One batch per (iteration, view): uniform pixels, Eq. 6-7 against the view's SAM ids.
@@ -110,8 +115,8 @@ const ParamTable<ViewClassifierOptions>& view_classifier_param_table() {
           .add("classifier_lr", &O::classifier_lr, "Adam learning rate of the classifiers (5e-4)",
                1e-9, 10)
           .add("pixels_per_view", &O::pixels_per_view, "pixels sampled per view and step", 1, 1e7)
-          .add("init_std", &O::init_std, "standard deviation of the random initial parameters",
-               1e-9, 100)
+          .add("init_std", &O::init_std,
+               "standard deviation of the random initial features (0: zeros, as Gaga)", 0, 100)
           .add("min_weight", &O::min_weight, "blend weights below this are dropped (memory)", 0, 1)
           .add("shared_background", &O::shared_background,
                "one class-0 (no SAM mask) row shared by every view's classifier");
