@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 
+#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include "base/errors.hpp"
@@ -136,24 +137,26 @@ std::vector<float> gaussian_mask_probabilities(const cv::Mat1i& partition,
   }
   std::vector<float> out(n, 0.f);
   const int* ids = partition.ptr<int>();
-  tbb::parallel_for(size_t(0), n, [&](size_t i) {
-    const int32_t p = centres.pixel[i];
-    if (p < 0 || ids[p] <= 0 || ids[p] >= classes) return;
-    const float* f = &features[i * dim];
-    double norm = 0;
-    for (int d = 0; d < dim; ++d) norm += double(f[d]) * f[d];
-    const double scale = tau / std::max(std::sqrt(norm), 1e-12);
-    double top = -1e300;
-    std::vector<double> logits(classes);
-    for (int c = 0; c < classes; ++c) {
-      double s = 0;
-      for (int d = 0; d < dim; ++d) s += double(w[c * dim + d]) * f[d];
-      logits[c] = scale * s;
-      top = std::max(top, logits[c]);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, n), [&](const tbb::blocked_range<size_t>& r) {
+    std::vector<double> logits(classes);  // one buffer per chunk, not per Gaussian
+    for (size_t i = r.begin(); i != r.end(); ++i) {
+      const int32_t p = centres.pixel[i];
+      if (p < 0 || ids[p] <= 0 || ids[p] >= classes) continue;
+      const float* f = &features[i * dim];
+      double norm = 0;
+      for (int d = 0; d < dim; ++d) norm += double(f[d]) * f[d];
+      const double scale = tau / std::max(std::sqrt(norm), 1e-12);
+      double top = -1e300;
+      for (int c = 0; c < classes; ++c) {
+        double s = 0;
+        for (int d = 0; d < dim; ++d) s += double(w[c * dim + d]) * f[d];
+        logits[c] = scale * s;
+        top = std::max(top, logits[c]);
+      }
+      double sum = 0;
+      for (const double l : logits) sum += std::exp(l - top);
+      out[i] = static_cast<float>(std::exp(logits[ids[p]] - top) / sum);
     }
-    double sum = 0;
-    for (double l : logits) sum += std::exp(l - top);
-    out[i] = static_cast<float>(std::exp(logits[ids[p]] - top) / sum);
   });
   return out;
 }
