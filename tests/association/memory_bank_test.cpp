@@ -166,3 +166,21 @@ TEST_CASE("project_centres: pixel of the rounded centre, -1 behind or outside") 
   CHECK(c.pixel[1] == -1);
   CHECK(c.pixel[2] == -1);  // u = 12 >= width
 }
+
+// More than 300 masks (Gaga's uint8 maps wrap past 255): a 20x16 view with one mask per pixel and
+// one Gaussian per mask makes 320 entries, and the consistent map keeps ids 256..320 apart.
+TEST_CASE("memory bank: a view with 320 masks keeps 320 distinct labels") {
+  cv::Mat1i partition(16, 20);
+  std::vector<std::vector<uint32_t>> sets;
+  for (int k = 0; k < 320; ++k) {
+    partition(k / 20, k % 20) = k + 1;
+    sets.push_back({static_cast<uint32_t>(k)});
+  }
+  MemoryBank bank(320, 0.1, false);
+  const std::vector<int> labels = bank.add_view(sets);
+  CHECK(bank.entries() == 320);
+  const cv::Mat1i consistent = relabel_partition(partition, labels);
+  CHECK(consistent(15, 19) == 320);
+  CHECK(consistent(12, 15) == 256);
+  CHECK(consistent(12, 16) == 257);
+}
