@@ -15,10 +15,6 @@
 // full graph once in this process (seed 0) and times text queries (instance selection + one mask of
 // the held-out view) on its segmented scene. Writes langor.json, langor.csv and langor.svg into
 // --out (default bench/results).
-#include <spawn.h>
-#include <sys/resource.h>
-#include <sys/wait.h>
-
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -33,14 +29,13 @@
 
 #include <nlohmann/json.hpp>
 
+#include "bench/common/child_process.hpp"
 #include "bench/common/svg.hpp"
 #include "nodes/builtin.hpp"
 #include "nodes/inference/text_query.hpp"
 #include "runtime/allocator.hpp"
 #include "runtime/atomic_file.hpp"
 #include "runtime/executor.hpp"
-
-extern char** environ;
 
 using namespace gslift;
 namespace fs = std::filesystem;
@@ -99,21 +94,14 @@ RunStats run_child(const std::string& variant, int seed, const std::string& capt
     args.push_back("--set");
     args.push_back(s);
   }
-  std::vector<char*> argv;
-  for (auto& a : args) argv.push_back(a.data());
-  argv.push_back(nullptr);
   RunStats r;
-  const auto start = std::chrono::steady_clock::now();
-  pid_t pid = 0;
-  if (posix_spawn(&pid, argv[0], nullptr, nullptr, argv.data(), environ) != 0) {
-    std::cerr << "[langor] cannot start " << argv[0] << "\n";
+  const bench::ChildRun child = bench::run_child_process(args);
+  if (!child.started) {
+    std::cerr << "[langor] cannot start " << args[0] << "\n";
     return r;
   }
-  int status = 0;
-  rusage usage{};
-  wait4(pid, &status, 0, &usage);
-  r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  r.peak_mb = usage.ru_maxrss / 1024.0;
+  r.wall_s = child.wall_s;
+  r.peak_mb = child.peak_mb;
   std::ifstream in(out / "run.json");
   if (!in) return r;
   const nlohmann::json run = nlohmann::json::parse(in);
@@ -131,15 +119,7 @@ RunStats run_child(const std::string& variant, int seed, const std::string& capt
   return r;
 }
 
-std::pair<double, double> mean_std(const std::vector<double>& v) {
-  if (v.empty()) return {NAN, NAN};
-  double m = 0;
-  for (double x : v) m += x;
-  m /= static_cast<double>(v.size());
-  double s = 0;
-  for (double x : v) s += (x - m) * (x - m);
-  return {m, v.size() > 1 ? std::sqrt(s / static_cast<double>(v.size() - 1)) : 0.0};
-}
+using bench::mean_std;
 
 // Time of a query: instance selection, the selected Gaussians (their indicator) and one mask of
 // the held-out view, for every class query. The view's QueryView (render cache and instance

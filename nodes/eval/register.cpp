@@ -3,7 +3,9 @@
 #include <cstdio>
 
 #include "nodes/eval/binary_segmentation.hpp"
+#include "nodes/eval/instance_hungarian.hpp"
 #include "nodes/eval/langor_eval.hpp"
+#include "nodes/splat/reconstruct.hpp"
 #include "runtime/atomic_file.hpp"
 
 namespace gslift {
@@ -48,6 +50,35 @@ void run_binary_segmentation(NodeContext& ctx, const BinarySegmentationOptions& 
   }
 }
 
+// The views scored are those of the predictions; nothing to choose.
+struct InstanceEvalOptions {};
+
+void run_instance_hungarian(NodeContext& ctx, const InstanceEvalOptions&) {
+  const auto predictions = ctx.input<LabelMapSet>("predictions");
+  const auto capture = ctx.input<Capture>("capture");
+  const InstanceScores s = score_label_maps(*predictions, *capture);
+  ctx.record("views", static_cast<double>(predictions->views.size()));
+  ctx.record("mIoU", 100 * s.miou);
+  ctx.record("precision", 100 * s.precision);
+  ctx.record("recall", 100 * s.recall);
+  ctx.record("gt_labels", static_cast<double>(s.gt_labels));
+  ctx.record("pred_labels", static_cast<double>(s.pred_labels));
+  ctx.record("hits", static_cast<double>(s.hits));
+  if (ctx.has_input("model")) {
+    std::vector<int> views;
+    for (const LabelMap& m : predictions->views) views.push_back(capture->find_view(m.view));
+    ctx.record("psnr", mean_psnr(*ctx.input<GaussianModel>("model"), *capture, views));
+  }
+  const auto dir = ctx.out_dir();
+  if (!dir.empty()) {
+    std::string csv = "gt_label,matched_pred,iou\n";
+    for (size_t k = 0; k < s.gt_ids.size(); ++k)
+      csv += std::to_string(s.gt_ids[k]) + "," + std::to_string(s.matched_pred[k]) + "," +
+             std::to_string(s.matched_iou[k]) + "\n";
+    write_file_atomically(dir / "matches.csv", csv);
+  }
+}
+
 }  // namespace
 
 void register_eval_nodes(Registry& registry) {
@@ -60,6 +91,17 @@ void register_eval_nodes(Registry& registry) {
                           "ground-truth masks with the prompts' labels (masks.ground_truth)"}},
                         {}},
                binary_segmentation_param_table(), run_binary_segmentation);
+  registry.add(
+      NodeSpec{"eval.instance_hungarian",
+               "Gaga eval.py: label maps against ground-truth instances, one-to-one Hungarian "
+               "matching; mIoU, precision and recall at IoU > 0.5 (and PSNR with a model)",
+               {{"predictions", PortTypeName<LabelMapSet>::value,
+                 "label maps of the views to score (held-out: end to end; training: association)"},
+                {"capture", PortTypeName<Capture>::value, "views with ground-truth instances"},
+                {"model", PortTypeName<GaussianModel>::value,
+                 "the reconstruction, for PSNR on the scored views", true}},
+               {}},
+      ParamTable<InstanceEvalOptions>(), run_instance_hungarian);
   NodeSpec spec{
       "eval.langor",
       "mIoU, mLocAcc and mAcc of text queries on the held-out views (LangOR 4.1, LangSplat)",

@@ -2,8 +2,11 @@
 
 #include "nodes/features/contrastive_features.hpp"
 #include "nodes/features/correspondence_features.hpp"
+#include "nodes/features/label_classifier.hpp"
+#include "nodes/features/view_classifiers.hpp"
 #include "nodes/scene/capture.hpp"
 #include "nodes/scene/gaussian_model.hpp"
+#include "nodes/scene/label_maps.hpp"
 #include "nodes/scene/masks.hpp"
 #include "nodes/splat/ply_io.hpp"
 
@@ -73,11 +76,74 @@ void add_correspondence(Registry& registry) {
   registry.add(std::move(spec), correspondence_param_table(), run_correspondence);
 }
 
+void run_view_classifiers(NodeContext& ctx, ViewClassifierOptions o) {
+  o.seed = ctx.seed();
+  ViewClassifierResult r = train_view_classifiers(
+      *ctx.input<GaussianModel>("model"), *ctx.input<Capture>("capture"),
+      *ctx.input<LabelMapSet>("partitions"), o, [&](int it, int total) {
+        ctx.check_cancelled();
+        ctx.progress(static_cast<double>(it + 1) / total, "view classifiers");
+      });
+  ctx.record("views", static_cast<double>(r.classifiers.views.size()));
+  ctx.record("loss_start", r.loss_start);
+  ctx.record("loss_end", r.loss_end);
+  ctx.record("cache_bytes", static_cast<double>(r.cache_bytes));
+  ctx.record("seconds", r.seconds);
+  ctx.output("model", std::move(r.model));
+  ctx.output("classifiers", std::move(r.classifiers));
+}
+
+void run_label_classifier(NodeContext& ctx, LabelClassifierOptions o) {
+  o.seed = ctx.seed();
+  LabelClassifierResult r = train_label_classifier(
+      *ctx.input<GaussianModel>("model"), *ctx.input<Capture>("capture"),
+      *ctx.input<LabelMapSet>("labels"), o, [&](int it, int total) {
+        ctx.check_cancelled();
+        ctx.progress(static_cast<double>(it + 1) / total, "label classifier");
+      });
+  ctx.record("classes", static_cast<double>(r.classifier.classes));
+  ctx.record("loss_start", r.loss_start);
+  ctx.record("loss_end", r.loss_end);
+  ctx.record("seconds", r.seconds);
+  ctx.output("model", std::move(r.model));
+  ctx.output("classifier", std::move(r.classifier));
+}
+
+void add_classifiers(Registry& registry) {
+  registry.add(
+      NodeSpec{"features.view_classifiers",
+               "Proto-SaGa Eq. 6-8 on frozen geometry: per-Gaussian features and one cosine "
+               "classifier per training view over its raw SAM ids",
+               {{"model", PortTypeName<GaussianModel>::value, "reconstructed Gaussians (kept)"},
+                {"capture", PortTypeName<Capture>::value, "posed views; training views are used"},
+                {"partitions", PortTypeName<LabelMapSet>::value,
+                 "raw SAM id maps (association.sam_partition)"}},
+               {{"model", PortTypeName<GaussianModel>::value,
+                 "the same Gaussians with dim trained feature channels"},
+                {"classifiers", PortTypeName<ViewClassifiers>::value,
+                 "one cosine classifier per training view"}}},
+      view_classifier_param_table(), run_view_classifiers);
+  registry.add(
+      NodeSpec{"features.label_classifier",
+               "Gaga's lift on frozen geometry: per-Gaussian features and a linear classifier "
+               "trained on the consistent label maps",
+               {{"model", PortTypeName<GaussianModel>::value, "reconstructed Gaussians (kept)"},
+                {"capture", PortTypeName<Capture>::value, "posed views; training views are used"},
+                {"labels", PortTypeName<LabelMapSet>::value,
+                 "consistent label maps (association.memory_bank)"}},
+               {{"model", PortTypeName<GaussianModel>::value,
+                 "the same Gaussians with dim trained feature channels"},
+                {"classifier", PortTypeName<LabelClassifier>::value,
+                 "the 1x1 classifier over the labels 0..L"}}},
+      label_classifier_param_table(), run_label_classifier);
+}
+
 }  // namespace
 
 void register_features_nodes(Registry& registry) {
   add_contrastive(registry);
   add_correspondence(registry);
+  add_classifiers(registry);
 }
 
 }  // namespace gslift

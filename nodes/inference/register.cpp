@@ -6,6 +6,7 @@
 #include <chrono>
 
 #include "nodes/inference/filter_3d.hpp"
+#include "nodes/inference/label_inference.hpp"
 #include "nodes/inference/prompt_io.hpp"
 #include "nodes/inference/prompt_segmentation.hpp"
 #include "nodes/inference/query_files.hpp"
@@ -230,12 +231,77 @@ void add_render_selection(Registry& registry) {
   registry.add(std::move(spec), render_selection_table(), run_render_selection);
 }
 
+// The views the label-inference nodes answer in.
+struct LabelInferenceOptions {
+  ViewSet views = ViewSet::Test;
+};
+
+const ParamTable<LabelInferenceOptions>& label_inference_param_table() {
+  static const ParamTable<LabelInferenceOptions> table = ParamTable<LabelInferenceOptions>().add(
+      "views", &LabelInferenceOptions::views, view_set_names(), "views to label");
+  return table;
+}
+
+void output_labels(NodeContext& ctx, const Capture& capture, LabelMapSet labels) {
+  ctx.record("views", static_cast<double>(labels.views.size()));
+  ctx.record("labels", static_cast<double>(labels.labels));
+  const auto dir = ctx.out_dir();
+  if (!dir.empty()) write_label_map_files(labels, &capture, dir);
+  ctx.output("labels", std::move(labels));
+}
+
+void add_label_inference(Registry& registry) {
+  const PortSpec model{"model", PortTypeName<GaussianModel>::value,
+                       "Gaussians with lifted features"};
+  const PortSpec capture{"capture", PortTypeName<Capture>::value, "the views"};
+  const PortSpec consistent{
+      "labels", PortTypeName<LabelMapSet>::value,
+      "consistent label maps of the training views (association.memory_bank)"};
+  const PortSpec out{"labels", PortTypeName<LabelMapSet>::value,
+                     "a label map per requested view (files: <view>_labels.png 16-bit, "
+                     "<view>_overlay.png)"};
+  for (const PrototypeClassifier kind :
+       {PrototypeClassifier::Averaged, PrototypeClassifier::KMeans})
+    registry.add(
+        NodeSpec{
+            kind == PrototypeClassifier::Averaged ? "inference.prototypes" : "inference.kmeans",
+            kind == PrototypeClassifier::Averaged
+                ? "Proto-SaGa Eq. 17-19: per-label prototypes of the training views' "
+                  "features, argmax cosine at each pixel"
+                : "Proto-SaGa Table 4 baseline: K-means over the per-view prototypes (k = "
+                  "labels), argmax cosine to a centre",
+            {model, capture, consistent},
+            {out}},
+        label_inference_param_table(), [kind](NodeContext& ctx, const LabelInferenceOptions& o) {
+          const auto c = ctx.input<Capture>("capture");
+          output_labels(ctx, *c,
+                        infer_labels_by_prototypes(*ctx.input<GaussianModel>("model"), *c,
+                                                   *ctx.input<LabelMapSet>("labels"),
+                                                   c->views_named(o.views), kind, ctx.seed()));
+        });
+  registry.add(
+      NodeSpec{"inference.classifier",
+               "Gaga / Proto-SaGa Cls baseline: argmax of the trained 1x1 classifier",
+               {model,
+                capture,
+                {"classifier", PortTypeName<LabelClassifier>::value, "features.label_classifier"}},
+               {out}},
+      label_inference_param_table(), [](NodeContext& ctx, const LabelInferenceOptions& o) {
+        const auto c = ctx.input<Capture>("capture");
+        output_labels(ctx, *c,
+                      infer_labels_by_classifier(*ctx.input<GaussianModel>("model"), *c,
+                                                 *ctx.input<LabelClassifier>("classifier"),
+                                                 c->views_named(o.views)));
+      });
+}
+
 }  // namespace
 
 void register_inference_nodes(Registry& registry) {
   add_filter_3d(registry);
   add_prompt(registry);
   add_render_selection(registry);
+  add_label_inference(registry);
   NodeSpec spec{
       "inference.text_query",
       "text query -> instances -> Gaussians -> a mask and a relevancy map per view (LangOR 3.3)",

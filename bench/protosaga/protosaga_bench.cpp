@@ -1,0 +1,300 @@
+// protosaga_bench: accuracy, stability and speed of Proto-SaGa and Gaga on the embedded OR.
+//
+//   protosaga_bench [--seeds N] [--views V] [--models DIR] [--out DIR] [--no-timing]
+//                   [--view-iterations N] [--lift-iterations N]
+//
+// For each capture seed S = 0..N-1 (default 5) of embedded:or?seed=S&views=V (default 5 views,
+// one held out; 8 views hold out two) it reconstructs the scene once (or reads DIR/or_vV_sS.ply
+// written by an earlier run with the same --models), then runs every variant on that one
+// reconstruction in this process, through the same functions as the nodes and with the graphs'
+// defaults:
+//   association only, on the training views (Proto-SaGa Table 3): the consistent maps of the
+//   memory bank with criteria depth / probability / both (paper overlap score) and Gaga's code
+//   (depth, gaga_compat), scored by Gaga's eval.py protocol against the ground-truth instances;
+//   end to end, on the held-out views (Table 1 / Table 4): Proto-SaGa (both + prototypes),
+//   Proto-SaGa with K-means or a trained classifier (Cls) instead of the prototypes, Proto-SaGa's
+//   depth-only association with prototypes, and Gaga (depth gaga_compat + lift + classifier).
+// Association time per view is recorded for every association. Timing (unless --no-timing): the
+// two graphs (graphs/protosaga.yaml, graphs/gaga.yaml) as child `gslift run` processes at seed 0
+// on 2 threads, wall time and peak memory. Writes protosaga[_vV].json and .svg into --out
+// (default bench/results).
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "base/random.hpp"
+#include "bench/common/child_process.hpp"
+#include "bench/common/svg.hpp"
+#include "nodes/association/memory_bank.hpp"
+#include "nodes/builtin.hpp"
+#include "nodes/eval/instance_hungarian.hpp"
+#include "nodes/features/label_classifier.hpp"
+#include "nodes/features/view_classifiers.hpp"
+#include "nodes/inference/label_inference.hpp"
+#include "nodes/splat/ply_io.hpp"
+#include "runtime/allocator.hpp"
+#include "runtime/atomic_file.hpp"
+#include "runtime/executor.hpp"
+
+using namespace gslift;
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Scores {
+  double miou = 0, precision = 0, recall = 0;
+};
+
+Scores percent(const InstanceScores& s) {
+  return {100 * s.miou, 100 * s.precision, 100 * s.recall};
+}
+
+// The capture, its SAM partitions and a reconstruction, from the first nodes of the graphs.
+struct Base {
+  std::shared_ptr<const Capture> capture;
+  std::shared_ptr<const LabelMapSet> partitions;
+  GaussianModel model;
+};
+
+Base base_run(const Registry& registry, int seed, int views, const fs::path& models) {
+  const std::string input =
+      "embedded:or?seed=" + std::to_string(seed) + "&views=" + std::to_string(views);
+  const fs::path cached =
+      models / ("or_v" + std::to_string(views) + "_s" + std::to_string(seed) + ".ply");
+  const bool have = !models.empty() && fs::exists(cached);
+  const std::string recon =
+      have ? "  recon: {type: splat.load, params: {path: \"" + cached.string() + "\"}}\n"
+           : "  recon: {type: splat.reconstruct, in: {capture: capture.capture}, params: "
+             "{iterations: 500}}\n";
+  const std::string yaml =
+      "graph: protosaga_base\n"
+      "nodes:\n"
+      "  capture: {type: ingest.capture, params: {path: \"" +
+      input +
+      "\"}}\n"
+      "  sam: {type: ingest.sam_masks, in: {capture: capture.capture}, params: {kind: auto}}\n"
+      "  partition: {type: association.sam_partition, in: {capture: capture.capture, masks: "
+      "sam.masks}}\n" +
+      recon;
+  const RunResult run = run_graph_text(yaml, registry);
+  if (!run.ok()) throw std::runtime_error(run.error->str());
+  Base b;
+  b.capture = run.values.at("capture.capture").get<Capture>();
+  b.partitions = run.values.at("partition.partitions").get<LabelMapSet>();
+  b.model = *run.values.at("recon.model").get<GaussianModel>();
+  if (!models.empty() && !have) {
+    fs::create_directories(models);
+    write_ply(b.model, cached);
+  }
+  return b;
+}
+
+// Per variant and metric, the values over the seeds.
+using Series = std::map<std::string, std::map<std::string, std::vector<double>>>;
+
+void add(Series& s, const std::string& variant, const Scores& v) {
+  s[variant]["mIoU"].push_back(v.miou);
+  s[variant]["precision"].push_back(v.precision);
+  s[variant]["recall"].push_back(v.recall);
+}
+
+nlohmann::json summary(const Series& series, const std::vector<std::string>& order) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const auto& v : order) {
+    nlohmann::json e = {{"variant", v}};
+    for (const auto& [metric, values] : series.at(v)) {
+      const auto [m, sd] = bench::mean_std(values);
+      e[metric] = {{"mean", m}, {"std", sd}, {"values", values}};
+    }
+    out.push_back(e);
+  }
+  return out;
+}
+
+// Two panels of grouped bars (mIoU, precision, recall; mean with a +-std whisker).
+std::string svg_chart(const nlohmann::json& association, const nlohmann::json& end_to_end,
+                      const std::string& title) {
+  const char* metrics[] = {"mIoU", "precision", "recall"};
+  const char* colours[] = {"#4e79a7", "#f28e2b", "#59a14f"};
+  const double left = 40, top = 40, height = 220, group = 110, bar = 28;
+  const size_t groups = association.size() + end_to_end.size();
+  const double width = left + group * groups + 40;
+  bench::Svg svg(width, top + height + 90, 11, true);
+  for (int v = 0; v <= 100; v += 20) {
+    const double y = top + height - height * v / 100.0;
+    svg.line(left, y, width - 10, y, "#ddd");
+    svg.text(left - 6, y + 4, std::to_string(v), "text-anchor='end'");
+  }
+  size_t g = 0;
+  for (const nlohmann::json* panel : {&association, &end_to_end})
+    for (const auto& e : *panel) {
+      const double x0 = left + group * g++ + 8;
+      for (int m = 0; m < 3; ++m) {
+        const double mean = e[metrics[m]]["mean"].get<double>();
+        const double sd = e[metrics[m]]["std"].get<double>();
+        const double x = x0 + bar * m;
+        const double h = height * std::clamp(mean, 0.0, 100.0) / 100.0;
+        svg.rect(x, top + height - h, bar - 3, h, colours[m]);
+        svg.line(x + bar / 2 - 1.5, top + height - height * std::clamp(mean + sd, 0.0, 100.0) / 100,
+                 x + bar / 2 - 1.5, top + height - height * std::clamp(mean - sd, 0.0, 100.0) / 100,
+                 "black");
+      }
+      svg.text(x0 + bar * 1.5, top + height + 16, e["variant"].get<std::string>(),
+               "text-anchor='middle'");
+    }
+  const double split = left + group * association.size();
+  svg.line(split, top - 10, split, top + height + 24, "#888", "stroke-dasharray='4 3'");
+  svg.text(left, top + height + 40, "association, training views (Table 3)");
+  svg.text(split + 6, top + height + 40, "end to end, held-out views");
+  for (int m = 0; m < 3; ++m) {
+    svg.rect(left + 90 * m, top + height + 58, 10, 10, colours[m]);
+    svg.text(left + 90 * m + 14, top + height + 67, metrics[m]);
+  }
+  svg.text(left, 18, title);
+  return svg.str();
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  keep_freed_memory_in_process();
+  int seeds = 5, views = 5, view_iterations = ViewClassifierOptions{}.iterations,
+      lift_iterations = LabelClassifierOptions{}.iterations;
+  bool timing = true;
+  fs::path out = fs::path(GSLIFT_SOURCE_DIR) / "bench/results", models;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    auto next = [&]() -> std::string {
+      if (i + 1 >= argc) throw std::invalid_argument(a + " needs a value");
+      return argv[++i];
+    };
+    if (a == "--seeds")
+      seeds = std::stoi(next());
+    else if (a == "--views")
+      views = std::stoi(next());
+    else if (a == "--models")
+      models = next();
+    else if (a == "--out")
+      out = next();
+    else if (a == "--view-iterations")
+      view_iterations = std::stoi(next());
+    else if (a == "--lift-iterations")
+      lift_iterations = std::stoi(next());
+    else if (a == "--no-timing")
+      timing = false;
+    else {
+      std::cerr << "usage: protosaga_bench [--seeds N] [--views V] [--models DIR] [--out DIR] "
+                   "[--no-timing] [--view-iterations N] [--lift-iterations N]\n";
+      return 2;
+    }
+  }
+  Registry registry;
+  register_builtin_nodes(registry);
+
+  Series assoc, e2e;
+  std::map<std::string, std::vector<double>> ms_per_view, seconds;
+  for (int seed = 0; seed < seeds; ++seed) {
+    std::fprintf(stderr, "[protosaga] seed %d: capture and reconstruction\n", seed);
+    const Base b = base_run(registry, seed, views, models);
+    const Capture& capture = *b.capture;
+    const std::vector<int> test = capture.test_views();
+
+    ViewClassifierOptions vo;
+    vo.seed = stream_seed(seed, "bench.view_classifiers");
+    vo.iterations = view_iterations;
+    const ViewClassifierResult vc = train_view_classifiers(b.model, capture, *b.partitions, vo);
+    seconds["view_classifiers"].push_back(vc.seconds);
+
+    auto associate = [&](AssociationCriteria c, bool compat) {
+      MemoryBankOptions o;
+      o.criteria = c;
+      o.gaga_compat = compat;
+      return associate_masks(vc.model, capture, *b.partitions, &vc.classifiers, o);
+    };
+    std::map<std::string, AssociationResult> a;
+    a["depth"] = associate(AssociationCriteria::Depth, false);
+    a["probability"] = associate(AssociationCriteria::Probability, false);
+    a["both"] = associate(AssociationCriteria::Both, false);
+    a["gaga"] = associate(AssociationCriteria::Depth, true);
+    for (const auto& [name, r] : a) {
+      add(assoc, name, percent(score_label_maps(r.consistent, capture)));
+      for (const double ms : r.view_ms) ms_per_view[name].push_back(ms);
+    }
+
+    auto lifted = [&](const LabelMapSet& labels) {
+      LabelClassifierOptions lo;
+      lo.seed = stream_seed(seed, "bench.label_classifier");
+      lo.iterations = lift_iterations;
+      LabelClassifierResult r = train_label_classifier(b.model, capture, labels, lo);
+      seconds["label_classifier"].push_back(r.seconds);
+      return infer_labels_by_classifier(r.model, capture, r.classifier, test);
+    };
+    auto scored = [&](const LabelMapSet& labels) {
+      return percent(score_label_maps(labels, capture));
+    };
+    add(e2e, "protosaga",
+        scored(infer_labels_by_prototypes(vc.model, capture, a["both"].consistent, test,
+                                          PrototypeClassifier::Averaged, seed)));
+    add(e2e, "kmeans",
+        scored(infer_labels_by_prototypes(vc.model, capture, a["both"].consistent, test,
+                                          PrototypeClassifier::KMeans, seed)));
+    add(e2e, "depth_proto",
+        scored(infer_labels_by_prototypes(vc.model, capture, a["depth"].consistent, test,
+                                          PrototypeClassifier::Averaged, seed)));
+    add(e2e, "cls", scored(lifted(a["both"].consistent)));
+    add(e2e, "gaga", scored(lifted(a["gaga"].consistent)));
+    for (const char* v : {"protosaga", "kmeans", "depth_proto", "cls", "gaga"})
+      std::fprintf(stderr, "[protosaga] seed %d %-12s mIoU %.1f precision %.1f recall %.1f\n", seed,
+                   v, e2e[v]["mIoU"].back(), e2e[v]["precision"].back(), e2e[v]["recall"].back());
+  }
+
+  nlohmann::json doc;
+  doc["capture"] = "embedded:or?seed=S&views=" + std::to_string(views);
+  doc["seeds"] = seeds;
+  doc["view_iterations"] = view_iterations;
+  doc["lift_iterations"] = lift_iterations;
+  doc["association"] = summary(assoc, {"depth", "probability", "both", "gaga"});
+  doc["end_to_end"] = summary(e2e, {"protosaga", "kmeans", "cls", "depth_proto", "gaga"});
+  for (const auto& [name, v] : ms_per_view) {
+    const auto [m, sd] = bench::mean_std(v);
+    doc["association_ms_per_view"][name] = {{"mean", m}, {"std", sd}};
+  }
+  for (const auto& [name, v] : seconds) {
+    const auto [m, sd] = bench::mean_std(v);
+    doc["stage_seconds"][name] = {{"mean", m}, {"std", sd}};
+  }
+  if (timing) {
+    for (const char* graph : {"protosaga", "gaga"}) {
+      const fs::path run_out =
+          fs::temp_directory_path() / ("protosaga_bench_" + std::string(graph));
+      fs::remove_all(run_out);
+      const bench::ChildRun r = bench::run_child_process(
+          {GSLIFT_BINARY, "run",
+           (fs::path(GSLIFT_SOURCE_DIR) / "graphs" / (std::string(graph) + ".yaml")).string(),
+           "--input", "embedded:or?seed=0&views=" + std::to_string(views), "--threads", "2",
+           "--out", run_out.string(), "--log-level", "warn"});
+      doc["timing"][graph] = {
+          {"ok", r.started && WIFEXITED(r.status) && WEXITSTATUS(r.status) == 0},
+          {"wall_s", r.wall_s},
+          {"peak_mb", r.peak_mb}};
+    }
+  }
+  const std::string stem = views == 5 ? "protosaga" : "protosaga_v" + std::to_string(views);
+  fs::create_directories(out);
+  write_file_atomically(out / (stem + ".json"), doc.dump(2) + "\n");
+  write_file_atomically(
+      out / (stem + ".svg"),
+      svg_chart(doc["association"], doc["end_to_end"],
+                "Proto-SaGa and Gaga on the embedded OR (" + std::to_string(views) +
+                    " views): mean +- std over " + std::to_string(seeds) + " seeds (percent)"));
+  std::printf("%s\n", doc.dump(2).c_str());
+  return 0;
+}

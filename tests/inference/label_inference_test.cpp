@@ -1,0 +1,61 @@
+#include <cmath>
+
+#include <catch2/catch.hpp>
+
+#include "nodes/inference/prototype_kmeans.hpp"
+#include "nodes/inference/prototypes.hpp"
+
+using namespace gslift;
+
+namespace {
+FeatureMap map_of(int width, std::vector<float> values) {
+  FeatureMap m;
+  m.width = width;
+  m.height = 1;
+  m.dim = 2;
+  m.values = std::move(values);
+  return m;
+}
+}  // namespace
+
+// View A: labels [1 1 2], features (2,0) (0,2) (0,1): v_A(1) = (1,1), v_A(2) = (0,1).
+// View B: labels [1 2 2], features (3,1) (1,0) (1,2): v_B(1) = (3,1), v_B(2) = (1,1).
+// Eq. 18: v(1) = (2,1), v(2) = (0.5,1). A novel pixel (1,0): cos 2/sqrt5 = 0.89 against
+// 0.5/sqrt1.25 = 0.45 -> label 1; (0,1): 0.45 against 0.89 -> label 2.
+TEST_CASE("label_prototypes and nearest_prototype_labels: Eq. 17-19 by hand") {
+  const std::vector<FeatureMap> maps{map_of(3, {2, 0, 0, 2, 0, 1}), map_of(3, {3, 1, 1, 0, 1, 2})};
+  const std::vector<cv::Mat1i> labels{(cv::Mat1i(1, 3) << 1, 1, 2), (cv::Mat1i(1, 3) << 1, 2, 2)};
+  const LabelPrototypes p = label_prototypes(maps, labels);
+  REQUIRE(p.ids == std::vector<int>{1, 2});
+  CHECK(p.averaged(0, 0) == Approx(2.f));
+  CHECK(p.averaged(0, 1) == Approx(1.f));
+  CHECK(p.averaged(1, 0) == Approx(0.5f));
+  CHECK(p.averaged(1, 1) == Approx(1.f));
+  REQUIRE(p.per_view.rows() == 4);
+  CHECK(p.per_view_ids == std::vector<int>{1, 2, 1, 2});
+  CHECK(p.per_view(2, 0) == Approx(3.f));
+  const cv::Mat1i out =
+      nearest_prototype_labels(map_of(3, {1, 0, 0, 1, 1, 1.2f}), p.averaged, p.ids);
+  CHECK(out(0, 0) == 1);
+  CHECK(out(0, 1) == 2);
+  // (1, 1.2): cos with (2,1) = 3.2/(sqrt5 sqrt2.44) = 0.916, with (0.5,1) = 1.7/(sqrt1.25
+  // sqrt2.44) = 0.973 -> label 2.
+  CHECK(out(0, 2) == 2);
+}
+
+// Two tight bundles of directions: K-means with k = 2 finds one centre in each, whatever the
+// seed; with k larger than the points it keeps one centre per point.
+TEST_CASE("spherical_kmeans: separates two bundles of directions") {
+  Eigen::MatrixXf x(6, 2);
+  x << 1, 0.05f, 2, -0.1f, 3, 0.1f, 0.05f, 1, -0.1f, 2, 0.1f, 3;
+  for (uint64_t seed = 0; seed < 5; ++seed) {
+    const Eigen::MatrixXf c = spherical_kmeans(x, 2, seed);
+    REQUIRE(c.rows() == 2);
+    const bool first_is_x = c(0, 0) > c(0, 1);
+    const int ix = first_is_x ? 0 : 1, iy = 1 - ix;
+    CHECK(c(ix, 0) > 0.99f);
+    CHECK(c(iy, 1) > 0.99f);
+    CHECK(c.row(ix).norm() == Approx(1.f));
+  }
+  CHECK(spherical_kmeans(x, 10, 0).rows() == 6);
+}
