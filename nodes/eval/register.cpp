@@ -38,9 +38,9 @@ void record_scores(NodeContext& ctx, const std::string& prefix, const SemanticSc
   ctx.record(prefix + "CP", s.cp);
 }
 
-void run_semantic_eval(NodeContext& ctx) {
+void run_semantic_eval(NodeContext& ctx, const SemanticEvalOptions& o) {
   const auto predictions = ctx.input<SemanticMaps>("predictions");
-  const SemanticEvaluation e = evaluate_semantics(*predictions, *ctx.input<Capture>("capture"));
+  const SemanticEvaluation e = evaluate_semantics(*predictions, *ctx.input<Capture>("capture"), o);
   const SemanticScores all = semantic_scores(e.all);
   record_scores(ctx, "", all);
   record_scores(ctx, "train/", semantic_scores(e.train));
@@ -82,7 +82,7 @@ void register_eval_nodes(Registry& registry) {
                 {{"predictions", PortTypeName<SemanticMaps>::value, "per-pixel class maps"},
                  {"capture", PortTypeName<Capture>::value, "views with gt/semantic maps"}},
                 {}},
-               run_semantic_eval);
+               semantic_eval_param_table(), run_semantic_eval);
 }
 
 }  // namespace gslift

@@ -25,7 +25,8 @@ std::string field(const std::string& s) {
 
 }  // namespace
 
-SemanticEvaluation evaluate_semantics(const SemanticMaps& predictions, const Capture& capture) {
+SemanticEvaluation evaluate_semantics(const SemanticMaps& predictions, const Capture& capture,
+                                      const SemanticEvalOptions& options) {
   const int c = predictions.class_count();
   SemanticEvaluation e{Confusion(c), Confusion(c), Confusion(c), {}};
   for (const SemanticView& pv : predictions.views) {
@@ -37,7 +38,12 @@ SemanticEvaluation evaluate_semantics(const SemanticMaps& predictions, const Cap
     if (!view.gt_semantic.present()) continue;
     const cv::Mat gt = view.gt_semantic.load();
     Confusion one(c);
-    add_to_confusion(gt, pv.labels, one);
+    cv::Mat1i labels = pv.labels;
+    if (options.unlabelled_as_background) {
+      labels = pv.labels.clone();
+      labels.setTo(0, pv.labels == -1);
+    }
+    add_to_confusion(gt, labels, one);
     (view.held_out ? e.test : e.train) += one;
     e.all += one;
     e.views.push_back({pv.view, view.held_out, semantic_scores(one)});
@@ -89,6 +95,14 @@ cv::Mat confusion_heatmap(const Confusion& m, int cell) {
   cv::applyColorMap(big, bgr, cv::COLORMAP_VIRIDIS);
   cv::cvtColor(bgr, rgb, cv::COLOR_BGR2RGB);
   return rgb;
+}
+
+const ParamTable<SemanticEvalOptions>& semantic_eval_param_table() {
+  using O = SemanticEvalOptions;
+  static const ParamTable<O> table = ParamTable<O>().add(
+      "unlabelled_as_background", &O::unlabelled_as_background,
+      "pixels left unlabelled (-1) count as background (class 0) instead of as misses");
+  return table;
 }
 
 }  // namespace gslift

@@ -8,6 +8,7 @@
 
 #include <opencv2/core.hpp>
 
+#include "graph/param_table.hpp"
 #include "nodes/eval/semantic_metrics.hpp"
 #include "nodes/scene/capture.hpp"
 #include "nodes/scene/semantic_maps.hpp"
@@ -24,9 +25,18 @@ struct SemanticEvaluation {
   std::vector<ViewScore> views;
 };
 
+struct SemanticEvalOptions {
+  // Pixels a prediction leaves unlabelled (-1: a detector prior covers nothing there) count as
+  // background instead of as misses: how the priors alone label a view.
+  bool unlabelled_as_background = false;
+};
+
+const ParamTable<SemanticEvalOptions>& semantic_eval_param_table();
+
 // Throws InputError when a predicted view is not in the capture, when its size differs from the
 // ground truth, or when no predicted view has ground truth.
-SemanticEvaluation evaluate_semantics(const SemanticMaps& predictions, const Capture& capture);
+SemanticEvaluation evaluate_semantics(const SemanticMaps& predictions, const Capture& capture,
+                                      const SemanticEvalOptions& options = {});
 
 // One row per class (name, tp, fn, fp, recall, precision in percent, present), then GA, CA, CP.
 std::string semantic_class_csv(const SemanticScores& scores, const std::vector<std::string>& names);

@@ -5,6 +5,7 @@
 
 #include "base/errors.hpp"
 #include "nodes/eval/semantic_eval.hpp"
+#include "nodes/scene/image_source.hpp"
 
 using namespace gslift;
 
@@ -63,4 +64,35 @@ TEST_CASE("confusion CSV and heat map", "[eval]") {
   CHECK(png.cols == 12);
   CHECK(png.rows == 8);
   CHECK(png.type() == CV_8UC3);
+}
+
+TEST_CASE("semantic evaluation pools training and held-out views apart", "[eval]") {
+  Capture capture;
+  capture.name = "c";
+  for (int v = 0; v < 3; ++v) {
+    View view;
+    view.name = "v" + std::to_string(v);
+    view.held_out = v == 2;
+    // v1 has no ground truth: it is not evaluated.
+    if (v != 1) view.gt_semantic = ImageSource::in_memory((cv::Mat1i(1, 2) << 0, 1));
+    capture.views.push_back(view);
+  }
+  SemanticMaps predictions;
+  predictions.classes = {"background", "table"};
+  for (int v = 0; v < 3; ++v) {
+    SemanticView sv;
+    sv.view = "v" + std::to_string(v);
+    sv.labels = v == 2 ? (cv::Mat1i(1, 2) << -1, 1) : (cv::Mat1i(1, 2) << 0, 0);
+    predictions.views.push_back(sv);
+  }
+  const SemanticEvaluation e = evaluate_semantics(predictions, capture);
+  REQUIRE(e.views.size() == 2);
+  CHECK(semantic_scores(e.train).ga == Approx(50));
+  CHECK(semantic_scores(e.test).ga == Approx(50));  // the unlabelled background pixel is a miss
+  CHECK(semantic_scores(e.all).ga == Approx(50));
+  SemanticEvalOptions o;
+  o.unlabelled_as_background = true;
+  CHECK(semantic_scores(evaluate_semantics(predictions, capture, o).test).ga == Approx(100));
+  predictions.views[0].view = "elsewhere";
+  CHECK_THROWS_AS(evaluate_semantics(predictions, capture), InputError);
 }
