@@ -1,5 +1,9 @@
 #include "nodes/fusion/bayesian_fusion.hpp"
 
+#include <atomic>
+
+#include <tbb/parallel_for.h>
+
 #include "base/errors.hpp"
 
 namespace gslift {
@@ -26,6 +30,28 @@ SemanticView fuse_bayesian(const SemanticView& a, const SemanticView& b, int cla
       d[j] = sum > 0 ? static_cast<float>(double(pa[j]) * pb[j] / sum) : 0.5f * (pa[j] + pb[j]);
   }
   set_argmax(out, classes, width, height);
+  return out;
+}
+
+SemanticMaps fuse_bayesian_maps(const SemanticMaps& a, const SemanticMaps& b, long long* changed) {
+  if (a.classes != b.classes || a.views.size() != b.views.size())
+    throw InputError("fusion.bayesian: the two sources differ in classes (" +
+                     std::to_string(a.class_count()) + " and " + std::to_string(b.class_count()) +
+                     ") or views (" + std::to_string(a.views.size()) + " and " +
+                     std::to_string(b.views.size()) + ")");
+  SemanticMaps out;
+  out.classes = a.classes;
+  out.views.resize(a.views.size());
+  std::atomic<long long> count{0};
+  tbb::parallel_for(size_t(0), a.views.size(), [&](size_t v) {
+    const SemanticView& x = a.views[v];
+    if (b.views[v].view != x.view)
+      throw InputError("fusion.bayesian: view " + std::to_string(v) + " is '" + x.view +
+                       "' in one source and '" + b.views[v].view + "' in the other");
+    out.views[v] = fuse_bayesian(x, b.views[v], out.class_count(), x.labels.cols, x.labels.rows);
+    count += cv::countNonZero(out.views[v].labels != x.labels);
+  });
+  if (changed) *changed = count;
   return out;
 }
 

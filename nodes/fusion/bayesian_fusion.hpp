@@ -17,4 +17,10 @@ namespace gslift {
 SemanticView fuse_bayesian(const SemanticView& bottom_up, const SemanticView& top_down, int classes,
                            int width, int height);
 
+// fuse_bayesian on every view of two maps with the same classes and views (same order), in
+// parallel; `changed` (optional) counts the pixels whose label differs from the bottom-up one.
+// Throws InputError when the classes or views differ.
+SemanticMaps fuse_bayesian_maps(const SemanticMaps& bottom_up, const SemanticMaps& top_down,
+                                long long* changed = nullptr);
+
 }  // namespace gslift

@@ -3,7 +3,12 @@
 #include <algorithm>
 #include <vector>
 
+#include <atomic>
+
+#include <tbb/parallel_for.h>
+
 #include "base/errors.hpp"
+#include "nodes/fusion/capture_views.hpp"
 
 namespace gslift {
 
@@ -62,6 +67,30 @@ ClusterSmoothingResult smooth_clusters(const SemanticView& view, const cv::Mat1i
     out.confidence(p / w, p % w) = o[majority[c]];
   }
   return result;
+}
+
+SemanticMaps smooth_cluster_maps(const SemanticMaps& in, const Capture& capture,
+                                 const SupervoxelOptions& o, long long* clusters,
+                                 long long* changed) {
+  SemanticMaps out;
+  out.classes = in.classes;
+  out.views.resize(in.views.size());
+  std::atomic<long long> sum_clusters{0}, sum_changed{0};
+  tbb::parallel_for(size_t(0), in.views.size(), [&](size_t v) {
+    const View& view = capture_view(capture, in.views[v], "fusion.cluster_smoothing");
+    const cv::Mat rgb = view.rgb.load();
+    if (rgb.empty())
+      throw InputError("fusion.cluster_smoothing: view '" + view.name + "' has no RGB image");
+    const cv::Mat1i segments =
+        oversegment_rgbd(rgb, depth_prior(view, "fusion.cluster_smoothing"), view.camera, o);
+    ClusterSmoothingResult r = smooth_clusters(in.views[v], segments, in.class_count());
+    sum_clusters += r.clusters;
+    sum_changed += r.changed;
+    out.views[v] = std::move(r.smoothed);
+  });
+  if (clusters) *clusters = sum_clusters;
+  if (changed) *changed = sum_changed;
+  return out;
 }
 
 }  // namespace gslift

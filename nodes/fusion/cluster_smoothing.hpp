@@ -6,6 +6,8 @@
 
 #include <opencv2/core.hpp>
 
+#include "nodes/fusion/supervoxels.hpp"
+#include "nodes/scene/capture.hpp"
 #include "nodes/scene/semantic_maps.hpp"
 
 namespace gslift {
@@ -25,5 +27,12 @@ struct ClusterSmoothingResult {
 // when the sizes differ.
 ClusterSmoothingResult smooth_clusters(const SemanticView& view, const cv::Mat1i& clusters,
                                        int classes);
+
+// Every view of `maps` smoothed over the supervoxels (oversegment_rgbd) of its capture view's RGB
+// and depth prior, in parallel over views; clusters and changed summed over the views. Throws
+// InputError when a view is not in the capture or lacks RGB or depth.
+SemanticMaps smooth_cluster_maps(const SemanticMaps& maps, const Capture& capture,
+                                 const SupervoxelOptions& options, long long* clusters = nullptr,
+                                 long long* changed = nullptr);
 
 }  // namespace gslift

@@ -8,6 +8,7 @@
 #include <Eigen/Geometry>
 
 #include "base/errors.hpp"
+#include "nodes/fusion/capture_views.hpp"
 
 namespace gslift {
 namespace {
@@ -151,6 +152,29 @@ MultiviewFusionResult fuse_multiview(const std::vector<FusionFrame>& frames, int
   result.contributions = contributions;
   result.changed = changed;
   return result;
+}
+
+SemanticMaps fuse_multiview_maps(const SemanticMaps& in, const Capture& capture,
+                                 const MultiviewFusionOptions& o, long long* contributions,
+                                 long long* changed) {
+  std::vector<FusionFrame> frames(in.views.size());
+  for (size_t v = 0; v < frames.size(); ++v) {
+    const View& view = capture_view(capture, in.views[v], "fusion.multiview");
+    frames[v] = {view.camera, view.pose, depth_prior(view, "fusion.multiview"), &in.views[v]};
+  }
+  SemanticMaps out;
+  out.classes = in.classes;
+  out.views.resize(frames.size());
+  std::atomic<long long> sum_contributions{0}, sum_changed{0};
+  tbb::parallel_for(size_t(0), frames.size(), [&](size_t v) {
+    MultiviewFusionResult r = fuse_multiview(frames, static_cast<int>(v), in.class_count(), o);
+    sum_contributions += r.contributions;
+    sum_changed += r.changed;
+    out.views[v] = std::move(r.fused);
+  });
+  if (contributions) *contributions = sum_contributions;
+  if (changed) *changed = sum_changed;
+  return out;
 }
 
 const ParamTable<MultiviewFusionOptions>& multiview_fusion_param_table() {

@@ -16,6 +16,7 @@
 
 #include "graph/param_table.hpp"
 #include "nodes/scene/camera.hpp"
+#include "nodes/scene/capture.hpp"
 #include "nodes/scene/semantic_maps.hpp"
 
 namespace gslift {
@@ -50,5 +51,12 @@ struct MultiviewFusionResult {
 // when a frame's depth or semantics differ in size from its camera.
 MultiviewFusionResult fuse_multiview(const std::vector<FusionFrame>& frames, int reference,
                                      int classes, const MultiviewFusionOptions& options);
+
+// Every view of `maps` the reference in turn (paper 002 §3.2), in parallel over views, with the
+// capture's cameras, poses and depth priors; contributions and changed summed over the views.
+// Throws InputError when a view is not in the capture or has no depth prior.
+SemanticMaps fuse_multiview_maps(const SemanticMaps& maps, const Capture& capture,
+                                 const MultiviewFusionOptions& options,
+                                 long long* contributions = nullptr, long long* changed = nullptr);
 
 }  // namespace gslift

@@ -3,6 +3,8 @@
 #include <algorithm>
 
 #include "base/errors.hpp"
+#include "nodes/splat/rasterizer.hpp"
+#include "nodes/splat/render_cache.hpp"
 
 namespace gslift {
 namespace {
@@ -56,6 +58,40 @@ SemanticView semantics_from_blend(const std::string& name, std::vector<float> bl
   }
   set_argmax(v, classes, width, height);
   return v;
+}
+
+SemanticMaps render_semantic_maps(const GaussianModel& model,
+                                  const std::vector<std::string>& instance_labels,
+                                  const Capture& capture, const RenderSemanticsOptions& options,
+                                  int* unknown) {
+  if (model.instance_ids.size() != model.size())
+    throw InputError("fusion.render_semantics: the model has " +
+                     std::to_string(model.instance_ids.size()) + " instance ids for " +
+                     std::to_string(model.size()) +
+                     " Gaussians (segment it first, e.g. association.instance_mask_gaussian)");
+  SemanticMaps out;
+  out.classes = semantic_classes(capture);
+  const int classes = out.class_count();
+  std::vector<int> instance_class;
+  int unmatched = 0;
+  for (const std::string& label : instance_labels) {
+    instance_class.push_back(class_index(out.classes, label));
+    if (instance_class.back() < 0) ++unmatched;
+  }
+  if (unknown) *unknown = unmatched;
+  const std::vector<float> per_gaussian =
+      gaussian_class_probabilities(model.instance_ids, instance_class, classes, options);
+  const std::vector<float> background = background_distribution(classes, options);
+  out.views.resize(capture.views.size());
+  for (size_t v = 0; v < capture.views.size(); ++v) {
+    const View& view = capture.views[v];
+    RenderSettings settings;
+    settings.rgb = false;  // only the blend weights
+    const RenderCache cache(render(model, view.camera, view.pose, settings));
+    out.views[v] = semantics_from_blend(view.name, cache.render(per_gaussian, classes), background,
+                                        classes, view.camera.width, view.camera.height);
+  }
+  return out;
 }
 
 const ParamTable<RenderSemanticsOptions>& render_semantics_param_table() {

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "graph/param_table.hpp"
+#include "nodes/scene/capture.hpp"
 #include "nodes/scene/gaussian_model.hpp"
 #include "nodes/scene/semantic_maps.hpp"
 
@@ -45,5 +46,14 @@ std::vector<float> background_distribution(int classes, const RenderSemanticsOpt
 SemanticView semantics_from_blend(const std::string& view, std::vector<float> blend,
                                   const std::vector<float>& background, int classes, int width,
                                   int height);
+
+// The rendered semantics of every capture view: instance k's class is the capture class named
+// instance_labels[k] (semantic_classes, class_index; -1 when none, counted in `unknown`). One
+// view at a time: a render cache holds millions of (pixel, Gaussian) pairs. Throws InputError
+// when the model has no instance ids or the capture no class vocabulary.
+SemanticMaps render_semantic_maps(const GaussianModel& model,
+                                  const std::vector<std::string>& instance_labels,
+                                  const Capture& capture, const RenderSemanticsOptions& options,
+                                  int* unknown = nullptr);
 
 }  // namespace gslift
