@@ -1,7 +1,8 @@
 // graphs/detector_fusion.yaml end to end on a small embedded operating room (320x240, shortened
-// training), through the library as `gslift run` does. Measured at seed 0 (13:27 UTC
-// 2026-11-24): CA 3D source 67.2, priors 78.5, fused 80.3, multi-view 83.6, smoothed 80.5; final
-// GA 92.3, CP 72.6; about 16 s on the shared 2-core machine. The floors keep a wide margin: they
+// training), through the library as `gslift run` does. Measured at seed 0 (13:40 UTC
+// 2026-11-24, the same with 1 and 2 threads): CA 3D source 67.2, priors 78.5, fused 80.3,
+// multi-view 83.6, smoothed 80.3; final GA 92.5, CP 72.8; about 16 s on the shared 2-core
+// machine. The floors keep a wide margin: they
 // catch a broken stage, not a small regression.
 #include "nodes/builtin.hpp"
 #include "runtime/executor.hpp"
