@@ -111,3 +111,52 @@ TEST_CASE("detections below the threshold are not painted", "[boxes]") {
   wrong.mask = cv::Mat1b(10, 10, uchar(255));
   CHECK_THROWS_AS(refine_priors(image, {}, {wrong}, o), InputError);
 }
+
+TEST_CASE("detector prior maps: labels matched to classes, masks linked by box index", "[boxes]") {
+  Capture capture;
+  capture.name = "c";
+  capture.classes = {{1, "operating table"}, {2, "patient"}};
+  View view;
+  view.name = "v";
+  view.camera.width = 120;
+  view.camera.height = 100;
+  view.rgb = ImageSource::in_memory(textured(8));
+  capture.views.push_back(view);
+  view.name = "w";  // a view without detections: every pixel unlabelled
+  capture.views.push_back(view);
+  BoxSet boxes;
+  ViewBoxes vb{"v", 1, {}};
+  vb.boxes.push_back(box_prior(0, 0.9f, 10, 10, 60, 60).box);
+  vb.boxes.back().label = "Operating Table";
+  vb.boxes.back().score = 0.9f;
+  vb.boxes.push_back(box_prior(0, 0.8f, 70, 10, 110, 50).box);
+  vb.boxes.back().label = "patient";
+  vb.boxes.back().score = 0.8f;
+  vb.boxes.push_back(box_prior(0, 0.8f, 0, 70, 20, 90).box);
+  vb.boxes.back().label = "lamp";  // no class of the capture
+  boxes.views.push_back(vb);
+  MaskSet masks;
+  Mask m;
+  m.pixels = cv::Mat1b::zeros(100, 120);
+  m.pixels(cv::Rect(80, 20, 10, 10)).setTo(255);
+  m.box_index = 1;  // the patient's box
+  masks.views.push_back({"v", {m}});
+  GrabcutPriorOptions o;
+  o.refine = false;
+  const DetectorPriorMaps r = detector_prior_maps(capture, boxes, masks, o);
+  CHECK(r.unknown_labels == 1);
+  CHECK(r.painted == 2);
+  REQUIRE(r.priors.views.size() == 2);
+  REQUIRE(r.priors.classes == std::vector<std::string>{"background", "operating table", "patient"});
+  const SemanticView& v = r.priors.views[0];
+  CHECK(cv::countNonZero(v.labels == 1) == 50 * 50);
+  CHECK(cv::countNonZero(v.labels == 2) == 10 * 10);  // the mask, not the box
+  CHECK(v.pixel(15 * 120 + 15, 3)[1] == Approx(0.9));
+  CHECK(v.pixel(15 * 120 + 15, 3)[0] == Approx(0.05));
+  CHECK(cv::countNonZero(r.priors.views[1].labels == -1) == 120 * 100);
+  o.kind = PriorKind::Box;  // the patient's box instead of its mask
+  CHECK(cv::countNonZero(detector_prior_maps(capture, boxes, masks, o).priors.views[0].labels ==
+                         2) == 40 * 40);
+  boxes.views[0].view = "elsewhere";
+  CHECK_THROWS_AS(detector_prior_maps(capture, boxes, masks, o), InputError);
+}
