@@ -10,8 +10,9 @@
 // time of the whole graph and of each stage. On the default 5-view capture it then runs the
 // ablations on the same LangOR outputs by calling the stages' functions (the ablation graphs in
 // graphs/ablations/detector_fusion/ compute the same, each re-running LangOR): 3D source alone and
-// priors alone through multi-view fusion and smoothing, no multi-view, RGB-only GrabCut, box
-// priors, priors in detector order, priors without GrabCut; and the size-ordering check: the
+// priors alone through multi-view fusion and smoothing, no multi-view, certain priors
+// (confidence 1, no cap), RGB-only GrabCut, box priors, priors in detector order, priors without
+// GrabCut; and the size-ordering check: the
 // recall of the supporting surfaces (operating table, instrument table) and of what stands on
 // them (patient) in the priors alone, sorted by size and in detector order. Writes
 // detector_fusion.json and detector_fusion_<V>views.svg into --out (default bench/results).
@@ -95,6 +96,24 @@ Json ablations(const RunResult& run) {
   out["priors_only"] = finish(*priors);
   out["no_multiview"] =
       scores_json(evaluate_semantics(smooth_cluster_maps(*fused, *capture, sv), *capture));
+  // Certain priors (max_confidence 1): every box of the embedded OR's VLM scores 1, so they are
+  // the graph's priors with confidence 1 wherever they paint (recomputed when a score is not 1).
+  bool all_one = true;
+  for (const ViewBoxes& vb : boxes->views)
+    for (const Box& b : vb.boxes) all_one = all_one && b.score == 1.f;
+  SemanticMaps certain = *priors;
+  if (all_one) {
+    for (SemanticView& v : certain.views) {
+      cv::Mat1f confidence = cv::Mat1f::zeros(v.labels.size());
+      confidence.setTo(1.f, v.labels >= 0);
+      v = label_confidence_view(v.view, v.labels, confidence, certain.class_count());
+    }
+  } else {
+    GrabcutPriorOptions o;
+    o.max_confidence = 1.f;
+    certain = detector_prior_maps(*capture, *boxes, *masks, o).priors;
+  }
+  out["certain_priors"] = finish(fuse_bayesian_maps(*source3d, certain));
   // Prior variants: refined again, fused with the same 3D source, multi-view, smoothing.
   const std::vector<std::pair<std::string, std::function<void(GrabcutPriorOptions&)>>> variants = {
       {"rgb_grabcut", [](GrabcutPriorOptions& o) { o.grabcut.use_depth = false; }},
@@ -287,8 +306,8 @@ int main(int argc, char** argv) {
     for (size_t s = 0; s < std::size(kStages); ++s)
       bars.push_back({kStageNames[s], std::string("stages/") + kStages[s]});
     if (views == 5)
-      for (const char* a : {"source3d_only", "priors_only", "no_multiview", "rgb_grabcut",
-                            "box_priors", "unsorted_priors", "no_grabcut"})
+      for (const char* a : {"source3d_only", "priors_only", "no_multiview", "certain_priors",
+                            "rgb_grabcut", "box_priors", "unsorted_priors", "no_grabcut"})
         bars.push_back({std::string("ablation: ") + a, std::string("ablations/") + a});
     fs::create_directories(out);
     write_file_atomically(out / ("detector_fusion_" + std::to_string(views) + "views.svg"),

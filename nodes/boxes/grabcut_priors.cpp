@@ -64,7 +64,7 @@ PriorLabels refine_priors(const cv::Mat& rgb, const cv::Mat& depth,
   for (size_t k = 0; k < order.size(); ++k) {
     const DetectorPrior& p = priors[order[k]];
     out.labels.setTo(p.label, refined[k].pixels);
-    out.confidence.setTo(p.score, refined[k].pixels);
+    out.confidence.setTo(p.confidence, refined[k].pixels);
     ++out.painted;
     if (refined[k].found) ++out.refined;
   }
@@ -100,6 +100,10 @@ DetectorPriorMaps detector_prior_maps(const Capture& capture, const BoxSet& boxe
         DetectorPrior p;
         p.label = class_index(out.priors.classes, box.label);
         p.score = box.score;
+        const int rounds = std::max(1, view_boxes[v]->rounds);
+        p.confidence = options.confidence == PriorConfidence::Score
+                           ? std::min(box.score, options.max_confidence)
+                           : options.max_confidence * std::min(1.f, float(box.support) / rounds);
         p.box = box;
         if (p.label < 0) {
           ++unknown;
@@ -131,6 +135,12 @@ DetectorPriorMaps detector_prior_maps(const Capture& capture, const BoxSet& boxe
   return out;
 }
 
+const EnumNames<PriorConfidence>& prior_confidence_names() {
+  static const EnumNames<PriorConfidence> names = {{PriorConfidence::Score, "score"},
+                                                   {PriorConfidence::Support, "support"}};
+  return names;
+}
+
 const EnumNames<PriorKind>& prior_kind_names() {
   static const EnumNames<PriorKind> names = {{PriorKind::Mask, "mask"}, {PriorKind::Box, "box"}};
   return names;
@@ -142,6 +152,13 @@ const ParamTable<GrabcutPriorOptions>& grabcut_prior_param_table() {
       ParamTable<O>()
           .add("kind", &O::kind, prior_kind_names(),
                "mask: a detection's mask where it has one, else its box; box: always the box")
+          .add("confidence", &O::confidence, prior_confidence_names(),
+               "what a prior's pixels get: score (the detection's, capped at max_confidence) or "
+               "support (max_confidence x the fraction of VLM rounds that found it)")
+          .add("max_confidence", &O::max_confidence,
+               "cap of a prior's confidence (a VLM box scores 1; a certain prior can never be "
+               "outvoted by the 3D source or the other views)",
+               0, 1)
           .add("refine", &O::refine, "refine each prior with GrabCut (false: paint it as it is)")
           .add("sort_by_size", &O::sort_by_size,
                "paint priors in decreasing size so objects overwrite what they stand on "

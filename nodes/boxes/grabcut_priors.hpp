@@ -24,8 +24,23 @@ namespace gslift {
 enum class PriorKind { Mask, Box };
 const EnumNames<PriorKind>& prior_kind_names();  // mask, box
 
+// The confidence a prior paints (paper 002: the detector's score). score: the detection's score,
+// capped at max_confidence; support: max_confidence x the fraction of the VLM rounds that found
+// the object (ViewBoxes::rounds, Box::support: LangOR's consensus).
+enum class PriorConfidence { Score, Support };
+const EnumNames<PriorConfidence>& prior_confidence_names();  // score, support
+
 struct GrabcutPriorOptions {
   PriorKind kind = PriorKind::Mask;
+  PriorConfidence confidence = PriorConfidence::Score;
+  // [decision] A VLM grounding reply has no score (Qwen-VL: every box 1). A prior of confidence 1
+  // gives every other class probability 0, and a zero survives every product: the 3D source
+  // cannot change such a pixel, nor can any number of other views in multi-view fusion (a
+  // contribution that would zero every class is skipped). Capped at 0.99 the priors still win
+  // the single-view fusion against the 3D source's 0.8, but the views can outvote one another:
+  // at seed 0, 320x240, final CA 80.3 at 1, 83.8 at 0.8, 83.9 at 0.9, 86.0 at 0.95, 87.9 at 0.99
+  // (docs/detector_fusion.md; 5 seeds at 640x480 in bench_detector_fusion, "certain_priors").
+  float max_confidence = 0.99f;
   bool refine = true;            // false: paint the priors as they are (no GrabCut)
   bool sort_by_size = true;      // paper 002: decreasing size; false keeps the detector's order
   float border_fraction = 0.1f;  // f of the mask prior's band t = f (w + h) / pi (paper: 0.1)
@@ -36,15 +51,16 @@ struct GrabcutPriorOptions {
 const ParamTable<GrabcutPriorOptions>& grabcut_prior_param_table();
 
 struct DetectorPrior {
-  int label = -1;     // class id
-  float score = 1.f;  // detector confidence
+  int label = -1;          // class id
+  float score = 1.f;       // detector score, compared with the threshold
+  float confidence = 1.f;  // what its pixels get
   Box box;
   cv::Mat1b mask;  // image size, nonzero inside; empty for a box prior
 };
 
 struct PriorLabels {
   cv::Mat1i labels;      // class id per pixel, -1 where no prior
-  cv::Mat1f confidence;  // the painting prior's score, 0 where none
+  cv::Mat1f confidence;  // the painting prior's confidence, 0 where none
   int painted = 0;       // priors above the threshold
   int refined = 0;       // of those, GrabCut found a foreground for
 };

@@ -38,6 +38,7 @@ DetectorPrior box_prior(int label, float score, float x1, float y1, float x2, fl
   DetectorPrior p;
   p.label = label;
   p.score = score;
+  p.confidence = score;
   p.box.x1 = x1;
   p.box.y1 = y1;
   p.box.x2 = x2;
@@ -125,10 +126,11 @@ TEST_CASE("detector prior maps: labels matched to classes, masks linked by box i
   view.name = "w";  // a view without detections: every pixel unlabelled
   capture.views.push_back(view);
   BoxSet boxes;
-  ViewBoxes vb{"v", 1, {}};
+  ViewBoxes vb{"v", 4, {}};  // 4 VLM rounds
   vb.boxes.push_back(box_prior(0, 0.9f, 10, 10, 60, 60).box);
   vb.boxes.back().label = "Operating Table";
   vb.boxes.back().score = 0.9f;
+  vb.boxes.back().support = 3;  // found in 3 of the 4 rounds
   vb.boxes.push_back(box_prior(0, 0.8f, 70, 10, 110, 50).box);
   vb.boxes.back().label = "patient";
   vb.boxes.back().score = 0.8f;
@@ -154,6 +156,13 @@ TEST_CASE("detector prior maps: labels matched to classes, masks linked by box i
   CHECK(v.pixel(15 * 120 + 15, 3)[1] == Approx(0.9));
   CHECK(v.pixel(15 * 120 + 15, 3)[0] == Approx(0.05));
   CHECK(cv::countNonZero(r.priors.views[1].labels == -1) == 120 * 100);
+  // Confidence: the score capped, or the cap times the fraction of rounds that found the box.
+  o.max_confidence = 0.8f;
+  CHECK(detector_prior_maps(capture, boxes, masks, o).priors.views[0].confidence(15, 15) ==
+        Approx(0.8));
+  o.confidence = PriorConfidence::Support;
+  CHECK(detector_prior_maps(capture, boxes, masks, o).priors.views[0].confidence(15, 15) ==
+        Approx(0.6));
   o.kind = PriorKind::Box;  // the patient's box instead of its mask
   CHECK(cv::countNonZero(detector_prior_maps(capture, boxes, masks, o).priors.views[0].labels ==
                          2) == 40 * 40);
