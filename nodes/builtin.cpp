@@ -4,6 +4,7 @@
 #include "nodes/boxes/register.hpp"
 #include "nodes/eval/register.hpp"
 #include "nodes/features/register.hpp"
+#include "nodes/fusion/register.hpp"
 #include "nodes/inference/register.hpp"
 #include "nodes/ingest/register.hpp"
 #include "nodes/lifting/register.hpp"
@@ -28,6 +29,7 @@ void register_builtin_nodes(Registry& registry) {
   register_features_nodes(registry);
   register_vlm_nodes(registry);
   register_masks_nodes(registry);
+  register_fusion_nodes(registry);
 }
 
 }  // namespace gslift

@@ -39,43 +39,86 @@ cv::Mat depth_image(const cv::Mat& depth) {
   return three;
 }
 
-// GrabCut foreground (definite or probable) of `image` initialised with `rect`.
-cv::Mat1b grabcut_foreground(const cv::Mat& image, const cv::Rect& rect, int iterations) {
-  cv::Mat labels, background, foreground;
+// GrabCut foreground (definite or probable) of `image`: initialised with `rect` when `init` is
+// empty, else with the per-pixel GrabCut classes in `init` (CV_8U, the image's size).
+cv::Mat1b grabcut_foreground(const cv::Mat& image, const cv::Rect& rect, const cv::Mat& init,
+                             int iterations) {
+  cv::Mat labels = init.clone(), background, foreground;
   // GrabCut's k-means draws from the thread's OpenCV RNG: a fixed state keeps the result
   // independent of scheduling.
   cv::theRNG().state = 0x9e3779b97f4a7c15ULL;
-  cv::grabCut(image, labels, rect, background, foreground, iterations, cv::GC_INIT_WITH_RECT);
+  cv::grabCut(image, labels, rect, background, foreground, iterations,
+              init.empty() ? cv::GC_INIT_WITH_RECT : cv::GC_INIT_WITH_MASK);
   return (labels == cv::GC_FGD) | (labels == cv::GC_PR_FGD);
+}
+
+// The crop GrabCut runs on: `rect` grown by options.context of its size on each side (at least
+// 8 pixels), clipped to the image.
+cv::Rect context_crop(const cv::Rect& rect, const cv::Size& size, const GrabCutOptions& options) {
+  const int grow_x = std::max(8, static_cast<int>(std::lround(options.context * rect.width)));
+  const int grow_y = std::max(8, static_cast<int>(std::lround(options.context * rect.height)));
+  return cv::Rect(rect.x - grow_x, rect.y - grow_y, rect.width + 2 * grow_x,
+                  rect.height + 2 * grow_y) &
+         cv::Rect(0, 0, size.width, size.height);
+}
+
+// GrabCut on the RGB crop and, with use_depth, on the depth crop, OR-ed (paper 002 Algorithm 1
+// lines 6-8); `init` as in grabcut_foreground, in crop coordinates. An empty foreground keeps
+// `result` (the prior) as it is.
+void refine_in_crop(const cv::Mat& rgb, const cv::Mat& depth, const cv::Rect& crop,
+                    const cv::Rect& inner, const cv::Mat& init, const GrabCutOptions& options,
+                    GrabCutMask& result) {
+  cv::Mat1b found = grabcut_foreground(rgb(crop), inner, init, options.iterations);
+  if (options.use_depth && !depth.empty()) {
+    const cv::Mat image = depth_image(depth(crop));
+    if (!image.empty()) found |= grabcut_foreground(image, inner, init, options.iterations);
+  }
+  if (cv::countNonZero(found) == 0) return;
+  result.pixels.setTo(0);
+  found.copyTo(result.pixels(crop));
+  result.found = true;
 }
 
 }  // namespace
 
 GrabCutMask grabcut_box_mask(const cv::Mat& rgb, const cv::Mat& depth, const Box& box,
-                             const BoxMaskOptions& options) {
+                             const GrabCutOptions& options) {
   const cv::Size size = rgb.size();
   const cv::Rect rect = box_pixels(box, size);
   GrabCutMask result;
   result.pixels = cv::Mat1b::zeros(size);
   result.pixels(rect).setTo(255);
   // GrabCut needs background samples outside the rectangle and a rectangle to segment.
-  const int grow_x = std::max(8, static_cast<int>(std::lround(options.context * rect.width)));
-  const int grow_y = std::max(8, static_cast<int>(std::lround(options.context * rect.height)));
-  const cv::Rect crop = cv::Rect(rect.x - grow_x, rect.y - grow_y, rect.width + 2 * grow_x,
-                                 rect.height + 2 * grow_y) &
-                        cv::Rect(0, 0, size.width, size.height);
+  const cv::Rect crop = context_crop(rect, size, options);
   if (rect.width < 2 || rect.height < 2 || crop == rect) return result;
   const cv::Rect inner(rect.x - crop.x, rect.y - crop.y, rect.width, rect.height);
+  refine_in_crop(rgb, depth, crop, inner, {}, options, result);
+  return result;
+}
 
-  cv::Mat1b found = grabcut_foreground(rgb(crop), inner, options.grabcut_iterations);
-  if (options.use_depth && !depth.empty()) {
-    const cv::Mat image = depth_image(depth(crop));
-    if (!image.empty()) found |= grabcut_foreground(image, inner, options.grabcut_iterations);
-  }
-  if (cv::countNonZero(found) == 0) return result;
-  result.pixels.setTo(0);
-  found.copyTo(result.pixels(crop));
-  result.found = true;
+GrabCutMask grabcut_mask_prior(const cv::Mat& rgb, const cv::Mat& depth, const cv::Mat1b& mask,
+                               float border_fraction, const GrabCutOptions& options) {
+  GrabCutMask result;
+  result.pixels = cv::Mat1b::zeros(mask.size());
+  result.pixels.setTo(255, mask);
+  const cv::Rect rect = cv::boundingRect(mask);
+  if (rect.width < 2 || rect.height < 2) return result;
+  const cv::Rect crop = context_crop(rect, mask.size(), options);
+  // Paper 002 §3.4: t = f r, r the radius of the circle whose perimeter is the box's.
+  const int t = std::max(
+      1, static_cast<int>(std::lround(border_fraction * (rect.width + rect.height) / CV_PI)));
+  const cv::Mat kernel = cv::getStructuringElement(cv::MORPH_ELLIPSE, {2 * t + 1, 2 * t + 1});
+  const cv::Mat1b inside = mask(crop) != 0;
+  cv::Mat1b grown, shrunk;
+  cv::dilate(inside, grown, kernel);
+  cv::erode(inside, shrunk, kernel, {-1, -1}, 1, cv::BORDER_CONSTANT, 0);
+  cv::Mat1b init(crop.size(), static_cast<uchar>(cv::GC_BGD));
+  init.setTo(cv::GC_PR_FGD, grown);
+  init.setTo(cv::GC_FGD, shrunk);
+  // GrabCut fits 5-component colour models to both sides: it needs samples of each.
+  const int background = cv::countNonZero(init == cv::GC_BGD);
+  if (background < 10 || static_cast<int>(init.total()) - background < 10) return result;
+  refine_in_crop(rgb, depth, crop, {}, init, options, result);
   return result;
 }
 
@@ -131,7 +174,7 @@ BoxMaskResult box_masks(const BoxSet& clusters, const Capture& capture, const Ma
       rgb = view.rgb.load();
       if (rgb.empty())
         throw InputError("boxes.to_masks: view '" + vb.view + "' has no RGB image for GrabCut");
-      if (options.use_depth) depth = view.depth.load();
+      if (options.grabcut.use_depth) depth = view.depth.load();
     }
     tbb::parallel_for(size_t(0), vb.boxes.size(), [&](size_t b) {
       const Box& box = vb.boxes[b];
@@ -141,7 +184,7 @@ BoxMaskResult box_masks(const BoxSet& clusters, const Capture& capture, const Ma
         mask = it->second;
         ++from_sam;
       } else {
-        GrabCutMask g = grabcut_box_mask(rgb, depth, box, options);
+        GrabCutMask g = grabcut_box_mask(rgb, depth, box, options.grabcut);
         mask.pixels = g.pixels;
         mask.score = box.score;
         ++(g.found ? from_grabcut : from_box);
@@ -163,6 +206,17 @@ const EnumNames<BoxMaskSource>& box_mask_source_names() {
   return names;
 }
 
+const ParamTable<GrabCutOptions>& grabcut_param_table() {
+  using O = GrabCutOptions;
+  static const ParamTable<O> table =
+      ParamTable<O>()
+          .add("grabcut_iterations", &O::iterations, "GrabCut iterations (paper: 5)", 1, 100)
+          .add("context", &O::context,
+               "GrabCut crop: the box grown by this fraction of its size on each side", 0, 10)
+          .add("use_depth", &O::use_depth, "also run GrabCut on the depth prior, OR-ed");
+  return table;
+}
+
 const ParamTable<BoxMaskOptions>& box_mask_param_table() {
   using O = BoxMaskOptions;
   static const ParamTable<O> table =
@@ -170,11 +224,7 @@ const ParamTable<BoxMaskOptions>& box_mask_param_table() {
           .add("source", &O::source, box_mask_source_names(),
                "sam: the capture's SAM mask of the box (missing = bad input); grabcut: GrabCut on "
                "RGB and depth; auto: sam where present, else grabcut")
-          .add("grabcut_iterations", &O::grabcut_iterations, "GrabCut iterations (paper: 5)", 1,
-               100)
-          .add("context", &O::context,
-               "GrabCut crop: the box grown by this fraction of its size on each side", 0, 10)
-          .add("use_depth", &O::use_depth, "also run GrabCut on the depth prior, OR-ed");
+          .nest(&O::grabcut, grabcut_param_table());
   return table;
 }
 

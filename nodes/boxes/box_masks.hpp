@@ -30,9 +30,9 @@ namespace gslift {
 enum class BoxMaskSource { Sam, Grabcut, Auto };
 const EnumNames<BoxMaskSource>& box_mask_source_names();  // sam, grabcut, auto
 
-struct BoxMaskOptions {
-  BoxMaskSource source = BoxMaskSource::Auto;
-  int grabcut_iterations = 5;  // paper 002: 5
+// GrabCut as boxes.to_masks and boxes.grabcut_priors both run it (paper 002 Algorithm 1 REFINE).
+struct GrabCutOptions {
+  int iterations = 5;  // paper 002: 5
   // [decision] GrabCut runs on the box grown by this fraction of its width/height on each side
   // (at least 8 pixels), not on the whole image: the colour models of the background then
   // describe the object's surroundings, and a 640x480 view costs a crop instead of the image.
@@ -40,20 +40,39 @@ struct BoxMaskOptions {
   bool use_depth = true;  // also run GrabCut on the depth prior when the view has one
 };
 
-// The params of boxes.to_masks: one entry per field above.
+// Its params: grabcut_iterations, context, use_depth.
+const ParamTable<GrabCutOptions>& grabcut_param_table();
+
+struct BoxMaskOptions {
+  BoxMaskSource source = BoxMaskSource::Auto;
+  GrabCutOptions grabcut;
+};
+
+// The params of boxes.to_masks: source, then grabcut_param_table().
 const ParamTable<BoxMaskOptions>& box_mask_param_table();
 
 struct GrabCutMask {
   cv::Mat1b pixels;    // image size, 255 inside
-  bool found = false;  // false: GrabCut found no foreground and pixels is the box rectangle
+  bool found = false;  // false: GrabCut found no foreground and pixels is the prior itself
 };
 
-// GrabCut of one box. rgb: CV_8UC3; depth: CV_32FC1 metres (0 = invalid) of the same size, or
-// empty. The depth crop is mapped linearly from its valid range to 1..255 (invalid pixels 0) and
-// replicated to three channels. OpenCV's RNG is reseeded before each call, so the result does not
-// depend on which thread runs it or what it ran before.
+// GrabCut of one box, initialised with its rectangle. rgb: CV_8UC3; depth: CV_32FC1 metres
+// (0 = invalid) of the same size, or empty. The depth crop is mapped linearly from its valid range
+// to 1..255 (invalid pixels 0) and replicated to three channels; the RGB and depth foregrounds are
+// OR-ed. OpenCV's RNG is reseeded before each call, so the result does not depend on which thread
+// runs it or what it ran before.
 GrabCutMask grabcut_box_mask(const cv::Mat& rgb, const cv::Mat& depth, const Box& box,
-                             const BoxMaskOptions& options);
+                             const GrabCutOptions& options);
+
+// GrabCut of one mask prior (paper 002 §3.4): a band of thickness t = f (w + h) / pi around the
+// mask's border (w, h: its bounding box; f = border_fraction, paper 0.1) is probable foreground,
+// the mask inside the band foreground, everything else background. [decision] The band lies on
+// both sides of the border (the mask dilated minus the mask eroded by t): GrabCut can then both
+// trim and grow a coarse mask. The crop, the depth pass and the OR are those of
+// grabcut_box_mask. An empty result, or a crop without both background and foreground samples,
+// keeps the mask itself (found = false). mask: CV_8UC1 of the image size, nonzero inside.
+GrabCutMask grabcut_mask_prior(const cv::Mat& rgb, const cv::Mat& depth, const cv::Mat1b& mask,
+                               float border_fraction, const GrabCutOptions& options);
 
 struct BoxMaskResult {
   // One ViewMasks per ViewBoxes of the clusters (same order), one Mask per box in box order:

@@ -3,6 +3,7 @@
 #include "nodes/boxes/box_masks.hpp"
 #include "nodes/boxes/cluster_boxes.hpp"
 #include "nodes/boxes/context_prompt.hpp"
+#include "nodes/boxes/grabcut_priors.hpp"
 
 namespace gslift {
 namespace {
@@ -79,12 +80,37 @@ void add_to_masks(Registry& registry) {
   registry.add(std::move(spec), box_mask_param_table(), run_to_masks);
 }
 
+void run_grabcut_priors(NodeContext& ctx, const GrabcutPriorOptions& o) {
+  const MaskSet none;
+  const MaskSet& masks = ctx.has_input("masks") ? *ctx.input<MaskSet>("masks") : none;
+  DetectorPriorMaps r =
+      detector_prior_maps(*ctx.input<Capture>("capture"), *ctx.input<BoxSet>("boxes"), masks, o);
+  ctx.record("painted", r.painted);
+  ctx.record("refined", r.refined);
+  ctx.record("unknown_labels", r.unknown_labels);
+  ctx.output("priors", std::move(r.priors));
+}
+
+void add_grabcut_priors(Registry& registry) {
+  NodeSpec spec{
+      "boxes.grabcut_priors",
+      "detections -> per-pixel class and confidence per view: priors refined by GrabCut on RGB "
+      "and depth, painted largest first (paper 002 Algorithm 1)",
+      {{"capture", "Capture", "views with RGB, depth prior and the class vocabulary"},
+       {"boxes", "BoxSet", "detections per view (boxes.cluster), label and score each"},
+       {"masks", "MaskSet",
+        "a mask per box linked by box_index (boxes.to_masks); unwired: box priors only", true}},
+      {{"priors", "SemanticMaps", "per view: the painting prior's class with its score"}}};
+  registry.add(std::move(spec), grabcut_prior_param_table(), run_grabcut_priors);
+}
+
 }  // namespace
 
 void register_boxes_nodes(Registry& registry) {
   add_cluster(registry);
   add_prompt(registry);
   add_to_masks(registry);
+  add_grabcut_priors(registry);
 }
 
 }  // namespace gslift

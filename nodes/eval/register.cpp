@@ -5,6 +5,8 @@
 #include "nodes/eval/binary_segmentation.hpp"
 #include "nodes/eval/instance_hungarian.hpp"
 #include "nodes/eval/langor_eval.hpp"
+#include "nodes/eval/semantic_eval.hpp"
+#include "nodes/scene/image_io.hpp"
 #include "nodes/splat/reconstruct.hpp"
 #include "runtime/atomic_file.hpp"
 
@@ -79,6 +81,39 @@ void run_instance_hungarian(NodeContext& ctx, const InstanceEvalOptions&) {
   }
 }
 
+void record_scores(NodeContext& ctx, const std::string& prefix, const SemanticScores& s) {
+  ctx.record(prefix + "GA", s.ga);
+  ctx.record(prefix + "CA", s.ca);
+  ctx.record(prefix + "CP", s.cp);
+}
+
+void run_semantic_eval(NodeContext& ctx, const SemanticEvalOptions& o) {
+  const auto predictions = ctx.input<SemanticMaps>("predictions");
+  const SemanticEvaluation e = evaluate_semantics(*predictions, *ctx.input<Capture>("capture"), o);
+  const SemanticScores all = semantic_scores(e.all);
+  record_scores(ctx, "", all);
+  record_scores(ctx, "train/", semantic_scores(e.train));
+  record_scores(ctx, "test/", semantic_scores(e.test));
+  for (const auto& v : e.views) record_scores(ctx, "view/" + v.view + "/", v.scores);
+  for (size_t i = 0; i < all.classes.size(); ++i)
+    if (all.classes[i].present)
+      ctx.record("recall/" + predictions->classes[i], 100 * all.classes[i].recall);
+  const auto dir = ctx.out_dir();
+  if (dir.empty()) return;
+  write_file_atomically(dir / "classes.csv", semantic_class_csv(all, predictions->classes));
+  write_file_atomically(dir / "classes_train.csv",
+                        semantic_class_csv(semantic_scores(e.train), predictions->classes));
+  write_file_atomically(dir / "classes_test.csv",
+                        semantic_class_csv(semantic_scores(e.test), predictions->classes));
+  std::string per_view = "view,held_out,GA,CA,CP\n";
+  for (const auto& v : e.views)
+    per_view += v.view + "," + (v.held_out ? "1" : "0") + "," + std::to_string(v.scores.ga) + "," +
+                std::to_string(v.scores.ca) + "," + std::to_string(v.scores.cp) + "\n";
+  write_file_atomically(dir / "views.csv", per_view);
+  write_file_atomically(dir / "confusion.csv", confusion_csv(e.all, predictions->classes));
+  write_rgb_png(dir / "confusion.png", confusion_heatmap(e.all));
+}
+
 }  // namespace
 
 void register_eval_nodes(Registry& registry) {
@@ -110,6 +145,13 @@ void register_eval_nodes(Registry& registry) {
        {"capture", PortTypeName<Capture>::value, "held-out views with ground-truth semantics"}},
       {}};
   registry.add(std::move(spec), langor_eval_param_table(), run_langor_eval);
+  registry.add({"eval.semantic",
+                "GA, CA, CP of per-pixel class maps on every view with ground truth, training and "
+                "held-out views apart (paper 002 §4.2); confusion matrix CSV + PNG",
+                {{"predictions", PortTypeName<SemanticMaps>::value, "per-pixel class maps"},
+                 {"capture", PortTypeName<Capture>::value, "views with gt/semantic maps"}},
+                {}},
+               semantic_eval_param_table(), run_semantic_eval);
 }
 
 }  // namespace gslift

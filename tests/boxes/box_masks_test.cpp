@@ -80,7 +80,7 @@ cv::Mat1b dominant_instance(const cv::Mat& ids, const cv::Mat1b& region) {
 TEST_CASE("GrabCut segments a coloured disc on a textured background", "[boxes]") {
   cv::Mat3b image = textured_background(1);
   image.setTo(cv::Vec3b(220, 40, 30), disc());
-  BoxMaskOptions o;
+  GrabCutOptions o;
   const GrabCutMask g = grabcut_box_mask(image, {}, box_around_disc(), o);
   CHECK(g.found);
   CHECK(iou(g.pixels, disc()) > 0.8);
@@ -102,7 +102,7 @@ TEST_CASE("GrabCut on depth finds the part of an object the colours hide", "[box
   cv::Mat1f depth(100, 120, 3.f);
   depth.setTo(1.5f, disc());
   depth(cv::Rect(0, 0, 10, 10)).setTo(0.f);
-  BoxMaskOptions o;
+  GrabCutOptions o;
   o.use_depth = false;
   const double rgb_only = iou(grabcut_box_mask(image, depth, box_around_disc(), o).pixels, disc());
   o.use_depth = true;
