@@ -1,6 +1,7 @@
 #include "nodes/inference/kmeans.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 #include <stdexcept>
 
@@ -18,7 +19,7 @@ double squared_distance(const float* a, const float* b, int dim) {
 }  // namespace
 
 KMeansResult kmeans(const std::vector<float>& rows, int dim, int k, uint64_t seed,
-                    int max_iterations) {
+                    int max_iterations, bool spherical) {
   if (dim < 1 || k < 1 || rows.size() < size_t(dim) || rows.size() % dim != 0)
     throw std::invalid_argument("kmeans: need at least one row of dim >= 1 values and k >= 1");
   const size_t n = rows.size() / dim;
@@ -75,11 +76,16 @@ KMeansResult kmeans(const std::vector<float>& rows, int dim, int k, uint64_t see
       ++counts[r.labels[i]];
       for (int d = 0; d < dim; ++d) sums[size_t(r.labels[i]) * dim + d] += rows[i * dim + d];
     }
-    for (int c = 0; c < r.k; ++c)
-      if (counts[c] > 0)
-        for (int d = 0; d < dim; ++d)
-          r.centres[size_t(c) * dim + d] =
-              static_cast<float>(sums[size_t(c) * dim + d] / counts[c]);
+    for (int c = 0; c < r.k; ++c) {
+      if (counts[c] == 0) continue;
+      double norm = 0;
+      for (int d = 0; d < dim; ++d) norm += sums[size_t(c) * dim + d] * sums[size_t(c) * dim + d];
+      // Spherical: the mean direction; a centre whose rows cancel out keeps its place.
+      if (spherical && !(norm > 0)) continue;
+      const double scale = spherical ? 1 / std::sqrt(norm) : 1.0 / counts[c];
+      for (int d = 0; d < dim; ++d)
+        r.centres[size_t(c) * dim + d] = static_cast<float>(sums[size_t(c) * dim + d] * scale);
+    }
   }
   return r;
 }

@@ -17,9 +17,11 @@ struct KMeansResult {
 
 // Clusters `rows` (n x dim, row-major) into min(k, n) clusters. The seeding draws from
 // RandomStream(stream_seed(seed, "kmeans")), so the result depends on the seed only. A cluster
-// left empty by an iteration keeps its previous centre. Throws std::invalid_argument for n = 0 or
-// k < 1.
+// left empty by an iteration keeps its previous centre. `spherical`: the rows are unit vectors and
+// each centre is renormalised after its update (spherical K-means, for features compared by
+// cosine: for unit vectors the nearest centre is the one of largest cosine). Throws
+// std::invalid_argument for n = 0 or k < 1.
 KMeansResult kmeans(const std::vector<float>& rows, int dim, int k, uint64_t seed,
-                    int max_iterations = 50);
+                    int max_iterations = 50, bool spherical = false);
 
 }  // namespace gslift
