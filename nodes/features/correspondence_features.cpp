@@ -132,9 +132,7 @@ CorrespondenceResult train_correspondence_features(const GaussianModel& model,
       progress);
   result.loss_start = loss.start;
   result.loss_end = loss.end;
-  result.model = model;
-  result.model.feature_dim = dim;
-  result.model.features = std::move(features);
+  result.model = model.with_features(std::move(features), dim);
   result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return result;
 }

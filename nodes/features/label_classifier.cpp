@@ -67,9 +67,7 @@ LabelClassifierResult train_label_classifier(const GaussianModel& model, const C
   r.classifier.classes = classes;
   r.classifier.weights.assign(params.begin(), params.begin() + nw);
   r.classifier.bias.assign(params.begin() + nw, params.end());
-  r.model = model;
-  r.model.feature_dim = dim;
-  r.model.features = std::move(features);
+  r.model = model.with_features(std::move(features), dim);
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return r;
 }

@@ -97,9 +97,7 @@ ViewClassifierResult train_view_classifiers(const GaussianModel& model, const Ca
       std::copy_n(weights.begin() + row_of(k, cl) * dim, dim, c.weights.begin() + size_t(cl) * dim);
     r.classifiers.views.push_back(std::move(c));
   }
-  r.model = model;
-  r.model.feature_dim = dim;
-  r.model.features = std::move(features);
+  r.model = model.with_features(std::move(features), dim);
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return r;
 }

@@ -6,6 +6,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "base/port_type.hpp"
@@ -33,6 +34,14 @@ struct GaussianModel {
   void resize(size_t n);
   // The Gaussians `indices` (in that order) as a model of their own, every array kept.
   GaussianModel subset(const std::vector<size_t>& indices) const;
+  // A copy with `features` (size() x dim, row-major) as its feature channels: what every
+  // frozen-geometry feature trainer returns (the geometry is the input's).
+  GaussianModel with_features(std::vector<float> features, int dim) const {
+    GaussianModel m = *this;
+    m.feature_dim = dim;
+    m.features = std::move(features);
+    return m;
+  }
 };
 
 GSLIFT_PORT_TYPE(GaussianModel, "GaussianModel");
