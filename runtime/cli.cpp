@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
+#include <limits>
 #include <map>
 #include <optional>
 #include <set>
@@ -108,7 +109,8 @@ Args parse_args(int argc, char** argv, int first, const std::vector<std::string>
   return args;
 }
 
-int64_t parse_integer(const std::string& option, const std::string& text, int64_t min) {
+int64_t parse_integer(const std::string& option, const std::string& text, int64_t min,
+                      int64_t max = std::numeric_limits<int64_t>::max()) {
   size_t used = 0;
   int64_t v = 0;
   try {
@@ -116,10 +118,29 @@ int64_t parse_integer(const std::string& option, const std::string& text, int64_
   } catch (const std::exception&) {
     used = 0;
   }
-  if (used == 0 || used != text.size() || v < min)
-    throw UsageError("--" + option + " expects an integer >= " + std::to_string(min) + ", got '" +
-                     text + "'");
+  if (used == 0 || used != text.size() || v < min || v > max)
+    throw UsageError("--" + option + " expects an integer >= " + std::to_string(min) +
+                     (max < std::numeric_limits<int64_t>::max() ? " and <= " + std::to_string(max)
+                                                                : std::string()) +
+                     ", got '" + text + "'");
   return v;
+}
+
+// --threads: 0 = all cores. The ceiling keeps a typo from asking TBB for thousands of threads
+// (5000 aborted in pthread_create, 10^7 crashed): far above any machine gslift runs on, and more
+// workers than cores only time-slice.
+constexpr int64_t kMaxThreads = 1024;
+
+// An output folder that exists as something else (a file, a device) is bad input named by its
+// path, before anything runs (it used to end as an internal error when run.json was written).
+void check_output_folder(const fs::path& out) {
+  std::error_code ec;
+  if (fs::exists(out, ec) && !fs::is_directory(out, ec))
+    throw InputError("--out " + out.string() + " exists and is not a folder");
+}
+
+int64_t parse_threads(const Args& args) {
+  return parse_integer("threads", args.last("threads", "0"), 0, kMaxThreads);
 }
 
 void set_up_logging(const Args& args) {
@@ -180,7 +201,7 @@ uint64_t run_seed(const Graph& graph) {
 // comes from the loaded graph (run_seed).
 RunOptions command_line_run_options(const Args& args) {
   RunOptions opt;
-  opt.threads = static_cast<int>(parse_integer("threads", args.last("threads", "0"), 0));
+  opt.threads = static_cast<int>(parse_threads(args));
   opt.run_input = args.last("input");
   opt.cancel = &interrupt_flag();
   return opt;
@@ -229,7 +250,7 @@ const std::vector<Command>& commands() {
        "  --set NODE.PARAM=VALUE  override a param (repeatable); NODE.type=TYPE swaps a stage,\n"
        "                          NAME=VALUE sets the graph param NAME\n"
        "  --out DIR               results folder (default out/<graph name>)\n"
-       "  --threads N             worker threads, 0 = all cores (default 0)\n"
+       "  --threads N             worker threads, 0 = all cores (default 0, at most 1024)\n"
        "  --seed S                run seed (graph var ${seed}; default: the graph's seed or 0)\n"
        "  --log-level L           trace, debug, info, warn, error, critical, off (default info)\n"
        "  -h, --help              this help\n",
@@ -267,7 +288,8 @@ const std::vector<Command>& commands() {
        "  --shard I/N             take the captures whose index % N == I (Slurm/K8s arrays)\n"
        "  --set NODE.PARAM=VALUE  override a param (repeatable); NODE.type=TYPE swaps a stage,\n"
        "                          NAME=VALUE sets the graph param NAME\n"
-       "  --threads N             worker threads per capture, 0 = all cores (default 0)\n"
+       "  --threads N             worker threads per capture, 0 = all cores (default 0, at most "
+       "1024)\n"
        "  --seed S                run seed (graph var ${seed}); the same for every capture\n"
        "  --log-level L           trace, debug, info, warn, error, critical, off (default info)\n"
        "  -h, --help              this help\n",
@@ -311,6 +333,7 @@ int cmd_run(int argc, char** argv, const Registry& registry) {
   if (!graph) return exit_code::kInvalidGraph;
   opt.seed = run_seed(*graph);
   opt.out_dir = args.last("out", (fs::path("out") / graph->name).string());
+  check_output_folder(opt.out_dir);
   ConsoleProgress progress(is_terminal(stderr), stderr);
   opt.progress = &progress;
   install_interrupt_handlers();
@@ -363,6 +386,7 @@ int cmd_batch(int argc, char** argv, const Registry& registry) {
   if (args.flags.count("help")) return print_command_help(command_named("batch")), 0;
   if (args.positional.size() != 2) throw UsageError("batch expects MANIFEST and GRAPH");
   if (!args.has("out")) throw UsageError("batch needs --out DIR");
+  check_output_folder(args.last("out"));
   set_up_logging(args);
   Shard shard;
   try {
@@ -409,7 +433,7 @@ int cmd_batch(int argc, char** argv, const Registry& registry) {
 
 constexpr const char* kCommonOptions =
     "\noptions gslift takes for this command too:\n"
-    "  --threads N             worker threads, 0 = all cores (default 0)\n"
+    "  --threads N             worker threads, 0 = all cores (default 0, at most 1024)\n"
     "  --log-level L           trace, debug, info, warn, error, critical, off (default info)\n";
 
 // A command from outside the runtime (gslift synth) takes --threads and --log-level like run and
@@ -435,7 +459,7 @@ int run_extra(const ExtraCommand& command, int argc, char** argv) {
   }
   const Args args = parse_args(int(taken.size()), taken.data(), 2, common, {});
   set_up_logging(args);
-  const auto threads = static_cast<size_t>(parse_integer("threads", args.last("threads", "0"), 0));
+  const auto threads = static_cast<size_t>(parse_threads(args));
   std::optional<tbb::global_control> limit;
   if (threads > 0) limit.emplace(tbb::global_control::max_allowed_parallelism, threads);
   const int code = command.run(int(own.size()), own.data());

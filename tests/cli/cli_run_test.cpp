@@ -97,6 +97,18 @@ TEST_CASE("run maps failures to exit codes and names the node and its line", "[c
   CHECK(bad.code == exit_code::kBadInput);
   CHECK(bad.output.find("/data/bad_scene: unreadable") != std::string::npos);
 
+  // --out naming an existing file: bad input that names it, and the file is left as it was.
+  const fs::path not_folder = write_text(dir / "not_a_folder", "keep");
+  const auto file_out =
+      run_command(kBinary + " run " + quoted(writer) + " --out " + quoted(not_folder));
+  CHECK(file_out.code == exit_code::kBadInput);
+  CHECK(file_out.output.find("--out " + not_folder.string() + " exists and is not a folder") !=
+        std::string::npos);
+  std::ifstream kept(not_folder);
+  std::string text;
+  kept >> text;
+  CHECK(text == "keep");
+
   const fs::path invalid = write_text(dir / "invalid.yaml",
                                       "nodes:\n"
                                       "  a: {type: debug.constant, params: {valeu: 2}}\n"
@@ -120,6 +132,12 @@ TEST_CASE("usage errors exit 2 with a hint", "[cli]") {
   CHECK(option.output.find("unknown option '--thread' (did you mean '--threads'?)") !=
         std::string::npos);
   CHECK(run_command(kBinary + " run g.yaml --threads two").code == exit_code::kUsage);
+  // Absurd thread counts are usage errors naming the bound, not a pthread abort or a crash.
+  for (const char* n : {"5000", "10000000", "99999999999999999999"}) {
+    const auto huge = run_command(kBinary + " run g.yaml --threads " + n);
+    CHECK(huge.code == exit_code::kUsage);
+    CHECK(huge.output.find("--threads expects an integer >= 0 and <= 1024") != std::string::npos);
+  }
   CHECK(run_command(kBinary + " run").code == exit_code::kUsage);
   CHECK(run_command(kBinary + " run g.yaml --out").code == exit_code::kUsage);
   CHECK(run_command(kBinary + " run g.yaml --log-level loud").code == exit_code::kUsage);

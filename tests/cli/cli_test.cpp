@@ -48,6 +48,7 @@ TEST_CASE("synth takes --threads and --log-level like every other command", "[cl
   CHECK(run_command("diff -r '" + (dir / "one").string() + "' '" + (dir / "two").string() + "'")
             .code == 0);
   CHECK(run_command(kBinary + " synth --out x --threads -1").code == exit_code::kUsage);
+  CHECK(run_command(kBinary + " synth --out x --threads 5000").code == exit_code::kUsage);
   CHECK(run_command(kBinary + " synth --out x --threads").code == exit_code::kUsage);
   const auto level = run_command(kBinary + " synth --out x --log-level loud");
   CHECK(level.code == exit_code::kUsage);
