@@ -1,5 +1,5 @@
 // Running a benchmark's child process (a `gslift run`) so that its peak memory is its own: the
-// benches that time whole pipelines share this, and the mean / sample std of their series.
+// benches that time whole pipelines share this.
 #pragma once
 
 #include <spawn.h>
@@ -7,9 +7,7 @@
 #include <sys/wait.h>
 
 #include <chrono>
-#include <cmath>
 #include <string>
-#include <utility>
 #include <vector>
 
 extern char** environ;
@@ -38,17 +36,6 @@ inline ChildRun run_child_process(std::vector<std::string> args) {
   r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   r.peak_mb = usage.ru_maxrss / 1024.0;
   return r;
-}
-
-// Mean and sample standard deviation (n - 1); NaN for an empty series, std 0 for one value.
-inline std::pair<double, double> mean_std(const std::vector<double>& v) {
-  if (v.empty()) return {NAN, NAN};
-  double m = 0;
-  for (double x : v) m += x;
-  m /= static_cast<double>(v.size());
-  double s = 0;
-  for (double x : v) s += (x - m) * (x - m);
-  return {m, v.size() > 1 ? std::sqrt(s / static_cast<double>(v.size() - 1)) : 0.0};
 }
 
 }  // namespace gslift::bench

@@ -28,6 +28,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "bench/common/stats.hpp"
 #include "bench/common/svg.hpp"
 #include "nodes/boxes/grabcut_priors.hpp"
 #include "nodes/builtin.hpp"
@@ -154,16 +155,6 @@ Json ablations(const RunResult& run) {
   return out;
 }
 
-std::pair<double, double> mean_std(const std::vector<double>& v) {
-  if (v.empty()) return {NAN, NAN};
-  double m = 0;
-  for (double x : v) m += x;
-  m /= static_cast<double>(v.size());
-  double s = 0;
-  for (double x : v) s += (x - m) * (x - m);
-  return {m, v.size() > 1 ? std::sqrt(s / static_cast<double>(v.size() - 1)) : 0.0};
-}
-
 // Mean and std over the runs of every number at the same path (objects are walked, numbers
 // collected).
 void collect(const Json& j, const std::string& path,
@@ -181,7 +172,7 @@ Json summarise(const std::vector<Json>& runs) {
   for (const Json& r : runs) collect(r, "", series);
   Json out;
   for (const auto& [path, v] : series) {
-    const auto [m, s] = mean_std(v);
+    const auto [m, s] = bench::mean_std(v);
     out[path] = {{"mean", m}, {"std", s}, {"n", v.size()}};
   }
   return out;

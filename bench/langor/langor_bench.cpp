@@ -30,6 +30,7 @@
 #include <nlohmann/json.hpp>
 
 #include "bench/common/child_process.hpp"
+#include "bench/common/stats.hpp"
 #include "bench/common/svg.hpp"
 #include "nodes/builtin.hpp"
 #include "nodes/inference/text_query.hpp"

@@ -32,6 +32,7 @@
 
 #include "base/random.hpp"
 #include "bench/common/child_process.hpp"
+#include "bench/common/stats.hpp"
 #include "bench/common/svg.hpp"
 #include "nodes/association/memory_bank.hpp"
 #include "nodes/builtin.hpp"

@@ -1,0 +1,21 @@
+// Summaries every benchmark reports over its seeds.
+#pragma once
+
+#include <cmath>
+#include <utility>
+#include <vector>
+
+namespace gslift::bench {
+
+// Mean and sample standard deviation (n - 1); NaN for an empty series, std 0 for one value.
+inline std::pair<double, double> mean_std(const std::vector<double>& v) {
+  if (v.empty()) return {NAN, NAN};
+  double m = 0;
+  for (double x : v) m += x;
+  m /= static_cast<double>(v.size());
+  double s = 0;
+  for (double x : v) s += (x - m) * (x - m);
+  return {m, v.size() > 1 ? std::sqrt(s / static_cast<double>(v.size() - 1)) : 0.0};
+}
+
+}  // namespace gslift::bench
