@@ -13,35 +13,15 @@
 #include "nodes/ingest/capture_loader.hpp"
 #include "nodes/synth/or_capture.hpp"
 #include "runtime/node.hpp"
+#include "tests/boxes/grabcut_scene.hpp"
 #include "tests/test_support.hpp"
 
 using namespace gslift;
+using test::disc;
+using test::iou;
+using test::textured_background;
 
 namespace {
-
-double iou(const cv::Mat1b& a, const cv::Mat1b& b) {
-  const int inter = cv::countNonZero(a & b), uni = cv::countNonZero(a | b);
-  return uni == 0 ? 0.0 : double(inter) / uni;
-}
-
-// 120x100 background of random 6x6 colour patches (greens and greys); disc of radius 22 at
-// (60, 50).
-cv::Mat3b textured_background(uint32_t seed) {
-  RandomStream rng(stream_seed(seed, "background"));
-  cv::Mat3b image(100, 120);
-  for (int y = 0; y < 100; y += 6)
-    for (int x = 0; x < 120; x += 6) {
-      const int g = 40 + rng.below(161);
-      image(cv::Rect(x, y, 6, 6) & cv::Rect(0, 0, 120, 100)).setTo(cv::Vec3b(g / 2, g, g / 2));
-    }
-  return image;
-}
-
-cv::Mat1b disc() {
-  cv::Mat1b m = cv::Mat1b::zeros(100, 120);
-  cv::circle(m, {60, 50}, 22, 255, cv::FILLED);
-  return m;
-}
 
 Box box_around_disc() {
   Box b;

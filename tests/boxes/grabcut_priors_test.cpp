@@ -6,33 +6,15 @@
 
 #include "base/errors.hpp"
 #include "base/random.hpp"
+#include "tests/boxes/grabcut_scene.hpp"
 #include "tests/test_support.hpp"
 
 using namespace gslift;
+using test::disc;
+using test::iou;
+using test::textured_background;
 
 namespace {
-
-// 120x100 background of random 6x6 green-grey patches.
-cv::Mat3b textured(uint32_t seed) {
-  RandomStream rng(stream_seed(seed, "background"));
-  cv::Mat3b image(100, 120);
-  for (int y = 0; y < 100; y += 6)
-    for (int x = 0; x < 120; x += 6) {
-      const int g = 40 + rng.below(161);
-      image(cv::Rect(x, y, 6, 6) & cv::Rect(0, 0, 120, 100)).setTo(cv::Vec3b(g / 2, g, g / 2));
-    }
-  return image;
-}
-
-cv::Mat1b disc(int radius) {
-  cv::Mat1b m = cv::Mat1b::zeros(100, 120);
-  cv::circle(m, {60, 50}, radius, 255, cv::FILLED);
-  return m;
-}
-
-double iou(const cv::Mat1b& a, const cv::Mat1b& b) {
-  return double(cv::countNonZero(a & b)) / cv::countNonZero(a | b);
-}
 
 DetectorPrior box_prior(int label, float score, float x1, float y1, float x2, float y2) {
   DetectorPrior p;
@@ -51,7 +33,7 @@ DetectorPrior box_prior(int label, float score, float x1, float y1, float x2, fl
 TEST_CASE("priors sorted by size: the object on a table is not swallowed by it", "[boxes]") {
   // A grey table (label 1) with a red instrument (label 2) on it; the detector lists the
   // instrument first. Painted as they are (no GrabCut) the answer is exact.
-  cv::Mat3b image = textured(5);
+  cv::Mat3b image = textured_background(5);
   image(cv::Rect(20, 40, 80, 50)).setTo(cv::Vec3b(150, 150, 150));
   image.setTo(cv::Vec3b(220, 40, 30), disc(10));
   const std::vector<DetectorPrior> priors = {box_prior(2, 0.8f, 48, 38, 72, 62),
@@ -78,7 +60,7 @@ TEST_CASE("priors sorted by size: the object on a table is not swallowed by it",
 }
 
 TEST_CASE("a coarse mask prior is refined by GrabCut from its border band", "[boxes]") {
-  cv::Mat3b image = textured(6);
+  cv::Mat3b image = textured_background(6);
   image.setTo(cv::Vec3b(220, 40, 30), disc(22));
   GrabCutOptions o;
   // Masks 3 pixels too large and 2 too small: within the band t = 0.1 (w + h) / pi = 3 pixels
@@ -100,7 +82,7 @@ TEST_CASE("a coarse mask prior is refined by GrabCut from its border band", "[bo
 }
 
 TEST_CASE("detections below the threshold are not painted", "[boxes]") {
-  const cv::Mat3b image = textured(7);
+  const cv::Mat3b image = textured_background(7);
   GrabcutPriorOptions o;
   o.refine = false;
   const PriorLabels r = refine_priors(
@@ -121,7 +103,7 @@ TEST_CASE("detector prior maps: labels matched to classes, masks linked by box i
   view.name = "v";
   view.camera.width = 120;
   view.camera.height = 100;
-  view.rgb = ImageSource::in_memory(textured(8));
+  view.rgb = ImageSource::in_memory(textured_background(8));
   capture.views.push_back(view);
   view.name = "w";  // a view without detections: every pixel unlabelled
   capture.views.push_back(view);
