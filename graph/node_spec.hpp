@@ -24,6 +24,9 @@ struct NodeSpec {
   std::vector<PortSpec> inputs;
   std::vector<PortSpec> outputs;
   std::vector<ParamSpec> params;
+  // False for a node whose results depend on more than its params, inputs and files (a network
+  // service): the stage cache never stands in for it.
+  bool cacheable = true;
 
   const PortSpec* find_input(const std::string& name) const;
   const PortSpec* find_output(const std::string& name) const;

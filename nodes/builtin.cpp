@@ -9,6 +9,7 @@
 #include "nodes/ingest/register.hpp"
 #include "nodes/lifting/register.hpp"
 #include "nodes/masks/register.hpp"
+#include "nodes/scene/port_archive.hpp"
 #include "nodes/splat/register.hpp"
 #include "nodes/synth/register.hpp"
 #include "nodes/text/register.hpp"
@@ -16,7 +17,29 @@
 
 namespace gslift {
 
+namespace {
+
+// Every port type with a binary form (nodes/scene/port_archive.hpp); the stage cache stands in
+// for the nodes whose outputs all have one.
+void register_port_codecs(Registry& registry) {
+  registry.add_codec<BoxSet>(kPortArchiveVersion);
+  registry.add_codec<GaussianModel>(kPortArchiveVersion);
+  registry.add_codec<InstanceSet>(kPortArchiveVersion);
+  registry.add_codec<LabelMapSet>(kPortArchiveVersion);
+  registry.add_codec<ViewClassifiers>(kPortArchiveVersion);
+  registry.add_codec<LabelClassifier>(kPortArchiveVersion);
+  registry.add_codec<LiftedInstances>(kPortArchiveVersion);
+  registry.add_codec<MaskSet>(kPortArchiveVersion);
+  registry.add_codec<PromptSet>(kPortArchiveVersion);
+  registry.add_codec<SemanticMaps>(kPortArchiveVersion);
+  registry.add_codec<TextQueryResults>(kPortArchiveVersion);
+  registry.add_codec<Vocabulary>(kPortArchiveVersion);
+}
+
+}  // namespace
+
 void register_builtin_nodes(Registry& registry) {
+  register_port_codecs(registry);
   register_ingest_nodes(registry);
   register_synth_nodes(registry);
   register_splat_nodes(registry);

@@ -162,6 +162,7 @@ class Execution {
         options_(options),
         result_(result),
         outputs_(graph.nodes.size()),
+        keys_(graph.nodes.size()),
         t0_(std::chrono::steady_clock::now()) {
     for (size_t i = 0; i < graph.nodes.size(); ++i) index_[graph.nodes[i].id] = i;
   }
@@ -187,6 +188,21 @@ class Execution {
       std::map<std::string, Value> inputs;
       for (const auto& [port, ref] : gn.inputs)
         inputs[port] = outputs_[index_of(ref.node)].at(ref.port);
+      const std::optional<StageKey> key = cache_key(gn, *spec);
+      const bool cacheable = key && stands_in(*spec);
+      const fs::path files =
+          options_.out_dir.empty() ? fs::path() : fs::path(options_.out_dir / gn.id);
+      if (cacheable) {
+        if (auto hit = options_.cache->load(*key, registry_, files)) {
+          rec.records = std::move(hit->records);
+          rec.cache = "hit";
+          rec.status = NodeStatus::Ok;
+          outputs_[i] = std::move(hit->outputs);
+          finish(i);
+          return;
+        }
+      }
+      const FolderSnapshot before = cacheable ? snapshot_files(files) : FolderSnapshot();
       RunningNode ctx(gn, *spec, std::move(inputs), options_, stopping_, rec);
       registry_.body(gn.type)(ctx);
       if (const PortSpec* p = ctx.missing_output())
@@ -200,6 +216,12 @@ class Execution {
       } else {
         rec.status = NodeStatus::Ok;
         outputs_[i] = std::move(ctx.outputs());
+        if (cacheable) {
+          options_.cache->store(
+              *key, registry_, outputs_[i], rec.records, files,
+              files.empty() ? std::vector<fs::path>() : files_written(files, before));
+          rec.cache = "miss";
+        }
       }
     } catch (const Cancelled&) {
       if (stopping_.load() || interrupted()) {
@@ -216,10 +238,35 @@ class Execution {
     } catch (...) {
       fail(i, RunError::Kind::NodeFailed, "unknown exception", group);
     }
+    finish(i);
+  }
+
+  void finish(size_t i) {
+    NodeRecord& rec = result_.nodes[i];
     rec.end_s = seconds();
     rec.peak_rss_kb = peak_rss_kb();
     if (options_.progress)
-      options_.progress->node_finished(gn.id, to_string(rec.status), rec.end_s - rec.start_s);
+      options_.progress->node_finished(rec.id, to_string(rec.status), rec.end_s - rec.start_s);
+  }
+
+  // The node's stage-cache key (also computed for nodes the cache never stands in for: their
+  // consumers' keys name it), or nothing when the run has no cache.
+  std::optional<StageKey> cache_key(const GraphNode& gn, const NodeSpec& spec) {
+    if (!options_.cache) return std::nullopt;
+    std::map<std::string, std::string> input_keys;
+    for (const auto& [port, ref] : gn.inputs)
+      input_keys[port] = keys_[index_of(ref.node)] + "." + ref.port;
+    StageKey key = stage_key(gn, spec, registry_, node_seed(options_.seed, gn.id), input_keys);
+    keys_[index_of(gn.id)] = key.hash;
+    return key;
+  }
+
+  // Whether a cache entry can stand in for running the node: every output has a binary form.
+  bool stands_in(const NodeSpec& spec) const {
+    if (!spec.cacheable) return false;
+    for (const auto& out : spec.outputs)
+      if (!registry_.codec(out.type)) return false;
+    return true;
   }
 
   std::optional<RunError> first_error() {
@@ -253,6 +300,7 @@ class Execution {
   // outputs_[i] is written only by node i and read only by its consumers, which the flow graph
   // starts after node i finished, so no lock is needed.
   std::vector<std::map<std::string, Value>> outputs_;
+  std::vector<std::string> keys_;  // stage-cache key hashes, written and read like outputs_
   std::atomic<bool> stopping_{false};
   std::mutex mutex_;
   std::optional<RunError> first_error_;

@@ -18,6 +18,7 @@
 #include "graph/loader.hpp"
 #include "runtime/progress.hpp"
 #include "runtime/registry.hpp"
+#include "runtime/stage_cache.hpp"
 #include "runtime/value.hpp"
 
 namespace gslift {
@@ -30,6 +31,8 @@ struct RunOptions {
   // Set from outside (SIGINT/SIGTERM) to stop the run; null = never.
   std::atomic<bool>* cancel = nullptr;
   ProgressSink* progress = nullptr;  // null = silent
+  // Where nodes' results are looked up and stored (runtime/stage_cache.hpp); null = no cache.
+  StageCache* cache = nullptr;
 };
 
 enum class RunStatus { Ok, Failed, Interrupted };
@@ -55,8 +58,6 @@ struct RunError {
 // "bad-input", "node-failed", "cancelled"
 const char* to_string(RunError::Kind k);
 
-using RecordValue = std::variant<double, std::string>;
-
 struct NodeRecord {
   std::string id;
   std::string type;
@@ -68,6 +69,10 @@ struct NodeRecord {
   int64_t peak_rss_kb = 0;
   std::map<std::string, RecordValue> records;  // what the node passed to ctx.record
   std::string error;                           // the node's own error message, if any
+  // "hit": loaded from the stage cache instead of running; "miss": ran and was stored; "off": no
+  // cache, or a node the cache never stands in for (its outputs have no binary form, or it
+  // asks a live service).
+  std::string cache = "off";
 };
 
 struct RunResult {

@@ -31,6 +31,11 @@ void Registry::add(NodeSpec spec, NodeFn fn, const char* source) {
   entries_.emplace(type, Entry{std::move(spec), std::move(fn), repository_path(source)});
 }
 
+const PortCodec* Registry::codec(const std::string& port_type) const {
+  auto it = codecs_.find(port_type);
+  return it == codecs_.end() ? nullptr : &it->second;
+}
+
 const NodeSpec* Registry::find(const std::string& type) const {
   auto it = entries_.find(type);
   return it == entries_.end() ? nullptr : &it->second.spec;

@@ -3,15 +3,25 @@
 // by static initialisers, which a static library would silently drop.
 #pragma once
 
+#include <functional>
 #include <map>
 #include <string>
 #include <vector>
 
+#include "base/byte_archive.hpp"
 #include "graph/node_spec.hpp"
 #include "graph/param_table.hpp"
 #include "runtime/node.hpp"
 
 namespace gslift {
+
+// How values of one port type are written to and read from the stage cache
+// (runtime/stage_cache.hpp). `version` names the binary form; it is part of every cache key.
+struct PortCodec {
+  int version = 0;
+  std::function<void(const Value&, ByteWriter&)> write;
+  std::function<Value(ByteReader&)> read;
+};
 
 class Registry : public NodeCatalog {
  public:
@@ -38,6 +48,24 @@ class Registry : public NodeCatalog {
         source);
   }
 
+  // The binary form of port type T for the stage cache: `write(ByteWriter&, const T&)` and
+  // `read(ByteReader&, T&)`, found by argument-dependent lookup. A type without one (Capture)
+  // makes the nodes that output it run every time.
+  template <class T>
+  void add_codec(int version) {
+    PortCodec codec;
+    codec.version = version;
+    codec.write = [](const Value& v, ByteWriter& w) { write(w, *v.get<T>()); };
+    codec.read = [](ByteReader& r) {
+      T value;
+      read(r, value);
+      return Value::make<T>(std::move(value));
+    };
+    codecs_[PortTypeName<T>::value] = std::move(codec);
+  }
+  // Null when the type has no binary form.
+  const PortCodec* codec(const std::string& port_type) const;
+
   const NodeSpec* find(const std::string& type) const override;
   std::vector<std::string> types() const override;  // sorted
   const NodeFn& body(const std::string& type) const;
@@ -51,6 +79,7 @@ class Registry : public NodeCatalog {
     std::string source;
   };
   std::map<std::string, Entry> entries_;
+  std::map<std::string, PortCodec> codecs_;
 };
 
 }  // namespace gslift

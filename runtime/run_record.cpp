@@ -41,6 +41,7 @@ json node_json(const NodeRecord& n) {
               {"end_s", n.end_s},
               {"wall_s", n.end_s - n.start_s},
               {"peak_rss_mb", static_cast<double>(n.peak_rss_kb) / 1024.0},
+              {"cache", n.cache},
               {"records", records}};
   if (n.status == NodeStatus::Failed) out["error"] = n.error;
   return out;

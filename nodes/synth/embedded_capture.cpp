@@ -4,6 +4,7 @@
 #include <cstdlib>
 #include <stdexcept>
 
+#include "base/cache_root.hpp"
 #include "base/errors.hpp"
 #include "base/hash.hpp"
 
@@ -12,10 +13,7 @@ namespace gslift::synth {
 namespace fs = std::filesystem;
 
 fs::path cache_root() {
-  if (const char* c = std::getenv("GSLIFT_CACHE"); c && *c) return c;
-  if (const char* x = std::getenv("XDG_CACHE_HOME"); x && *x) return fs::path(x) / "gslift";
-  if (const char* h = std::getenv("HOME"); h && *h) return fs::path(h) / ".cache" / "gslift";
-  return fs::path(".cache") / "gslift";
+  return user_cache_root();
 }
 
 OrCaptureSettings parse_embedded_spec(const std::string& spec) {

@@ -11,8 +11,8 @@
 
 namespace gslift::synth {
 
-// $GSLIFT_CACHE, else $XDG_CACHE_HOME/gslift, else $HOME/.cache/gslift (./.cache/gslift
-// without HOME).
+// base/cache_root.hpp's user_cache_root(): $GSLIFT_CACHE, else $XDG_CACHE_HOME/gslift, else
+// $HOME/.cache/gslift.
 std::filesystem::path cache_root();
 
 // Settings of the spec after "embedded:": "or", optionally followed by "?name=value&..." with

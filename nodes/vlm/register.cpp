@@ -149,6 +149,9 @@ void register_vlm_nodes(Registry& registry) {
       {{"boxes", PortTypeName<BoxSet>::value,
         "every round's boxes per view, XYXY pixels, with round and reply position (as "
         "ingest.vlm)"}}};
+  // A live server's answers are not a function of the request: asked again, it may answer
+  // otherwise (and the replies it wrote are the record of what it said), so it is never cached.
+  spec.cacheable = false;
   registry.add(std::move(spec), vlm_query_node_param_table(), run_vlm_query);
 }
 
