@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <limits>
 #include <map>
 #include <memory>
@@ -21,13 +22,16 @@
 
 #include "graph/loader.hpp"
 #include "graph/suggest.hpp"
+#include "runtime/atomic_file.hpp"
 #include "runtime/batch.hpp"
+#include "runtime/child_process.hpp"
 #include "runtime/executor.hpp"
 #include "runtime/exit_codes.hpp"
 #include "runtime/graph_yaml.hpp"
 #include "runtime/node_catalogue.hpp"
 #include "runtime/progress.hpp"
 #include "runtime/signals.hpp"
+#include "runtime/sweep.hpp"
 #include "runtime/version.hpp"
 
 namespace gslift {
@@ -48,7 +52,7 @@ constexpr const char* kExitCodes =
     "  3    invalid graph (every diagnostic is printed)\n"
     "  4    bad input: a file is missing or unreadable\n"
     "  5    a node failed while running\n"
-    "  6    batch: some captures failed, the others are done\n"
+    "  6    batch: some captures failed, the others are done; sweep: some runs failed\n"
     "  70   internal error (a bug)\n"
     "  130  interrupted (SIGINT/SIGTERM)\n";
 
@@ -266,6 +270,7 @@ int cmd_run(int argc, char** argv, const Registry& registry);
 int cmd_validate(int argc, char** argv, const Registry& registry);
 int cmd_nodes(int argc, char** argv, const Registry& registry);
 int cmd_batch(int argc, char** argv, const Registry& registry);
+int cmd_sweep(int argc, char** argv, const Registry& registry);
 
 const std::vector<Command>& commands() {
   static const std::vector<Command> table = {
@@ -338,6 +343,35 @@ const std::vector<Command>& commands() {
        "  --no-cache              run every node; read and write no cache\n"
        "  -h, --help              this help\n",
        cmd_batch},
+      {"sweep", "run a graph over a grid of params and seeds",
+       "usage: gslift sweep GRAPH --grid NODE.PARAM=V1,V2,... [--grid ...] [--seeds 0-4]\n"
+       "                    --out DIR [--input PATH] [--set NODE.PARAM=VALUE]... [--threads N]\n"
+       "                    [--log-level L] [--cache-dir DIR] [--cache-size GB] [--no-cache]\n\n"
+       "Runs GRAPH once per combination of the --grid values (the cartesian product) and seed,\n"
+       "each as a `gslift run` of its own in DIR/runs/NNNN/ (its output in gslift.log there)\n"
+       "through the stage cache (a changed downstream param reuses everything upstream). Every\n"
+       "combination is validated before the first run. DIR/sweep.json, DIR/results.csv (a row per "
+       "run: params, seed, status, error,\n"
+       "time, peak memory, every numeric record as node.key, wall time per node) and\n"
+       "DIR/summary.csv (mean and std over seeds) are rewritten after every run, so an\n"
+       "interrupted sweep keeps what finished. A failed run is a row with its error; the sweep\n"
+       "goes on.\n\n"
+       "options:\n"
+       "  --grid NODE.PARAM=V,... the values of one param (repeatable); commas inside [] or\n"
+       "                          quotes belong to a value; NODE.type=A,B swaps stages\n"
+       "  --seeds LIST            0-4, 0,2,7 or 3 (default: the graph's seed)\n"
+       "  --out DIR               sweep folder (required)\n"
+       "  --input PATH            the capture (graph var ${input})\n"
+       "  --set NODE.PARAM=VALUE  a param fixed for every run (repeatable)\n"
+       "  --threads N             worker threads per run, 0 = all cores (default 0, at most "
+       "1024)\n"
+       "  --log-level L           trace, debug, info, warn, error, critical, off (default info)\n"
+       "  --cache-dir DIR         stage cache folder (as gslift run)\n"
+       "  --cache-size GB         cap of the cache folder (default 10, 0 = no cap)\n"
+       "  --no-cache              every run runs every node\n"
+       "  -h, --help              this help\n\n"
+       "Exit code 6 when some runs failed (the table has them), 130 when interrupted.\n",
+       cmd_sweep},
   };
   return table;
 }
@@ -481,6 +515,125 @@ int cmd_batch(int argc, char** argv, const Registry& registry) {
   std::printf("%s", summary.table().c_str());
   if (summary.interrupted) return exit_code::kInterrupted;
   return summary.count(CaptureStatus::Failed) ? exit_code::kBatchPartial : exit_code::kOk;
+}
+
+// The headline metrics of a run for the sweep table: the evaluation nodes' numeric records,
+// without per-class entries ("IoU/table"), at most five.
+std::vector<std::string> headline_metrics(const nlohmann::json& run_json) {
+  std::vector<std::string> keys;
+  for (const auto& n : run_json.at("nodes")) {
+    if (n.at("type").get<std::string>().rfind("eval.", 0) != 0) continue;
+    for (const auto& [key, value] : n.at("records").items())
+      if (value.is_number() && key.find('/') == std::string::npos && keys.size() < 5)
+        keys.push_back(n.at("id").get<std::string>() + "." + key);
+  }
+  return keys;
+}
+
+int cmd_sweep(int argc, char** argv, const Registry& registry) {
+  const Args args = parse_args(
+      argc, argv, 2,
+      {"grid", "seeds", "out", "input", "set", "threads", "log-level", "cache-dir", "cache-size"},
+      {"help", "no-cache"});
+  if (args.flags.count("help")) return print_command_help(command_named("sweep")), 0;
+  if (args.positional.size() != 1) throw UsageError("sweep expects one GRAPH file");
+  if (!args.has("out")) throw UsageError("sweep needs --out DIR");
+  if (!args.has("grid")) throw UsageError("sweep needs at least one --grid NODE.PARAM=V1,V2");
+  set_up_logging(args);
+  const fs::path out = args.last("out");
+  check_output_folder(out);
+  const std::string graph_file = args.positional[0];
+  std::vector<GridAxis> axes;
+  std::vector<uint64_t> seeds;
+  try {
+    for (const auto& g : args.all("grid")) axes.push_back(parse_grid(g));
+    if (args.has("seeds")) seeds = parse_seeds(args.last("seeds"));
+  } catch (const std::invalid_argument& e) {
+    throw UsageError(e.what());
+  }
+  const int64_t threads = parse_threads(args);
+  // Every combination is validated up front: a misspelt grid param is one error, not N failed
+  // runs.
+  const auto combination_options = [&](const SweepPoint& p) {
+    LoadOptions lopt = load_options(args);
+    for (const auto& [param, value] : p.params) lopt.sets.push_back(param + "=" + value);
+    return lopt;
+  };
+  if (seeds.empty()) {
+    const auto graph = load_checked(graph_file, registry, load_options(args));
+    if (!graph) return exit_code::kInvalidGraph;
+    seeds = {run_seed(*graph)};
+  }
+  const std::vector<SweepPoint> points = sweep_points(axes, seeds);
+  for (const auto& p : points)
+    if (p.seed == seeds.front() && !load_checked(graph_file, registry, combination_options(p)))
+      return exit_code::kInvalidGraph;
+
+  const fs::path self = fs::read_symlink("/proc/self/exe");
+  install_interrupt_handlers();
+  std::vector<SweepRun> runs;
+  std::vector<std::string> headline;
+  nlohmann::json table;
+  spdlog::info("sweep: {} runs of {} -> {}", points.size(), graph_file, out.string());
+  for (size_t i = 0; i < points.size() && !interrupt_flag().load(); ++i) {
+    char name[16];
+    std::snprintf(name, sizeof name, "%04zu", i);
+    SweepRun run;
+    run.dir = (fs::path("runs") / name).generic_string();
+    run.point = points[i];
+    const fs::path dir = out / run.dir;
+    std::vector<std::string> child = {self.string(),
+                                      "run",
+                                      graph_file,
+                                      "--out",
+                                      dir.string(),
+                                      "--seed",
+                                      std::to_string(run.point.seed),
+                                      "--threads",
+                                      std::to_string(threads),
+                                      "--log-level",
+                                      "warn"};
+    for (const char* opt : {"input", "cache-dir", "cache-size"})
+      if (args.has(opt)) child.insert(child.end(), {std::string("--") + opt, args.last(opt)});
+    if (args.flags.count("no-cache")) child.push_back("--no-cache");
+    for (const auto& s : combination_options(run.point).sets)
+      child.insert(child.end(), {"--set", s});
+    std::string label;
+    for (const auto& [param, value] : run.point.params) label += param + "=" + value + " ";
+    spdlog::info("sweep {}/{}: {}seed {}", i + 1, points.size(), label, run.point.seed);
+    fs::create_directories(dir);
+    const ChildRun r = run_child_process(child, (dir / "gslift.log").string());
+    std::ifstream record(dir / "run.json");
+    try {
+      if (!record) throw std::runtime_error("no run.json");
+      run = sweep_run_from_record(nlohmann::json::parse(record), run);
+      if (headline.empty() && run.status == "ok")
+        headline = headline_metrics(nlohmann::json::parse(std::ifstream(dir / "run.json")));
+    } catch (const std::exception& e) {
+      // The child died before writing its record (a crash, or a kill): the row says how.
+      run.status = "failed";
+      run.total_s = r.wall_s;
+      run.peak_rss_mb = r.peak_mb;
+      run.error = !r.started              ? "could not start " + self.string()
+                  : WIFSIGNALED(r.status) ? "killed by signal " + std::to_string(WTERMSIG(r.status))
+                                          : "exit code " + std::to_string(WEXITSTATUS(r.status)) +
+                                                " without a readable run.json (" + e.what() + ")";
+    }
+    if (run.status != "ok") spdlog::warn("sweep {}: {}: {}", run.dir, run.status, run.error);
+    runs.push_back(run);
+    table = sweep_json(graph_file, axes, seeds, runs);
+    table["headline"] = headline;
+    write_file_atomically(out / "sweep.json", table.dump(2) + "\n");
+    write_file_atomically(out / "results.csv", sweep_runs_csv(axes, runs));
+    write_file_atomically(out / "summary.csv", sweep_summary_csv(axes, table));
+  }
+  std::printf("%s", sweep_table(axes, table, headline).c_str());
+  std::printf("sweep: %zu of %zu runs\nresults: %s\n", runs.size(), points.size(),
+              results_line(out).c_str());
+  if (interrupt_flag().load()) return exit_code::kInterrupted;
+  for (const auto& r : runs)
+    if (r.status != "ok") return exit_code::kBatchPartial;
+  return exit_code::kOk;
 }
 
 constexpr const char* kCommonOptions =

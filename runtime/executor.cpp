@@ -256,7 +256,8 @@ class Execution {
     std::map<std::string, std::string> input_keys;
     for (const auto& [port, ref] : gn.inputs)
       input_keys[port] = keys_[index_of(ref.node)] + "." + ref.port;
-    StageKey key = stage_key(gn, spec, registry_, node_seed(options_.seed, gn.id), input_keys);
+    StageKey key = stage_key(gn, spec, registry_, node_seed(options_.seed, gn.id),
+                             options_.run_input, input_keys);
     keys_[index_of(gn.id)] = key.hash;
     return key;
   }

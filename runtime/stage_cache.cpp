@@ -123,7 +123,8 @@ std::optional<uint64_t> path_digest(const fs::path& path) {
 }
 
 StageKey stage_key(const GraphNode& node, const NodeSpec& spec, const Registry& registry,
-                   uint64_t node_seed, const std::map<std::string, std::string>& input_keys) {
+                   uint64_t node_seed, const std::string& run_input,
+                   const std::map<std::string, std::string>& input_keys) {
   std::ostringstream text;
   text << "build " << build_identity() << "\n";
   text << "type " << node.type << "\n";
@@ -133,6 +134,7 @@ StageKey stage_key(const GraphNode& node, const NodeSpec& spec, const Registry& 
          << "\n";
   }
   text << "seed " << node_seed << "\n";
+  text << "run_input " << run_input << "\n";
   for (const auto& [name, value] : node.params) {
     text << "param " << name << "=" << key_value(value) << "\n";
     const ParamSpec* p = spec.find_param(name);

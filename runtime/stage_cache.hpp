@@ -40,9 +40,11 @@ struct StageKey {
   std::string hash;
 };
 
-// input_keys: port -> "<producer hash>.<producer port>".
+// input_keys: port -> "<producer hash>.<producer port>". run_input: the run's --input, which a
+// node may read (ctx.run_input()) besides its params.
 StageKey stage_key(const GraphNode& node, const NodeSpec& spec, const Registry& registry,
-                   uint64_t node_seed, const std::map<std::string, std::string>& input_keys);
+                   uint64_t node_seed, const std::string& run_input,
+                   const std::map<std::string, std::string>& input_keys);
 
 // What identifies this build's code: version and git commit, plus a digest of the running
 // executable when the tree was dirty (or the commit unknown), so a rebuilt binary with edits

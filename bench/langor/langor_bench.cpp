@@ -29,13 +29,13 @@
 
 #include <nlohmann/json.hpp>
 
-#include "bench/common/child_process.hpp"
 #include "bench/common/stats.hpp"
 #include "bench/common/svg.hpp"
 #include "nodes/builtin.hpp"
 #include "nodes/inference/text_query.hpp"
 #include "runtime/allocator.hpp"
 #include "runtime/atomic_file.hpp"
+#include "runtime/child_process.hpp"
 #include "runtime/executor.hpp"
 
 using namespace gslift;
@@ -88,7 +88,8 @@ RunStats run_child(const std::string& variant, int seed, const std::string& capt
                                    "--out",
                                    out.string(),
                                    "--log-level",
-                                   "warn"};
+                                   "warn",
+                                   "--no-cache"};  // time the pipeline, not the stage cache
   std::vector<std::string> all_sets = sets;
   for (const auto& s : split_variant(variant).second) all_sets.push_back(s);
   for (const auto& s : all_sets) {
@@ -96,7 +97,7 @@ RunStats run_child(const std::string& variant, int seed, const std::string& capt
     args.push_back(s);
   }
   RunStats r;
-  const bench::ChildRun child = bench::run_child_process(args);
+  const ChildRun child = run_child_process(args);
   if (!child.started) {
     std::cerr << "[langor] cannot start " << args[0] << "\n";
     return r;

@@ -31,7 +31,6 @@
 #include <nlohmann/json.hpp>
 
 #include "base/random.hpp"
-#include "bench/common/child_process.hpp"
 #include "bench/common/stats.hpp"
 #include "bench/common/svg.hpp"
 #include "nodes/association/memory_bank.hpp"
@@ -43,6 +42,7 @@
 #include "nodes/splat/ply_io.hpp"
 #include "runtime/allocator.hpp"
 #include "runtime/atomic_file.hpp"
+#include "runtime/child_process.hpp"
 #include "runtime/executor.hpp"
 
 using namespace gslift;
@@ -277,11 +277,11 @@ int main(int argc, char** argv) {
       const fs::path run_out =
           fs::temp_directory_path() / ("protosaga_bench_" + std::string(graph));
       fs::remove_all(run_out);
-      const bench::ChildRun r = bench::run_child_process(
+      const ChildRun r = run_child_process(
           {GSLIFT_BINARY, "run",
            (fs::path(GSLIFT_SOURCE_DIR) / "graphs" / (std::string(graph) + ".yaml")).string(),
            "--input", "embedded:or?seed=0&views=" + std::to_string(views), "--threads", "2",
-           "--out", run_out.string(), "--log-level", "warn"});
+           "--out", run_out.string(), "--log-level", "warn", "--no-cache"});
       doc["timing"][graph] = {
           {"ok", r.started && WIFEXITED(r.status) && WEXITSTATUS(r.status) == 0},
           {"wall_s", r.wall_s},

@@ -14,10 +14,6 @@
 // selection (the per-Gaussian scores and threshold) plus the mask in the held-out 640x480 view
 // (QueryView::selection_mask; its render cache is built once before, as gslift segment does);
 // median, min and max. Writes saga.json, saga.csv and saga.svg into --out (bench/results).
-#include <spawn.h>
-#include <sys/resource.h>
-#include <sys/wait.h>
-
 #include <algorithm>
 #include <chrono>
 #include <fstream>
@@ -44,8 +40,7 @@
 #include "nodes/splat/ply_io.hpp"
 #include "runtime/allocator.hpp"
 #include "runtime/atomic_file.hpp"
-
-extern char** environ;
+#include "runtime/child_process.hpp"
 
 using namespace gslift;
 namespace fs = std::filesystem;
@@ -76,18 +71,12 @@ Run run_child(const std::string& variant, const fs::path& scratch, int threads) 
   Run r;
   r.out = scratch / variant;
   fs::remove_all(r.out);
-  std::vector<std::string> args = {GSLIFT_BINARY, "run",          graph_file(variant).string(),
-                                   "--out",       r.out.string(), "--log-level",
-                                   "warn",        "--threads",    std::to_string(threads)};
-  std::vector<char*> argv;
-  for (auto& a : args) argv.push_back(a.data());
-  argv.push_back(nullptr);
-  pid_t pid = 0;
-  if (posix_spawn(&pid, argv[0], nullptr, nullptr, argv.data(), environ) != 0) return r;
-  int status = 0;
-  rusage usage{};
-  wait4(pid, &status, 0, &usage);
-  r.peak_mb = usage.ru_maxrss / 1024.0;
+  // --no-cache: the bench times the whole pipeline, not a load from the stage cache.
+  const ChildRun child = run_child_process({GSLIFT_BINARY, "run", graph_file(variant).string(),
+                                            "--out", r.out.string(), "--log-level", "warn",
+                                            "--threads", std::to_string(threads), "--no-cache"});
+  if (!child.started) return r;
+  r.peak_mb = child.peak_mb;
   std::ifstream in(r.out / "run.json");
   if (!in) return r;
   r.run = nlohmann::json::parse(in);

@@ -219,3 +219,70 @@ TEST_CASE("batch runs every capture, records failures, skips done ones and shard
   CHECK(fs::exists(dir / "sharded" / "a" / "_DONE"));
   CHECK(fs::exists(dir / "sharded" / "c" / "_DONE"));
 }
+
+TEST_CASE("sweep runs the grid over seeds through the cache, failed runs become rows", "[cli]") {
+  const fs::path dir = test::scratch_dir("cli_sweep");
+  // s = a + r: `a` takes the grid's value, `r` draws from the seed, `f` is swapped for a failing
+  // stage in half of the grid.
+  const fs::path graph = write_text(dir / "sweep.yaml", R"(graph: sweep
+nodes:
+  a: {type: debug.constant, params: {value: 1}}
+  r: {type: debug.random}
+  s: {type: debug.add, in: {a: a.out, b: r.out}}
+  f: {type: debug.constant}
+)");
+  const fs::path out = dir / "out";
+  const std::string cmd = kBinary + " sweep " + quoted(graph) +
+                          " --grid a.value=1,2 --grid f.type=debug.constant,debug.fail" +
+                          " --seeds 3-4 --out " + quoted(out);
+  const auto r = run_command(cmd);
+  INFO(r.output);
+  CHECK(r.code == exit_code::kBatchPartial);  // the debug.fail half failed; the rest is done
+  const json sweep = read_json(out / "sweep.json");
+  REQUIRE(sweep["runs"].size() == 8);  // 2 values x 2 stages x 2 seeds
+  CHECK(sweep["seeds"] == json::array({3, 4}));
+  int failed = 0;
+  for (const auto& run : sweep["runs"]) {
+    const bool fails = run["params"]["f.type"] == "debug.fail";
+    CHECK(run["status"] == (fails ? "failed" : "ok"));
+    if (fails) {
+      ++failed;
+      CHECK(run["error"].get<std::string>().find("node 'f' failed: boom") != std::string::npos);
+      continue;
+    }
+    // s = a + the seed's draw, read back from the run's own run.json.
+    const json record = read_json(out / run["dir"].get<std::string>() / "run.json");
+    CHECK(record["run"]["seed"] == run["seed"]);
+    const double a = std::stod(run["params"]["a.value"].get<std::string>());
+    CHECK(run["metrics"]["r.draw"].get<double>() == record["nodes"][1]["records"]["draw"]);
+    CHECK(run["node_wall_s"].contains("s"));
+    CHECK(a >= 1);
+  }
+  CHECK(failed == 4);
+  // The summary groups over the two seeds: mean and sample std of the draw, by hand.
+  const auto& s0 = sweep["summary"][0];
+  CHECK(s0["params"]["a.value"] == "1");
+  CHECK(s0["n"] == 2);
+  const double d3 = sweep["runs"][0]["metrics"]["r.draw"],
+               d4 = sweep["runs"][1]["metrics"]["r.draw"];
+  CHECK(s0["metrics"]["r.draw"]["mean"].get<double>() == Approx((d3 + d4) / 2));
+  CHECK(s0["metrics"]["r.draw"]["std"].get<double>() == Approx(std::abs(d3 - d4) / std::sqrt(2.0)));
+  CHECK(sweep["summary"][1]["failed"] == 2);
+  // The random node's results are shared through the cache by runs with the same seed: the
+  // second grid point (a.value=1, f swapped) loads `r`, and a.value=2 loads it too.
+  const json later = read_json(out / "runs/0004/run.json");
+  CHECK(later["nodes"][1]["id"] == "r");
+  CHECK(later["nodes"][1]["cache"] == "hit");
+  std::ifstream csv(out / "results.csv");
+  std::string header;
+  std::getline(csv, header);
+  CHECK(header.rfind("run,seed,status,error,a.value,f.type,total_s,peak_rss_mb", 0) == 0);
+  CHECK(fs::exists(out / "summary.csv"));
+
+  // A misspelt grid param is one invalid-graph error before anything runs.
+  const auto bad = run_command(kBinary + " sweep " + quoted(graph) + " --grid a.valeu=1,2 --out " +
+                               quoted(dir / "bad"));
+  CHECK(bad.code == exit_code::kInvalidGraph);
+  CHECK(bad.output.find("did you mean 'value'") != std::string::npos);
+  CHECK_FALSE(fs::exists(dir / "bad" / "runs"));
+}

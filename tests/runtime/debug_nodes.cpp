@@ -40,8 +40,16 @@ const EnumNames<FailKind>& fail_kind_names() {
 }
 }  // namespace
 
+void write(ByteWriter& w, const Number& n) {
+  w.put<double>(n.value);
+}
+void read(ByteReader& r, Number& n) {
+  n.value = r.get<double>();
+}
+
 Registry debug_registry() {
   Registry r;
+  r.add_codec<Number>(1);
   r.add(NodeSpec{"debug.constant", "a constant", {}, {number("out")}},
         ParamTable<ConstantOptions>().add("value", &ConstantOptions::value, "the value"),
         [](NodeContext& ctx, const ConstantOptions& o) { ctx.output("out", Number{o.value}); });

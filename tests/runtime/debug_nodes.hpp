@@ -14,6 +14,9 @@ namespace gslift::test {
 struct Number {
   double value = 0;
 };
+// Its binary form for the stage cache (the registry's add_codec finds these).
+void write(ByteWriter& w, const Number& n);
+void read(ByteReader& r, Number& n);
 
 }  // namespace gslift::test
 
@@ -37,6 +40,7 @@ namespace gslift::test {
 // debug.wrong     sets out:Number with a value of another type (std::string)
 // debug.write     writes <out_dir>/input.txt with ctx.run_input(); fails (InputError) when the
 //                 input contains "bad" -> out:Number = 1
+// Number has a binary form (add_codec), so these nodes go through the stage cache like real ones.
 Registry debug_registry();
 
 // A GraphNode with every param of its type at the spec default, then `params` applied (the loader

@@ -9,16 +9,6 @@
 #include "tests/runtime/debug_nodes.hpp"
 #include "tests/test_support.hpp"
 
-namespace gslift::test {
-// The binary form of the tests' Number port, found by the registry's add_codec.
-void write(ByteWriter& w, const Number& n) {
-  w.put<double>(n.value);
-}
-void read(ByteReader& r, Number& n) {
-  n.value = r.get<double>();
-}
-}  // namespace gslift::test
-
 using namespace gslift;
 using namespace gslift::test;
 namespace fs = std::filesystem;
@@ -41,7 +31,6 @@ struct ScaleOptions {
 // uncacheable (a live service).
 Registry counting_registry() {
   Registry r = debug_registry();
-  r.add_codec<Number>(1);
   const PortSpec in{"in", "Number", "a number", false};
   const PortSpec out{"out", "Number", "a number", false};
   r.add(NodeSpec{"count.source", "counted constant", {}, {out}},
