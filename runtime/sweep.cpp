@@ -5,6 +5,8 @@
 #include <set>
 #include <stdexcept>
 
+#include "base/statistics.hpp"
+
 namespace gslift {
 
 using nlohmann::json;
@@ -121,14 +123,9 @@ SweepRun sweep_run_from_record(const json& run_json, SweepRun run) {
 
 namespace {
 
-json mean_std(const std::vector<double>& xs) {
+json mean_std_json(const std::vector<double>& xs) {
   if (xs.empty()) return json();
-  double mean = 0;
-  for (double x : xs) mean += x;
-  mean /= double(xs.size());
-  double var = 0;
-  for (double x : xs) var += (x - mean) * (x - mean);
-  const double sd = xs.size() > 1 ? std::sqrt(var / double(xs.size() - 1)) : 0.0;
+  const auto [mean, sd] = mean_std(xs);
   return {{"mean", mean}, {"std", sd}};
 }
 
@@ -184,13 +181,13 @@ json sweep_json(const std::string& graph, const std::vector<GridAxis>& axes,
       for (const auto& [k, v] : r->metrics) values[k].push_back(v);
     }
     json metrics = json::object();
-    for (const auto& [k, v] : values) metrics[k] = mean_std(v);
+    for (const auto& [k, v] : values) metrics[k] = mean_std_json(v);
     summary.push_back({{"params", params},
                        {"n", members.size() - size_t(failed)},
                        {"failed", failed},
                        {"metrics", metrics},
-                       {"total_s", mean_std(times)},
-                       {"peak_rss_mb", mean_std(memory)}});
+                       {"total_s", mean_std_json(times)},
+                       {"peak_rss_mb", mean_std_json(memory)}});
   }
   return {{"graph", graph}, {"grid", grid}, {"seeds", seeds}, {"runs", rows}, {"summary", summary}};
 }

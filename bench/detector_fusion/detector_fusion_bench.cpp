@@ -28,7 +28,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "bench/common/stats.hpp"
+#include "base/statistics.hpp"
 #include "bench/common/svg.hpp"
 #include "nodes/boxes/grabcut_priors.hpp"
 #include "nodes/builtin.hpp"
@@ -172,7 +172,7 @@ Json summarise(const std::vector<Json>& runs) {
   for (const Json& r : runs) collect(r, "", series);
   Json out;
   for (const auto& [path, v] : series) {
-    const auto [m, s] = bench::mean_std(v);
+    const auto [m, s] = mean_std(v);
     out[path] = {{"mean", m}, {"std", s}, {"n", v.size()}};
   }
   return out;

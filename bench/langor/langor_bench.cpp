@@ -29,7 +29,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "bench/common/stats.hpp"
+#include "base/statistics.hpp"
 #include "bench/common/svg.hpp"
 #include "nodes/builtin.hpp"
 #include "nodes/inference/text_query.hpp"
@@ -120,8 +120,6 @@ RunStats run_child(const std::string& variant, int seed, const std::string& capt
   if (r.ok) r.wall_s = run["run"]["total_s"].get<double>();  // the pipeline without process start
   return r;
 }
-
-using bench::mean_std;
 
 // Time of a query: instance selection, the selected Gaussians (their indicator) and one mask of
 // the held-out view, for every class query. The view's QueryView (render cache and instance

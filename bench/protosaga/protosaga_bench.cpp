@@ -31,7 +31,7 @@
 #include <nlohmann/json.hpp>
 
 #include "base/random.hpp"
-#include "bench/common/stats.hpp"
+#include "base/statistics.hpp"
 #include "bench/common/svg.hpp"
 #include "nodes/association/memory_bank.hpp"
 #include "nodes/builtin.hpp"
@@ -112,7 +112,7 @@ nlohmann::json summary(const Series& series, const std::vector<std::string>& ord
   for (const auto& v : order) {
     nlohmann::json e = {{"variant", v}};
     for (const auto& [metric, values] : series.at(v)) {
-      const auto [m, sd] = bench::mean_std(values);
+      const auto [m, sd] = mean_std(values);
       e[metric] = {{"mean", m}, {"std", sd}, {"values", values}};
     }
     out.push_back(e);
@@ -265,11 +265,11 @@ int main(int argc, char** argv) {
   doc["association"] = summary(assoc, {"depth", "probability", "both", "gaga"});
   doc["end_to_end"] = summary(e2e, {"protosaga", "kmeans", "cls", "depth_proto", "gaga"});
   for (const auto& [name, v] : ms_per_view) {
-    const auto [m, sd] = bench::mean_std(v);
+    const auto [m, sd] = mean_std(v);
     doc["association_ms_per_view"][name] = {{"mean", m}, {"std", sd}};
   }
   for (const auto& [name, v] : seconds) {
-    const auto [m, sd] = bench::mean_std(v);
+    const auto [m, sd] = mean_std(v);
     doc["stage_seconds"][name] = {{"mean", m}, {"std", sd}};
   }
   if (timing) {

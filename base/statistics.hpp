@@ -1,11 +1,11 @@
-// Summaries every benchmark reports over its seeds.
+// Summaries over seeds: what every benchmark and `gslift sweep` report.
 #pragma once
 
 #include <cmath>
 #include <utility>
 #include <vector>
 
-namespace gslift::bench {
+namespace gslift {
 
 // Mean and sample standard deviation (n - 1); NaN for an empty series, std 0 for one value.
 inline std::pair<double, double> mean_std(const std::vector<double>& v) {
@@ -18,4 +18,4 @@ inline std::pair<double, double> mean_std(const std::vector<double>& v) {
   return {m, v.size() > 1 ? std::sqrt(s / static_cast<double>(v.size() - 1)) : 0.0};
 }
 
-}  // namespace gslift::bench
+}  // namespace gslift
