@@ -137,9 +137,12 @@ int main(int argc, char** argv) {
         }
       }
     }
-    json mj = {{"method", name}, {"headline", headline}, {"knobs", json::array()},
+    json mj = {{"method", name},
+               {"headline", headline},
+               {"knobs", json::array()},
                {"cliffs", json::array()}};
-    md += "\n**" + name + "** (" + headline + ", mean ± std over seeds; runs that crashed / "
+    md += "\n**" + name + "** (" + headline +
+          ", mean ± std over seeds; runs that crashed / "
           "ended with an error)\n\n| knob | levels |\n|---|---|\n";
     int crashes = 0, errors = 0;
     std::vector<const Knob*> shown;
@@ -165,9 +168,9 @@ int main(int argc, char** argv) {
                                 {"errors", c.errors},
                                 {"messages", c.messages}});
         row += level + ": " + (c.values.empty() ? "-" : fixed(mean) + " ± " + fixed(sd)) +
-               (c.crashes + c.errors ? " (" + std::to_string(c.crashes) + "/" +
-                                           std::to_string(c.errors) + ")"
-                                     : "") +
+               (c.crashes + c.errors
+                    ? " (" + std::to_string(c.crashes) + "/" + std::to_string(c.errors) + ")"
+                    : "") +
                "; ";
       }
       for (size_t i = 0; i + 1 < stats.size(); ++i) {
@@ -208,9 +211,11 @@ int main(int argc, char** argv) {
     const double cw = 150, ch = 34, left = 190, top = 50;
     size_t columns = 0;
     for (const Knob* k : shown) columns = std::max(columns, k->levels.size());
-    bench::Svg svg(left + cw * double(columns) + 20, top + ch * double(shown.size()) + 40, 12, true);
-    svg.text(10, 22, name + ": " + headline + " under one failure knob at a time (mean ± std, " +
-                         "seeds)", "font-weight='bold'");
+    bench::Svg svg(left + cw * double(columns) + 20, top + ch * double(shown.size()) + 40, 12,
+                   true);
+    svg.text(10, 22,
+             name + ": " + headline + " under one failure knob at a time (mean ± std, " + "seeds)",
+             "font-weight='bold'");
     for (size_t r = 0; r < shown.size(); ++r) {
       const Knob& k = *shown[r];
       const double y = top + ch * double(r);
