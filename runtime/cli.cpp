@@ -363,6 +363,8 @@ const std::vector<Command>& commands() {
        "  --out DIR               sweep folder (required)\n"
        "  --input PATH            the capture (graph var ${input})\n"
        "  --set NODE.PARAM=VALUE  a param fixed for every run (repeatable)\n"
+       "                          ({seed} in --input, --set and --grid values is the run's seed:\n"
+       "                          --input 'embedded:or?seed={seed}' varies the capture too)\n"
        "  --threads N             worker threads per run, 0 = all cores (default 0, at most "
        "1024)\n"
        "  --log-level L           trace, debug, info, warn, error, critical, off (default info)\n"
@@ -554,9 +556,18 @@ int cmd_sweep(int argc, char** argv, const Registry& registry) {
   const int64_t threads = parse_threads(args);
   // Every combination is validated up front: a misspelt grid param is one error, not N failed
   // runs.
+  // "{seed}" in --input, --set and --grid values is the run's seed: --input
+  // 'embedded:or?seed={seed}' gives every seed a capture of its own.
+  const auto with_seed = [](std::string v, uint64_t seed) {
+    for (size_t at; (at = v.find("{seed}")) != std::string::npos;)
+      v.replace(at, 6, std::to_string(seed));
+    return v;
+  };
   const auto combination_options = [&](const SweepPoint& p) {
     LoadOptions lopt = load_options(args);
     for (const auto& [param, value] : p.params) lopt.sets.push_back(param + "=" + value);
+    for (auto& set : lopt.sets) set = with_seed(set, p.seed);
+    if (args.has("input")) lopt.vars["input"] = with_seed(args.last("input"), p.seed);
     return lopt;
   };
   if (seeds.empty()) {
@@ -593,7 +604,9 @@ int cmd_sweep(int argc, char** argv, const Registry& registry) {
                                       std::to_string(threads),
                                       "--log-level",
                                       "warn"};
-    for (const char* opt : {"input", "cache-dir", "cache-size"})
+    if (args.has("input"))
+      child.insert(child.end(), {"--input", with_seed(args.last("input"), run.point.seed)});
+    for (const char* opt : {"cache-dir", "cache-size"})
       if (args.has(opt)) child.insert(child.end(), {std::string("--") + opt, args.last(opt)});
     if (args.flags.count("no-cache")) child.push_back("--no-cache");
     for (const auto& s : combination_options(run.point).sets)

@@ -279,6 +279,16 @@ nodes:
   CHECK(header.rfind("run,seed,status,error,a.value,f.type,total_s,peak_rss_mb", 0) == 0);
   CHECK(fs::exists(out / "summary.csv"));
 
+  // {seed} in a --set value is each run's seed.
+  const auto templated = run_command(kBinary + " sweep " + quoted(graph) +
+                                     " --grid f.type=debug.constant --set 'a.value={seed}'" +
+                                     " --seeds 5,7 --out " + quoted(dir / "templated"));
+  INFO(templated.output);
+  REQUIRE(templated.code == exit_code::kOk);
+  for (const auto& [run, seed] : {std::pair{"runs/0000", 5}, std::pair{"runs/0001", 7}})
+    CHECK(read_json(dir / "templated" / run / "run.json")["graph"]["nodes"][0]["params"]["value"] ==
+          double(seed));
+
   // A misspelt grid param is one invalid-graph error before anything runs.
   const auto bad = run_command(kBinary + " sweep " + quoted(graph) + " --grid a.valeu=1,2 --out " +
                                quoted(dir / "bad"));
