@@ -189,6 +189,7 @@ class Execution {
       for (const auto& [port, ref] : gn.inputs)
         inputs[port] = outputs_[index_of(ref.node)].at(ref.port);
       const std::optional<StageKey> key = cache_key(gn, *spec);
+      if (key) rec.cache_key = key->hash;
       const bool cacheable = key && stands_in(*spec);
       const fs::path files =
           options_.out_dir.empty() ? fs::path() : fs::path(options_.out_dir / gn.id);

@@ -73,6 +73,9 @@ struct NodeRecord {
   // cache, or a node the cache never stands in for (its outputs have no binary form, or it
   // asks a live service).
   std::string cache = "off";
+  // The node's stage-cache key (16 hex digits; empty without a cache): runs that share a key
+  // share the result, so a benchmark can charge a loaded node the time it took when it ran.
+  std::string cache_key;
 };
 
 struct RunResult {

@@ -43,6 +43,7 @@ json node_json(const NodeRecord& n) {
               {"peak_rss_mb", static_cast<double>(n.peak_rss_kb) / 1024.0},
               {"cache", n.cache},
               {"records", records}};
+  if (!n.cache_key.empty()) out["cache_key"] = n.cache_key;
   if (n.status == NodeStatus::Failed) out["error"] = n.error;
   return out;
 }
