@@ -296,3 +296,23 @@ nodes:
   CHECK(bad.output.find("did you mean 'value'") != std::string::npos);
   CHECK_FALSE(fs::exists(dir / "bad" / "runs"));
 }
+
+TEST_CASE("two runs sharing a cache folder at once both finish and leave whole entries", "[cli]") {
+  const fs::path dir = test::scratch_dir("cli_shared_cache");
+  const fs::path graph = write_text(dir / "sums.yaml", kSums);
+  const std::string run = kBinary + " run " + quoted(graph) + " --log-level warn --cache-dir " +
+                          quoted(dir / "cache") + " --out ";
+  // Both start together and store the same keys; each writes under its own temporary name.
+  const auto both =
+      run_command("(" + run + quoted(dir / "a") + " & " + run + quoted(dir / "b") + " & wait)");
+  INFO(both.output);
+  CHECK(read_json(dir / "a" / "run.json")["run"]["status"] == "ok");
+  CHECK(read_json(dir / "b" / "run.json")["run"]["status"] == "ok");
+  // A third run loads every node: the entries are whole, and no temporary file is left.
+  REQUIRE(run_command(run + quoted(dir / "c")).code == exit_code::kOk);
+  const json c = read_json(dir / "c" / "run.json");
+  for (const auto& n : c["nodes"]) CHECK(n["cache"] == "hit");
+  CHECK(c["nodes"][2]["records"] == read_json(dir / "a" / "run.json")["nodes"][2]["records"]);
+  for (const auto& e : fs::directory_iterator(dir / "cache"))
+    CHECK(e.path().filename().string().find(".tmp-") == std::string::npos);
+}
