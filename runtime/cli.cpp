@@ -20,6 +20,8 @@
 
 #include "graph/loader.hpp"
 #include "graph/suggest.hpp"
+#include "report/report_page.hpp"
+#include "report/run_diff.hpp"
 #include "runtime/batch.hpp"
 #include "runtime/executor.hpp"
 #include "runtime/exit_codes.hpp"
@@ -43,6 +45,7 @@ struct UsageError : std::runtime_error {
 constexpr const char* kExitCodes =
     "exit codes:\n"
     "  0    success\n"
+    "  1    diff: the runs differ\n"
     "  2    usage error (bad command line)\n"
     "  3    invalid graph (every diagnostic is printed)\n"
     "  4    bad input: a file is missing or unreadable\n"
@@ -237,6 +240,8 @@ int cmd_run(int argc, char** argv, const Registry& registry);
 int cmd_validate(int argc, char** argv, const Registry& registry);
 int cmd_nodes(int argc, char** argv, const Registry& registry);
 int cmd_batch(int argc, char** argv, const Registry& registry);
+int cmd_report(int argc, char** argv, const Registry& registry);
+int cmd_diff(int argc, char** argv, const Registry& registry);
 
 const std::vector<Command>& commands() {
   static const std::vector<Command> table = {
@@ -294,6 +299,28 @@ const std::vector<Command>& commands() {
        "  --log-level L           trace, debug, info, warn, error, critical, off (default info)\n"
        "  -h, --help              this help\n",
        cmd_batch},
+      {"report", "write report.html for a run or sweep folder",
+       "usage: gslift report DIR [--max-picture-mb N]\n\n"
+       "Writes DIR/report.html, one self-contained page (pictures embedded, charts as SVG, no\n"
+       "external links). For a run folder (run.json): the graph, a timeline of the nodes, each\n"
+       "node's time, memory and records, and every picture the run wrote. For a sweep folder\n"
+       "(sweep.json): the summary table, each metric against time, memory and every varied\n"
+       "param, and a section per run; each run's own report.html is written too.\n\n"
+       "options:\n"
+       "  --max-picture-mb N      embed pictures until their files add up to N MB; the rest are\n"
+       "                          listed with links (default 32)\n"
+       "  -h, --help              this help\n",
+       cmd_report},
+      {"diff", "print the params, records and graph changes between two runs",
+       "usage: gslift diff RUN_A RUN_B\n\n"
+       "Reads both run.json files and prints what differs: status, graph structure (nodes added,\n"
+       "removed, retyped, rewired; graph params), params per node and records per node (numbers\n"
+       "with both values, the delta and the relative change). Time, memory and cache state are\n"
+       "printed apart and do not count. Exits 0 when nothing counted differs, 1 when something\n"
+       "does (like diff(1)), 4 when a folder is not a readable run.\n\n"
+       "options:\n"
+       "  -h, --help              this help\n",
+       cmd_diff},
   };
   return table;
 }
@@ -429,6 +456,33 @@ int cmd_batch(int argc, char** argv, const Registry& registry) {
   std::printf("%s", summary.table().c_str());
   if (summary.interrupted) return exit_code::kInterrupted;
   return summary.count(CaptureStatus::Failed) ? exit_code::kBatchPartial : exit_code::kOk;
+}
+
+int cmd_report(int argc, char** argv, const Registry&) {
+  const Args args = parse_args(argc, argv, 2, {"max-picture-mb"}, {"help"});
+  if (args.flags.count("help")) return print_command_help(command_named("report")), 0;
+  if (args.positional.size() != 1) throw UsageError("report expects one run or sweep folder");
+  report::ReportOptions opt;
+  if (args.has("max-picture-mb"))
+    opt.max_picture_bytes =
+        uintmax_t(parse_integer("max-picture-mb", args.last("max-picture-mb"), 0, 1 << 20)) << 20;
+  report::ReportStats stats;
+  const fs::path page = report::write_report(args.positional[0], opt, &stats);
+  std::printf("report: %s (%zu pictures embedded, %zu skipped%s)\n", page.string().c_str(),
+              stats.pictures_embedded, stats.pictures_skipped,
+              stats.runs ? (", " + std::to_string(stats.runs) + " run reports").c_str() : "");
+  return exit_code::kOk;
+}
+
+int cmd_diff(int argc, char** argv, const Registry&) {
+  const Args args = parse_args(argc, argv, 2, {}, {"help"});
+  if (args.flags.count("help")) return print_command_help(command_named("diff")), 0;
+  if (args.positional.size() != 2) throw UsageError("diff expects two run folders");
+  const report::RunRecord a = report::read_run_record(args.positional[0]);
+  const report::RunRecord b = report::read_run_record(args.positional[1]);
+  const report::RunDiff diff = report::diff_runs(a, b);
+  std::printf("%s", report::diff_text(diff, a, b).c_str());
+  return diff.differs() ? exit_code::kRunsDiffer : exit_code::kOk;
 }
 
 constexpr const char* kCommonOptions =
