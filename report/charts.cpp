@@ -247,7 +247,7 @@ std::string timeline_svg(const RunRecord& run) {
 }
 
 std::string scatter_svg(const ScatterChart& c) {
-  constexpr double kLeft = 70, kTop = 16, kW = 520, kH = 300, kBottom = 56;
+  constexpr double kLeft = 70, kTop = 16, kW = 440, kH = 280, kBottom = 56;
   const bool categorical = !c.x_categories.empty();
   double x_lo = INFINITY, x_hi = -INFINITY, y_lo = INFINITY, y_hi = -INFINITY;
   for (const auto& p : c.points) {
@@ -266,8 +266,8 @@ std::string scatter_svg(const ScatterChart& c) {
   if (!categorical) pad(x_lo, x_hi);
   pad(y_lo, y_hi);
   const bool legend = c.series_names.size() > 1;
-  const double legend_w = legend ? 190 : 0;
-  Svg svg(kLeft + kW + 20 + legend_w, kTop + kH + kBottom, 12);
+  const double legend_h = legend ? 18 * double(c.series_names.size()) + 6 : 0;
+  Svg svg(kLeft + kW + 20, kTop + kH + kBottom + legend_h, 12);
   const auto X = [&](double v) { return kLeft + kW * (v - x_lo) / (x_hi - x_lo); };
   const auto Y = [&](double v) { return kTop + kH * (1 - (v - y_lo) / (y_hi - y_lo)); };
 
@@ -304,10 +304,10 @@ std::string scatter_svg(const ScatterChart& c) {
     if (!steps.empty()) steps.push_back({kLeft + kW, steps.back()[1]});
     svg.begin_group("Pareto front: no other variant is both faster and better",
                     "class='pareto-front'");
-    svg.polyline(steps, "#d62728", 1.5);
+    svg.polyline(steps, "#d62728", 1.5, "stroke-dasharray='6 4'");
     svg.end_group();
     if (!front.empty())
-      svg.text(kLeft + kW - 4, kTop + 14, "Pareto front", "text-anchor='end' fill='#d62728'");
+      svg.text(kLeft + kW, kTop + kH + 42, "- - Pareto front", "text-anchor='end' fill='#d62728'");
   }
   if (c.join_series) {
     std::map<int, std::vector<std::array<double, 2>>> lines;
@@ -333,13 +333,16 @@ std::string scatter_svg(const ScatterChart& c) {
       svg.line(X(p.x + p.x_err), Y(p.y) - 4, X(p.x + p.x_err), Y(p.y) + 4, colour);
     }
     svg.circle(X(p.x), Y(p.y), 4.5, colour, "stroke='white' stroke-width='1'");
+    if (!p.tag.empty())
+      svg.text(X(p.x) + 6, Y(p.y) - 6, p.tag,
+               "font-size='11' fill='#333' stroke='white' stroke-width='3' paint-order='stroke'");
     svg.end_group();
   }
   if (legend)
     for (size_t s = 0; s < c.series_names.size(); ++s) {
-      const double ly = kTop + 10 + 18 * double(s);
-      svg.circle(kLeft + kW + 28, ly - 4, 4.5, series_colour(int(s)));
-      svg.text(kLeft + kW + 38, ly, c.series_names[s], "font-size='11'");
+      const double ly = kTop + kH + kBottom + 14 + 18 * double(s);
+      svg.circle(kLeft + 6, ly - 4, 4.5, series_colour(int(s)));
+      svg.text(kLeft + 16, ly, c.series_names[s], "font-size='11'");
     }
   return svg.str();
 }

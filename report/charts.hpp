@@ -24,13 +24,14 @@ std::string timeline_svg(const RunRecord& run);
 struct ErrorPoint {
   double x = 0, x_err = 0, y = 0, y_err = 0;
   std::string label;  // tooltip
+  std::string tag;    // drawn beside the point (e.g. its row in a table); may be empty
   int series = 0;
 };
 
 struct ScatterChart {
   std::string x_label, y_label;
   std::vector<std::string> x_categories;  // non-empty: x is an index into these (a grid param)
-  std::vector<std::string> series_names;  // a legend when more than one
+  std::vector<std::string> series_names;  // a legend under the plot when more than one
   bool join_series = false;               // a line through each series' points, by x
   bool pareto = false;                    // draw the Pareto front (small x, good y)
   bool lower_y_is_better = false;

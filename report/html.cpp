@@ -147,8 +147,9 @@ tr.failed td { background: #fdf1ef; }
 .bar { display: inline-block; height: 8px; background: #9db8d9; border-radius: 2px; }
 .chart { margin: 0; overflow-x: auto; }
 .chart figcaption, figure.picture figcaption { color: var(--muted); font-size: 12px; margin-top: 4px; }
-.charts { display: grid; grid-template-columns: repeat(auto-fill, minmax(640px, 1fr)); gap: 16px; }
-.cards { display: grid; grid-template-columns: repeat(auto-fill, minmax(300px, 1fr)); gap: 14px; }
+.charts { display: grid; grid-template-columns: repeat(auto-fill, minmax(540px, 1fr)); gap: 16px; }
+.cards { display: grid; grid-template-columns: repeat(auto-fill, minmax(300px, 1fr)); gap: 14px;
+         align-items: start; }
 .cards > div { border: 1px solid var(--line); border-radius: 6px; padding: 8px 10px; }
 .pictures { display: grid; grid-template-columns: repeat(auto-fill, minmax(300px, 1fr));
             gap: 14px; }

@@ -246,8 +246,9 @@ std::string run_report_html(const RunRecord& run, const ReportOptions& options,
   b += "<section id=\"timeline\"><h2>Timeline</h2>" +
        figure("timeline-chart", timeline_svg(run),
               "Each node's run on the flow graph's clock (seconds since the run started); bars "
-              "that overlap in time ran concurrently. At most " +
-                  std::to_string(max_running(intervals)) + " nodes ran at once.") +
+              "that overlap in time ran concurrently (the strip on top counts them; at most " +
+                  std::to_string(max_running(intervals)) +
+                  " nodes ran at once). Pale bars are cache hits.") +
        "</section>\n";
   b += "<section id=\"nodes\"><h2>Nodes: time and memory</h2>" + node_table(run) +
        "<p class=\"note\">peak RSS: the process's peak resident memory when the node ended.</p>"
@@ -275,7 +276,10 @@ std::string sweep_report_html(const SweepRecord& sweep, ReportStats* stats) {
   size_t failed = 0;
   for (const auto& r : sweep.runs) failed += r.status != "ok";
 
-  std::string b = "<h1>Sweep: " + esc(sweep.graph) + " " + badge(failed ? "failed" : "ok") +
+  const std::string status =
+      failed ? "<span class=\"badge failed\">" + std::to_string(failed) + " failed</span>"
+             : badge("ok");
+  std::string b = "<h1>Sweep: " + esc(sweep.graph) + " " + status +
                   "</h1>\n<p class=\"meta\"><span>sweep folder <code>" + esc(sweep.dir.string()) +
                   "</code></span><span>" + std::to_string(sweep.runs.size()) +
                   " runs</span><span>" + std::to_string(failed) + " failed</span><span>seeds";
@@ -290,13 +294,15 @@ std::string sweep_report_html(const SweepRecord& sweep, ReportStats* stats) {
 
   // Summary: one row per grid point, mean ± std over seeds.
   b += "<section id=\"summary\"><h2>Summary (mean ± std over seeds)</h2><div class=\"scroll\">"
-       "<table class=\"summary-table\">\n<tr>";
+       "<table class=\"summary-table\">\n<tr><th class=\"num\">#</th>";
   for (const auto& p : varied) b += "<th>" + esc(p) + "</th>";
   b += "<th class=\"num\">n</th><th class=\"num\">failed</th>";
   for (const auto& m : metrics) b += "<th class=\"num\">" + esc(m) + "</th>";
   b += "<th class=\"num\">total</th><th class=\"num\">peak RSS</th></tr>\n";
-  for (const auto& g : sweep.summary) {
-    b += std::string("<tr") + (g.failed ? " class=\"failed\"" : "") + ">";
+  for (size_t k = 0; k < sweep.summary.size(); ++k) {
+    const SweepGroup& g = sweep.summary[k];
+    b += std::string("<tr") + (g.failed ? " class=\"failed\"" : "") + "><td class=\"num\">" +
+         std::to_string(k + 1) + "</td>";
     for (const auto& p : varied) {
       auto it = g.params.find(p);
       b += "<td><code>" + esc(it == g.params.end() ? "" : it->second) + "</code></td>";
@@ -325,19 +331,21 @@ std::string sweep_report_html(const SweepRecord& sweep, ReportStats* stats) {
       c.y_label = m;
       c.pareto = true;
       c.lower_y_is_better = lower;
-      for (const auto& g : sweep.summary) {
+      for (size_t k = 0; k < sweep.summary.size(); ++k) {
+        const SweepGroup& g = sweep.summary[k];
         auto it = g.metrics.find(m);
         if (it == g.metrics.end()) continue;
         const MeanStd& x = time ? g.total_s : g.peak_rss_mb;
         c.points.push_back({x.mean, x.std, it->second.mean, it->second.std,
-                            params_text(g.params) + "\n" + m + " " + mean_std_text(it->second) +
-                                "\n" + c.x_label + " " + mean_std_text(x),
-                            0});
+                            "#" + std::to_string(k + 1) + " " + params_text(g.params) + "\n" + m +
+                                " " + mean_std_text(it->second) + "\n" + c.x_label + " " +
+                                mean_std_text(x),
+                            "#" + std::to_string(k + 1), 0});
       }
       charts += figure("chart-" + std::to_string(chart_id++), scatter_svg(c),
                        esc(m) + " against " + esc(c.x_label) + "; error bars: ± one std over " +
-                           "seeds; dashed: Pareto front (" + (lower ? "lower" : "higher") +
-                           " is better).");
+                           "seeds; #: the row in the summary; dashed: Pareto front (" +
+                           (lower ? "lower" : "higher") + " is better).");
     }
     for (const auto& p : varied) {
       ScatterChart c;
@@ -362,7 +370,8 @@ std::string sweep_report_html(const SweepRecord& sweep, ReportStats* stats) {
         const auto s = series.emplace(name, int(series.size())).first->second;
         if (size_t(s) == c.series_names.size()) c.series_names.push_back(name);
         c.points.push_back({double(at - c.x_categories.begin()), 0, it->second.mean, it->second.std,
-                            params_text(g.params) + "\n" + m + " " + mean_std_text(it->second), s});
+                            params_text(g.params) + "\n" + m + " " + mean_std_text(it->second), "",
+                            s});
       }
       if (c.x_categories.size() < 2) continue;
       charts += figure("chart-" + std::to_string(chart_id++), scatter_svg(c),

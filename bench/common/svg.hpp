@@ -60,9 +60,9 @@ class Svg {
   }
 
   void polyline(const std::vector<std::array<double, 2>>& points, const std::string& stroke,
-                double stroke_width) {
-    s_ << "<polyline fill='none' stroke='" << stroke << "' stroke-width='" << stroke_width
-       << "' points='";
+                double stroke_width, const std::string& attrs = {}) {
+    s_ << "<polyline fill='none' stroke='" << stroke << "' stroke-width='" << stroke_width << "'"
+       << space(attrs) << " points='";
     for (const auto& p : points) s_ << p[0] << "," << p[1] << " ";
     s_ << "'/>\n";
   }
