@@ -62,9 +62,10 @@ std::vector<double> nice_ticks(double lo, double hi, int count) {
       step = m * power;
       break;
     }
+  // Multiples of the step, so that no rounding error accumulates along the axis.
   std::vector<double> ticks;
-  for (double t = std::ceil(lo / step - 1e-9) * step; t <= hi + step * 1e-9; t += step)
-    ticks.push_back(std::fabs(t) < step * 1e-9 ? 0.0 : t);
+  const double first = std::ceil(lo / step - 1e-9), last = std::floor(hi / step + 1e-9);
+  for (double k = first; k <= last; ++k) ticks.push_back(k == 0 ? 0.0 : k * step);
   return ticks;
 }
 

@@ -68,6 +68,14 @@ std::string section(const char* title, const std::vector<Change>& changes) {
 
 }  // namespace
 
+bool is_time_record(const std::string& key) {
+  const auto ends = [&](const char* suffix) {
+    const std::string s = suffix;
+    return key.size() >= s.size() && key.compare(key.size() - s.size(), s.size(), s) == 0;
+  };
+  return key == "seconds" || ends("_seconds") || ends("_s") || ends("_ms");
+}
+
 RunDiff diff_runs(const RunRecord& a, const RunRecord& b) {
   RunDiff d;
   if (a.status != b.status) d.status.push_back({"run status", a.status, b.status});
@@ -104,7 +112,13 @@ RunDiff diff_runs(const RunRecord& a, const RunRecord& b) {
     const NodeRun* nb = b.node(na.id);
     if (!nb) continue;
     if (na.status != nb->status) d.status.push_back({na.id + " status", na.status, nb->status});
-    compare_maps(na.id + ".", na.records, nb->records, d.records, d.same_records);
+    // Records that measure time go with the wall times.
+    std::map<std::string, json> ra, rb, ta, tb;
+    for (const auto& [k, v] : na.records) (is_time_record(k) ? ta : ra)[k] = v;
+    for (const auto& [k, v] : nb->records) (is_time_record(k) ? tb : rb)[k] = v;
+    compare_maps(na.id + ".", ra, rb, d.records, d.same_records);
+    size_t same_time = 0;
+    compare_maps(na.id + ".", ta, tb, d.timing, same_time);
     d.timing.push_back(number_change(na.id + " wall_s", na.wall_s, nb->wall_s));
     if (na.cache != nb->cache)
       d.timing.push_back({na.id + " cache", na.cache.empty() ? kAbsent : na.cache,

@@ -63,4 +63,33 @@ TEST_CASE("a run compared with itself differs in nothing", "[report]") {
   CHECK(d.same_params == 4);
   CHECK(d.same_records == 6);
   CHECK(diff_text(d, a, a).find("no differences beyond time and memory") != std::string::npos);
+
+  // A rerun: other wall times, memory, cache state and time records (recon.seconds) only.
+  RunRecord rerun = a;
+  rerun.total_s += 1;
+  rerun.peak_rss_mb += 10;
+  rerun.nodes[1].wall_s += 0.5;
+  rerun.nodes[1].cache = "hit";
+  rerun.nodes[1].records["seconds"] = 2.5;
+  RunRecord first = a;
+  first.nodes[1].records["seconds"] = 1.0;
+  const RunDiff r = diff_runs(first, rerun);
+  INFO(diff_text(r, first, rerun));
+  CHECK_FALSE(r.differs());
+  CHECK(r.same_records == 6);
+  // total, memory, then per node its time records, wall_s and cache: source, left (3), right, join
+  REQUIRE(r.timing.size() == 2 + 1 + 3 + 1 + 1);
+  CHECK(r.timing[3].what == "left.seconds");
+  CHECK(r.timing[3].delta == 1.5);
+  CHECK(r.timing[5].what == "left cache");
+}
+
+TEST_CASE("is_time_record knows time records by name", "[report]") {
+  CHECK(is_time_record("seconds"));
+  CHECK(is_time_record("train_seconds"));
+  CHECK(is_time_record("wall_s"));
+  CHECK(is_time_record("step_ms"));
+  CHECK_FALSE(is_time_record("gaussians"));
+  CHECK_FALSE(is_time_record("loss"));
+  CHECK_FALSE(is_time_record("masks"));
 }
