@@ -139,7 +139,7 @@ std::string pictures_and_files(const RunRecord& run, const ReportOptions& option
                                ReportStats* stats) {
   std::string pictures, others, skipped;
   uintmax_t used = 0;
-  size_t embedded = 0, skipped_count = 0;
+  size_t shown = 0, skipped_count = 0;
   for (const auto& [folder, files] : run_files(run)) {
     std::string group;
     for (const fs::path& rel : files) {
@@ -152,19 +152,23 @@ std::string pictures_and_files(const RunRecord& run, const ReportOptions& option
         others += "<tr><td>" + link + "</td><td class=\"num\">" + size_text(bytes) + "</td></tr>\n";
         continue;
       }
-      if (used + bytes > options.max_picture_bytes) {
+      if (options.embed_pictures && used + bytes > options.max_picture_bytes) {
         skipped += "<li>" + link + " (" + size_text(bytes) + ")</li>\n";
         ++skipped_count;
         continue;
       }
       const std::string data = read_bytes(run.dir / rel);
-      used += data.size();
-      ++embedded;
       const PixelSize px = picture_size(data);
       const std::string dims = px.width ? std::to_string(px.width) + "×" + std::to_string(px.height)
                                         : std::string("size unknown");
-      group += "<figure class=\"picture\"><img src=\"data:" + mime + ";base64," + base64(data) +
-               "\" alt=\"" + esc(rel.generic_string()) + "\"" +
+      std::string src = esc(rel.generic_string());
+      if (options.embed_pictures) {
+        src = "data:" + mime + ";base64," + base64(data);
+        used += data.size();
+      }
+      ++shown;
+      group += "<figure class=\"picture\"><img src=\"" + src + "\" alt=\"" +
+               esc(rel.generic_string()) + "\"" +
                (px.width ? " width=\"" + std::to_string(px.width) + "\" height=\"" +
                                std::to_string(px.height) + "\""
                          : std::string()) +
@@ -175,12 +179,21 @@ std::string pictures_and_files(const RunRecord& run, const ReportOptions& option
       pictures += "<h3><code>" + esc(folder) + "</code></h3><div class=\"pictures\">\n" + group +
                   "</div>\n";
   }
-  if (stats) stats->pictures_embedded += embedded, stats->pictures_skipped += skipped_count;
+  if (stats) {
+    (options.embed_pictures ? stats->pictures_embedded : stats->pictures_linked) += shown;
+    stats->pictures_skipped += skipped_count;
+  }
   std::string h;
   if (!pictures.empty() || !skipped.empty()) {
-    h += "<section id=\"pictures\"><h2>Pictures</h2><p class=\"note\">" + std::to_string(embedded) +
-         " picture" + (embedded == 1 ? "" : "s") + " embedded at full resolution (" +
-         size_text(used) + "); the links open the files beside this page.</p>\n" + pictures;
+    const std::string count = std::to_string(shown) + " picture" + (shown == 1 ? "" : "s");
+    h += "<section id=\"pictures\"><h2>Pictures</h2><p class=\"note\">" +
+         (options.embed_pictures
+              ? count + " embedded at full resolution (" + size_text(used) +
+                    "); the links open the files beside this page."
+              : count +
+                    " shown from the files beside this page, not embedded (this page "
+                    "belongs to a sweep's report; gslift report on this folder embeds them).") +
+         "</p>\n" + pictures;
     if (!skipped.empty())
       h += "<p class=\"note skipped\">" + std::to_string(skipped_count) +
            " more not embedded: the embedded pictures reached the cap of " +
@@ -412,7 +425,6 @@ std::string sweep_report_html(const SweepRecord& sweep, ReportStats* stats) {
                   "/report.html\">the run's own report</a> (graph, timeline, pictures)</p>" +
                   node_table(run);
       if (!run.error.empty()) sections += "<div class=\"error\">" + esc(run.error) + "</div>";
-      if (stats) ++stats->runs;
     } catch (const InputError& e) {
       sections += "<p class=\"note\">no run record: " + esc(e.what()) + "</p>";
     }
@@ -427,10 +439,13 @@ fs::path write_report(const fs::path& dir, const ReportOptions& options, ReportS
   const fs::path page = dir / "report.html";
   if (is_sweep_dir(dir)) {
     const SweepRecord sweep = read_sweep_record(dir);
+    ReportOptions linked = options;
+    linked.embed_pictures = false;
     for (const auto& r : sweep.runs) {
       try {
         const RunRecord run = read_run_record(dir / r.dir);
-        write_file_atomically(dir / r.dir / "report.html", run_report_html(run, options, stats));
+        write_file_atomically(dir / r.dir / "report.html", run_report_html(run, linked, stats));
+        if (stats) ++stats->runs;
       } catch (const InputError&) {
         // A run that left no record (it failed before writing one): its row says so.
       }

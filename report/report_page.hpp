@@ -15,10 +15,14 @@ struct ReportOptions {
   // Pictures are embedded at full size (base64, about 4/3 of the file) in the order the graph ran
   // until their files add up to this; the rest are listed as skipped, with a link to the file.
   uintmax_t max_picture_bytes = uintmax_t{32} << 20;
+  // False: pictures are shown from their files beside the page (relative links) instead of being
+  // embedded. The run pages of a sweep do this: a sweep's runs would otherwise hold every
+  // picture twice, and those pages live in the run folders anyway.
+  bool embed_pictures = true;
 };
 
 struct ReportStats {
-  size_t pictures_embedded = 0, pictures_skipped = 0;
+  size_t pictures_embedded = 0, pictures_skipped = 0, pictures_linked = 0;
   size_t runs = 0;  // sweeps: run reports written
 };
 
@@ -30,8 +34,8 @@ std::string run_report_html(const RunRecord& run, const ReportOptions& options,
 std::string sweep_report_html(const SweepRecord& sweep, ReportStats* stats = nullptr);
 
 // Reads DIR (a sweep when it holds sweep.json, else a run), writes DIR/report.html (for a sweep
-// also each run's report.html) and returns the page's path. Throws InputError naming the path
-// when DIR is not a readable run or sweep folder.
+// also each run's report.html, its pictures linked) and returns the page's path. Throws InputError
+// naming the path when DIR is not a readable run or sweep folder.
 std::filesystem::path write_report(const std::filesystem::path& dir, const ReportOptions& options,
                                    ReportStats* stats = nullptr);
 

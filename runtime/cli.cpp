@@ -305,7 +305,8 @@ const std::vector<Command>& commands() {
        "external links). For a run folder (run.json): the graph, a timeline of the nodes, each\n"
        "node's time, memory and records, and every picture the run wrote. For a sweep folder\n"
        "(sweep.json): the summary table, each metric against time, memory and every varied\n"
-       "param, and a section per run; each run's own report.html is written too.\n\n"
+       "param, and a section per run; each run's own report.html is written too, with its\n"
+       "pictures linked (gslift report RUN_DIR embeds them).\n\n"
        "options:\n"
        "  --max-picture-mb N      embed pictures until their files add up to N MB; the rest are\n"
        "                          listed with links (default 32)\n"
@@ -468,9 +469,12 @@ int cmd_report(int argc, char** argv, const Registry&) {
         uintmax_t(parse_integer("max-picture-mb", args.last("max-picture-mb"), 0, 1 << 20)) << 20;
   report::ReportStats stats;
   const fs::path page = report::write_report(args.positional[0], opt, &stats);
-  std::printf("report: %s (%zu pictures embedded, %zu skipped%s)\n", page.string().c_str(),
-              stats.pictures_embedded, stats.pictures_skipped,
-              stats.runs ? (", " + std::to_string(stats.runs) + " run reports").c_str() : "");
+  if (report::is_sweep_dir(args.positional[0]))
+    std::printf("report: %s (and %zu run reports, their %zu pictures linked)\n",
+                page.string().c_str(), stats.runs, stats.pictures_linked);
+  else
+    std::printf("report: %s (%zu pictures embedded, %zu skipped)\n", page.string().c_str(),
+                stats.pictures_embedded, stats.pictures_skipped);
   return exit_code::kOk;
 }
 

@@ -55,7 +55,8 @@ TEST_CASE("gslift report writes the page and says what it embedded", "[report][c
   const auto s = run_command(kBinary + " report " + quoted(sweep));
   INFO(s.output);
   CHECK(s.code == exit_code::kOk);
-  CHECK(s.output.find(", 7 run reports)") != std::string::npos);
+  CHECK(s.output.find("report: " + (sweep / "report.html").string() +
+                      " (and 7 run reports, their 14 pictures linked)") != std::string::npos);
 }
 
 TEST_CASE("report and diff on bad folders exit 4 naming the path and usage errors exit 2",

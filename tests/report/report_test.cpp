@@ -229,8 +229,15 @@ TEST_CASE("the sweep page has the summary, the charts and a section per run", "[
   CHECK(count(html, "/report.html\">the run's own report</a>") == 7);
   CHECK(html.find("no run record: ") != std::string::npos);
   CHECK(html.find("debug.fail: boom") != std::string::npos);
-  for (int k = 0; k < 7; ++k)
-    CHECK(fs::exists(dir / ("runs/000" + std::to_string(k)) / "report.html"));
+  CHECK(stats.runs == 7);
+  CHECK(stats.pictures_linked == 7 * 2);
+  CHECK(stats.pictures_embedded == 0);
+  for (int k = 0; k < 7; ++k) {
+    // Each run's page shows its pictures from the files beside it, not embedded.
+    const std::string run_page = read_text(dir / ("runs/000" + std::to_string(k)) / "report.html");
+    CHECK(run_page.find("<img src=\"left/gradient.png\"") != std::string::npos);
+    CHECK(run_page.find("data:image") == std::string::npos);
+  }
   CHECK(count(html, "http") == count(html, "xmlns='http://www.w3.org/2000/svg'"));
 }
 
