@@ -183,6 +183,7 @@ SweepRecord read_sweep_record(const fs::path& dir) {
       for (const auto& [name, values] : j.at("grid").items())
         for (const json& v : values) s.grid[name].push_back(value_text(v));
     if (j.contains("seeds")) s.seeds = j.at("seeds").get<std::vector<uint64_t>>();
+    if (j.contains("headline")) s.headline = j.at("headline").get<std::vector<std::string>>();
     for (const json& r : member(j, "runs")) {
       SweepRun run;
       run.dir = member(r, "dir").get<std::string>();

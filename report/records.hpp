@@ -87,6 +87,9 @@ struct SweepRecord {
   std::string graph;
   std::map<std::string, std::vector<std::string>> grid;  // the varied params and their values
   std::vector<uint64_t> seeds;
+  // The metrics a person compares first (the evaluation nodes' summary metrics); empty when the
+  // sweep names none.
+  std::vector<std::string> headline;
   std::vector<SweepRun> runs;
   std::vector<SweepGroup> summary;
 };

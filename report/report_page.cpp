@@ -282,10 +282,17 @@ std::string sweep_report_html(const SweepRecord& sweep, ReportStats* stats) {
       for (const auto& [k, v] : r.params) names.insert(k);
     varied.assign(names.begin(), names.end());
   }
+  // The summary's columns and the charts are for the headline metrics: a LangOR sweep records
+  // some 80 metrics per run (losses, per-class IoU), and the rest go to a folded table. A sweep
+  // without headline metrics shows them all.
   std::set<std::string> metric_set;
   for (const auto& g : sweep.summary)
     for (const auto& [k, v] : g.metrics) metric_set.insert(k);
-  const std::vector<std::string> metrics(metric_set.begin(), metric_set.end());
+  const std::vector<std::string> all_metrics(metric_set.begin(), metric_set.end());
+  std::vector<std::string> metrics;
+  for (const auto& m : sweep.headline)
+    if (metric_set.count(m)) metrics.push_back(m);
+  if (metrics.empty()) metrics = all_metrics;
   size_t failed = 0;
   for (const auto& r : sweep.runs) failed += r.status != "ok";
 
@@ -309,7 +316,7 @@ std::string sweep_report_html(const SweepRecord& sweep, ReportStats* stats) {
   b += "<section id=\"summary\"><h2>Summary (mean ± std over seeds)</h2><div class=\"scroll\">"
        "<table class=\"summary-table\">\n<tr><th class=\"num\">#</th>";
   for (const auto& p : varied) b += "<th>" + esc(p) + "</th>";
-  b += "<th class=\"num\">n</th><th class=\"num\">failed</th>";
+  b += "<th class=\"num\">ok</th><th class=\"num\">failed</th>";
   for (const auto& m : metrics) b += "<th class=\"num\">" + esc(m) + "</th>";
   b += "<th class=\"num\">total</th><th class=\"num\">peak RSS</th></tr>\n";
   for (size_t k = 0; k < sweep.summary.size(); ++k) {
@@ -330,7 +337,27 @@ std::string sweep_report_html(const SweepRecord& sweep, ReportStats* stats) {
     b += "<td class=\"num\">" + mean_std_text(g.total_s, " s") + "</td><td class=\"num\">" +
          mean_std_text(g.peak_rss_mb, " MB") + "</td></tr>\n";
   }
-  b += "</table></div></section>\n";
+  b += "</table></div>\n";
+  if (metrics.size() < all_metrics.size()) {
+    // Every metric, a row each, a column per grid point.
+    b += "<details id=\"all-metrics\"><summary>All " + std::to_string(all_metrics.size()) +
+         " metrics (mean ± std; columns: the rows above)</summary><div class=\"scroll\"><table>"
+         "\n<tr><th>metric</th>";
+    for (size_t k = 0; k < sweep.summary.size(); ++k)
+      b += "<th class=\"num\">#" + std::to_string(k + 1) + "</th>";
+    b += "</tr>\n";
+    for (const auto& m : all_metrics) {
+      b += "<tr><td>" + esc(m) + "</td>";
+      for (const auto& g : sweep.summary) {
+        auto it = g.metrics.find(m);
+        b += "<td class=\"num\">" + (it == g.metrics.end() ? "–" : mean_std_text(it->second)) +
+             "</td>";
+      }
+      b += "</tr>\n";
+    }
+    b += "</table></div></details>\n";
+  }
+  b += "</section>\n";
 
   // Charts: each metric against time and memory (Pareto front), and against each varied param.
   std::string charts;

@@ -208,6 +208,8 @@ TEST_CASE("sweep.json is read with its grid, runs and summary", "[report]") {
   CHECK(s.summary[0].metrics.at("join.mIoU").mean == 55.5);
   CHECK(s.summary[0].metrics.at("join.mIoU").std == Approx(std::sqrt(0.5)));
   CHECK(s.summary[3].failed == 1);
+  CHECK(s.summary[3].n == 1);  // runs that succeeded
+  CHECK(s.headline == std::vector<std::string>{"join.mIoU"});
 }
 
 TEST_CASE("the sweep page has the summary, the charts and a section per run", "[report]") {
@@ -218,11 +220,14 @@ TEST_CASE("the sweep page has the summary, the charts and a section per run", "[
   // Summary: mean ± std of group 0 (left 2, right 0.5): mIoU 55, 56; total 2.0, 2.2 s.
   CHECK(html.find("<td class=\"num\">55.5 ± 0.71</td>") != std::string::npos);
   CHECK(html.find("<td class=\"num\">2.1 ± 0.14 s</td>") != std::string::npos);
-  // Charts, for each of 2 metrics: against time, memory, and both varied params = 8.
-  CHECK(count(html, "<figure class=\"chart\"") == 8);
-  CHECK(count(html, "class='pareto-front'") == 4);
+  // Charts for the headline metric join.mIoU: against time, memory, and both varied params.
+  CHECK(count(html, "<figure class=\"chart\"") == 4);
+  CHECK(count(html, "class='pareto-front'") == 2);
   // 4 grid points in each chart.
-  CHECK(count(html, "class='chart-point'") == 8 * 4);
+  CHECK(count(html, "class='chart-point'") == 4 * 4);
+  // The other metric in the folded table of every metric, not in the summary's columns.
+  CHECK(html.find("<th class=\"num\">left.sum</th>") == std::string::npos);
+  CHECK(html.find("<tr><td>left.sum</td><td class=\"num\">12 ± 0</td>") != std::string::npos);
   // Runs: a row and a section each; the 7 runs with a record link to their own report, which
   // write_report wrote.
   CHECK(count(html, "<details id=\"run-") == 8);
@@ -239,6 +244,17 @@ TEST_CASE("the sweep page has the summary, the charts and a section per run", "[
     CHECK(run_page.find("data:image") == std::string::npos);
   }
   CHECK(count(html, "http") == count(html, "xmlns='http://www.w3.org/2000/svg'"));
+}
+
+TEST_CASE("a sweep without headline metrics charts every metric", "[report]") {
+  SweepRecord s = read_sweep_record(test::test_data("report/sweep"));
+  s.headline.clear();
+  const std::string html = sweep_report_html(s);
+  // 2 metrics x (time, memory, 2 varied params).
+  CHECK(count(html, "<figure class=\"chart\"") == 8);
+  CHECK(count(html, "class='pareto-front'") == 4);
+  CHECK(html.find("<th class=\"num\">left.sum</th>") != std::string::npos);
+  CHECK(html.find("id=\"all-metrics\"") == std::string::npos);
 }
 
 TEST_CASE("lower_is_better reads the metric's name", "[report]") {
