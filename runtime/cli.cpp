@@ -22,6 +22,8 @@
 
 #include "graph/loader.hpp"
 #include "graph/suggest.hpp"
+#include "report/report_page.hpp"
+#include "report/run_diff.hpp"
 #include "runtime/atomic_file.hpp"
 #include "runtime/batch.hpp"
 #include "runtime/child_process.hpp"
@@ -48,6 +50,7 @@ struct UsageError : std::runtime_error {
 constexpr const char* kExitCodes =
     "exit codes:\n"
     "  0    success\n"
+    "  1    diff: the runs differ\n"
     "  2    usage error (bad command line)\n"
     "  3    invalid graph (every diagnostic is printed)\n"
     "  4    bad input: a file is missing or unreadable\n"
@@ -271,6 +274,8 @@ int cmd_validate(int argc, char** argv, const Registry& registry);
 int cmd_nodes(int argc, char** argv, const Registry& registry);
 int cmd_batch(int argc, char** argv, const Registry& registry);
 int cmd_sweep(int argc, char** argv, const Registry& registry);
+int cmd_report(int argc, char** argv, const Registry& registry);
+int cmd_diff(int argc, char** argv, const Registry& registry);
 
 const std::vector<Command>& commands() {
   static const std::vector<Command> table = {
@@ -350,12 +355,11 @@ const std::vector<Command>& commands() {
        "Runs GRAPH once per combination of the --grid values (the cartesian product) and seed,\n"
        "each as a `gslift run` of its own in DIR/runs/NNNN/ (its output in gslift.log there)\n"
        "through the stage cache (a changed downstream param reuses everything upstream). Every\n"
-       "combination is validated before the first run. DIR/sweep.json, DIR/results.csv (a row per "
-       "run: params, seed, status, error,\n"
-       "time, peak memory, every numeric record as node.key, wall time per node) and\n"
-       "DIR/summary.csv (mean and std over seeds) are rewritten after every run, so an\n"
-       "interrupted sweep keeps what finished. A failed run is a row with its error; the sweep\n"
-       "goes on.\n\n"
+       "combination is validated before the first run. DIR/sweep.json, DIR/results.csv (a row\n"
+       "per run: params, seed, status, error, time, peak memory, every numeric record as\n"
+       "node.key, wall time per node) and DIR/summary.csv (mean and std over seeds) are\n"
+       "rewritten after every run, so an interrupted sweep keeps what finished. A failed run is\n"
+       "a row with its error; the sweep goes on. gslift report DIR draws it.\n\n"
        "options:\n"
        "  --grid NODE.PARAM=V,... the values of one param (repeatable); commas inside [] or\n"
        "                          quotes belong to a value; NODE.type=A,B swaps stages\n"
@@ -374,6 +378,29 @@ const std::vector<Command>& commands() {
        "  -h, --help              this help\n\n"
        "Exit code 6 when some runs failed (the table has them), 130 when interrupted.\n",
        cmd_sweep},
+      {"report", "write report.html for a run or sweep folder",
+       "usage: gslift report DIR [--max-picture-mb N]\n\n"
+       "Writes DIR/report.html, one self-contained page (pictures embedded, charts as SVG, no\n"
+       "external links). For a run folder (run.json): the graph, a timeline of the nodes, each\n"
+       "node's time, memory and records, and every picture the run wrote. For a sweep folder\n"
+       "(sweep.json): the summary table, each metric against time, memory and every varied\n"
+       "param, and a section per run; each run's own report.html is written too, with its\n"
+       "pictures linked (gslift report RUN_DIR embeds them).\n\n"
+       "options:\n"
+       "  --max-picture-mb N      embed pictures until their files add up to N MB; the rest are\n"
+       "                          listed with links (default 32)\n"
+       "  -h, --help              this help\n",
+       cmd_report},
+      {"diff", "print the params, records and graph changes between two runs",
+       "usage: gslift diff RUN_A RUN_B\n\n"
+       "Reads both run.json files and prints what differs: status, graph structure (nodes added,\n"
+       "removed, retyped, rewired; graph params), params per node and records per node (numbers\n"
+       "with both values, the delta and the relative change). Time, memory and cache state are\n"
+       "printed apart and do not count. Exits 0 when nothing counted differs, 1 when something\n"
+       "does (like diff(1)), 4 when a folder is not a readable run.\n\n"
+       "options:\n"
+       "  -h, --help              this help\n",
+       cmd_diff},
   };
   return table;
 }
@@ -647,6 +674,36 @@ int cmd_sweep(int argc, char** argv, const Registry& registry) {
   for (const auto& r : runs)
     if (r.status != "ok") return exit_code::kBatchPartial;
   return exit_code::kOk;
+}
+
+int cmd_report(int argc, char** argv, const Registry&) {
+  const Args args = parse_args(argc, argv, 2, {"max-picture-mb"}, {"help"});
+  if (args.flags.count("help")) return print_command_help(command_named("report")), 0;
+  if (args.positional.size() != 1) throw UsageError("report expects one run or sweep folder");
+  report::ReportOptions opt;
+  if (args.has("max-picture-mb"))
+    opt.max_picture_bytes =
+        uintmax_t(parse_integer("max-picture-mb", args.last("max-picture-mb"), 0, 1 << 20)) << 20;
+  report::ReportStats stats;
+  const fs::path page = report::write_report(args.positional[0], opt, &stats);
+  if (report::is_sweep_dir(args.positional[0]))
+    std::printf("report: %s (and %zu run reports, their %zu pictures linked)\n",
+                page.string().c_str(), stats.runs, stats.pictures_linked);
+  else
+    std::printf("report: %s (%zu pictures embedded, %zu skipped)\n", page.string().c_str(),
+                stats.pictures_embedded, stats.pictures_skipped);
+  return exit_code::kOk;
+}
+
+int cmd_diff(int argc, char** argv, const Registry&) {
+  const Args args = parse_args(argc, argv, 2, {}, {"help"});
+  if (args.flags.count("help")) return print_command_help(command_named("diff")), 0;
+  if (args.positional.size() != 2) throw UsageError("diff expects two run folders");
+  const report::RunRecord a = report::read_run_record(args.positional[0]);
+  const report::RunRecord b = report::read_run_record(args.positional[1]);
+  const report::RunDiff diff = report::diff_runs(a, b);
+  std::printf("%s", report::diff_text(diff, a, b).c_str());
+  return diff.differs() ? exit_code::kRunsDiffer : exit_code::kOk;
 }
 
 constexpr const char* kCommonOptions =

@@ -6,6 +6,7 @@
 namespace gslift::exit_code {
 
 constexpr int kOk = 0;
+constexpr int kRunsDiffer = 1;     // diff: the two runs differ (as diff(1))
 constexpr int kUsage = 2;          // bad command line
 constexpr int kInvalidGraph = 3;   // the YAML graph failed validation
 constexpr int kBadInput = 4;       // an input file is missing or unreadable (InputError)

@@ -28,10 +28,31 @@ class Svg {
        << stroke << "'" << space(attrs) << "/>\n";
   }
 
-  void rect(double x, double y, double width, double height, const std::string& fill) {
+  void rect(double x, double y, double width, double height, const std::string& fill,
+            const std::string& attrs = {}) {
     s_ << "<rect x='" << x << "' y='" << y << "' width='" << width << "' height='" << height
-       << "' fill='" << fill << "'/>\n";
+       << "' fill='" << fill << "'" << space(attrs) << "/>\n";
   }
+
+  void circle(double cx, double cy, double r, const std::string& fill,
+              const std::string& attrs = {}) {
+    s_ << "<circle cx='" << cx << "' cy='" << cy << "' r='" << r << "' fill='" << fill << "'"
+       << space(attrs) << "/>\n";
+  }
+
+  // `d`: SVG path data, built with number() (e.g. a cubic curve "M x y C ...").
+  void path(const std::string& d, const std::string& stroke, const std::string& attrs = {}) {
+    s_ << "<path d='" << d << "' fill='none' stroke='" << stroke << "'" << space(attrs) << "/>\n";
+  }
+
+  // A group of the elements written until end_group(); `title` is the tooltip a browser shows
+  // over them (none when empty).
+  void begin_group(const std::string& title = {}, const std::string& attrs = {}) {
+    s_ << "<g" << space(attrs) << ">";
+    if (!title.empty()) s_ << "<title>" << escaped(title) << "</title>";
+    s_ << "\n";
+  }
+  void end_group() { s_ << "</g>\n"; }
 
   void text(double x, double y, const std::string& content, const std::string& attrs = {}) {
     s_ << "<text x='" << x << "' y='" << y << "'" << space(attrs) << ">" << escaped(content)
@@ -39,9 +60,9 @@ class Svg {
   }
 
   void polyline(const std::vector<std::array<double, 2>>& points, const std::string& stroke,
-                double stroke_width) {
-    s_ << "<polyline fill='none' stroke='" << stroke << "' stroke-width='" << stroke_width
-       << "' points='";
+                double stroke_width, const std::string& attrs = {}) {
+    s_ << "<polyline fill='none' stroke='" << stroke << "' stroke-width='" << stroke_width << "'"
+       << space(attrs) << " points='";
     for (const auto& p : points) s_ << p[0] << "," << p[1] << " ";
     s_ << "'/>\n";
   }

@@ -1,0 +1,36 @@
+// The pieces every report page is made of: escaped text, files embedded as data URIs (so the page
+// needs nothing beside it), and the page shell with its style sheet. No scripts, no external URLs.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+
+namespace gslift::report {
+
+// Text for HTML content and attribute values (& < > " ' escaped).
+std::string html_escape(const std::string& text);
+
+// RFC 4648 base64 with padding.
+std::string base64(const std::string& bytes);
+
+// The whole file; throws InputError naming it when it cannot be read.
+std::string read_bytes(const std::filesystem::path& file);
+
+// A picture's pixel size read from its header (PNG IHDR, JPEG SOFn); 0 x 0 when the header is not
+// one of these.
+struct PixelSize {
+  uint32_t width = 0, height = 0;
+};
+PixelSize picture_size(const std::string& bytes);
+
+// "image/png" or "image/jpeg" by the file's extension (case-insensitive); empty for others.
+std::string picture_mime(const std::filesystem::path& file);
+
+// "12.3 KB", "4.5 MB".
+std::string size_text(uintmax_t bytes);
+
+// A complete page: <!DOCTYPE html>, the style sheet, `title` and `body`.
+std::string html_page(const std::string& title, const std::string& body);
+
+}  // namespace gslift::report
