@@ -1,13 +1,21 @@
 #include "runtime/batch.hpp"
 
+#include <algorithm>
+#include <cerrno>
 #include <chrono>
 #include <cstdio>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <stdexcept>
 
+#include <fcntl.h>
+#include <sys/file.h>
+#include <unistd.h>
+
 #include <spdlog/spdlog.h>
 
+#include "base/hash.hpp"
 #include "runtime/atomic_file.hpp"
 #include "runtime/node.hpp"
 #include "runtime/utc_time.hpp"
@@ -80,6 +88,101 @@ Shard parse_shard(const std::string& text) {
   if (s.count < 1 || s.index < 0 || s.index >= s.count)
     throw std::invalid_argument("--shard " + text + ": need 0 <= i < n");
   return s;
+}
+
+namespace {
+
+// A scheduler variable's value as a non-negative integer; anything else names the variable.
+int env_integer(const std::string& name, const std::string& value) {
+  size_t used = 0;
+  long long v = -1;
+  try {
+    v = std::stoll(value, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used == 0 || used != value.size() || v < 0 || v > std::numeric_limits<int>::max())
+    throw std::invalid_argument("environment variable " + name +
+                                " should be a non-negative integer, got '" + value + "'");
+  return static_cast<int>(v);
+}
+
+}  // namespace
+
+std::optional<ShardFromEnvironment> shard_from_environment(const EnvironmentLookup& env,
+                                                           std::optional<int> count_option) {
+  ShardFromEnvironment out;
+  if (const auto id = env("SLURM_ARRAY_TASK_ID")) {
+    const auto count = env("SLURM_ARRAY_TASK_COUNT");
+    if (!count)
+      throw std::invalid_argument(
+          "SLURM_ARRAY_TASK_ID is set but SLURM_ARRAY_TASK_COUNT is not; pass --shard I/N");
+    const auto min = env("SLURM_ARRAY_TASK_MIN");
+    const int task = env_integer("SLURM_ARRAY_TASK_ID", *id);
+    const int first = min ? env_integer("SLURM_ARRAY_TASK_MIN", *min) : 0;
+    out.shard.count = env_integer("SLURM_ARRAY_TASK_COUNT", *count);
+    out.shard.index = task - first;
+    out.source = "SLURM_ARRAY_TASK_ID=" + *id + " (SLURM_ARRAY_TASK_MIN=" + (min ? *min : "0") +
+                 ", SLURM_ARRAY_TASK_COUNT=" + *count + ")";
+    if (out.shard.count < 1 || out.shard.index < 0 || out.shard.index >= out.shard.count)
+      throw std::invalid_argument(
+          out.source +
+          " is not shard 0 <= ID - MIN < COUNT: submit the array as a contiguous range (e.g. "
+          "--array=0-3), or pass --shard I/N");
+    return out;
+  }
+  if (const auto index = env("JOB_COMPLETION_INDEX")) {
+    std::optional<int> count = count_option;
+    std::string count_source = "--shard-count";
+    if (!count) {
+      const auto from_env = env("GSLIFT_SHARD_COUNT");
+      if (!from_env)
+        throw std::invalid_argument(
+            "JOB_COMPLETION_INDEX is set but not the shard count: pass --shard-count N or set "
+            "GSLIFT_SHARD_COUNT to the Job's completions");
+      count = env_integer("GSLIFT_SHARD_COUNT", *from_env);
+      count_source = "GSLIFT_SHARD_COUNT";
+    }
+    out.shard.index = env_integer("JOB_COMPLETION_INDEX", *index);
+    out.shard.count = *count;
+    out.source =
+        "JOB_COMPLETION_INDEX=" + *index + " (" + count_source + " " + std::to_string(*count) + ")";
+    if (out.shard.count < 1 || out.shard.index >= out.shard.count)
+      throw std::invalid_argument(out.source + ": need 0 <= index < count");
+    return out;
+  }
+  return std::nullopt;
+}
+
+std::vector<ManifestEntry> discover_captures(const fs::path& dir, const fs::path& out_root) {
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec))
+    throw InputError("--discover " + dir.string() + " is not a folder");
+  const fs::path out_canonical = fs::weakly_canonical(out_root, ec);
+  std::vector<ManifestEntry> out;
+  fs::directory_iterator it(dir, ec);
+  if (ec) throw InputError("cannot list --discover " + dir.string() + ": " + ec.message());
+  for (const auto& entry : it) {
+    const std::string name = entry.path().filename().string();
+    if (name.empty() || name[0] == '.' || name[0] == '_' || !fs::is_directory(entry.path(), ec))
+      continue;
+    if (fs::weakly_canonical(entry.path(), ec) == out_canonical) continue;
+    ManifestEntry e;
+    e.path = entry.path().string();
+    e.name = output_name(name);
+    if (fs::exists(out_root / e.name / "_DONE", ec)) continue;
+    // The shard of a capture is a function of its name alone, so array tasks that discover at
+    // slightly different moments still agree on who takes which capture.
+    e.index = static_cast<size_t>(fnv1a64(e.name));
+    out.push_back(std::move(e));
+  }
+  std::sort(out.begin(), out.end(),
+            [](const ManifestEntry& a, const ManifestEntry& b) { return a.name < b.name; });
+  for (size_t i = 1; i < out.size(); ++i)
+    if (out[i].name == out[i - 1].name)
+      throw InputError("--discover " + dir.string() + ": folders '" + out[i - 1].path + "' and '" +
+                       out[i].path + "' have the same output folder name '" + out[i].name + "'");
+  return out;
 }
 
 const char* to_string(CaptureStatus s) {
@@ -187,6 +290,52 @@ CaptureOutcome run_capture_once(const ManifestEntry& e, const fs::path& out_root
   return outcome;
 }
 
+// Merges every _summary-<i><suffix> in out_root into _summary.json. The lock makes the list and
+// the write one step, so the shard that finishes last cannot be overwritten by an earlier one's
+// merge that did not see its file.
+void merge_shard_summaries(const fs::path& out_root, const std::string& suffix) {
+  const fs::path lock_file = out_root / ".summary.lock";
+  const int fd = ::open(lock_file.c_str(), O_CREAT | O_RDWR | O_CLOEXEC, 0644);
+  if (fd < 0) throw std::runtime_error("cannot open " + lock_file.string());
+  struct Unlock {
+    int fd;
+    ~Unlock() { ::close(fd); }  // closing releases the flock
+  } unlock{fd};
+  while (::flock(fd, LOCK_EX) != 0)
+    if (errno != EINTR) throw std::runtime_error("cannot lock " + lock_file.string());
+  std::vector<json> rows;
+  std::vector<int> shards;
+  bool interrupted = false;
+  for (const auto& entry : fs::directory_iterator(out_root)) {
+    const std::string name = entry.path().filename().string();
+    if (name.rfind("_summary-", 0) != 0 || name.size() <= suffix.size() + 9 ||
+        name.compare(name.size() - suffix.size(), suffix.size(), suffix) != 0)
+      continue;
+    std::ifstream in(entry.path());
+    const json part = json::parse(in, nullptr, false);
+    if (part.is_discarded() || !part.contains("captures")) {
+      spdlog::warn("{}: not a shard summary, left out of _summary.json", entry.path().string());
+      continue;
+    }
+    shards.push_back(std::stoi(name.substr(9)));
+    interrupted |= part.value("interrupted", false);
+    for (const auto& row : part["captures"]) rows.push_back(row);
+  }
+  std::sort(rows.begin(), rows.end(),
+            [](const json& a, const json& b) { return a.value("name", "") < b.value("name", ""); });
+  std::sort(shards.begin(), shards.end());
+  std::map<std::string, int> counts = {{"done", 0}, {"skipped", 0}, {"failed", 0}};
+  for (const auto& row : rows) ++counts[row.value("status", "")];
+  json merged = {{"captures", rows},
+                 {"done", counts["done"]},
+                 {"skipped", counts["skipped"]},
+                 {"failed", counts["failed"]},
+                 {"interrupted", interrupted},
+                 {"shards_merged", shards},
+                 {"shard_count", std::stoi(suffix.substr(2))}};
+  write_file_atomically(out_root / "_summary.json", merged.dump(2) + "\n");
+}
+
 }  // namespace
 
 BatchSummary run_batch(const std::vector<ManifestEntry>& manifest, const fs::path& out_root,
@@ -213,10 +362,14 @@ BatchSummary run_batch(const std::vector<ManifestEntry>& manifest, const fs::pat
       break;
     }
   }
-  const std::string file = shard.count == 1 ? "_summary.json"
-                                            : "_summary-" + std::to_string(shard.index) + "of" +
-                                                  std::to_string(shard.count) + ".json";
-  write_file_atomically(out_root / file, summary.json().dump(2) + "\n");
+  if (shard.count == 1) {
+    write_file_atomically(out_root / "_summary.json", summary.json().dump(2) + "\n");
+    return summary;
+  }
+  const std::string suffix = "of" + std::to_string(shard.count) + ".json";
+  write_file_atomically(out_root / ("_summary-" + std::to_string(shard.index) + suffix),
+                        summary.json().dump(2) + "\n");
+  merge_shard_summaries(out_root, suffix);
   return summary;
 }
 

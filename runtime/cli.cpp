@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <limits>
 #include <map>
@@ -277,15 +278,22 @@ const std::vector<Command>& commands() {
        cmd_nodes},
       {"batch", "run a graph over many captures",
        "usage: gslift batch MANIFEST GRAPH --out DIR [--shard I/N] [--set NODE.PARAM=VALUE]...\n"
-       "                    [--threads N] [--seed S] [--log-level L]\n\n"
+       "                    [--threads N] [--seed S] [--log-level L]\n"
+       "       gslift batch --discover DIR GRAPH --out OUT [options as above]\n\n"
        "MANIFEST lists one capture path per line ('#' comments; relative paths are relative to\n"
        "the manifest). Each capture's results go to DIR/<capture name>/, written under a\n"
        "temporary name and renamed when finished, with a _DONE marker: a rerun skips finished\n"
        "captures. A failed capture gets _FAILED.json and the others go on. A summary table is\n"
-       "printed and written to DIR/_summary.json (_summary-IofN.json with --shard).\n\n"
+       "printed and written to DIR/_summary.json (with shards, each writes _summary-IofN.json and\n"
+       "_summary.json merges those present). docs/batch-cluster.md: Slurm, Kubernetes, nightly.\n\n"
        "options:\n"
        "  --out DIR               results root (required)\n"
-       "  --shard I/N             take the captures whose index % N == I (Slurm/K8s arrays)\n"
+       "  --discover DIR          the captures are DIR's subfolders without OUT/<name>/_DONE\n"
+       "                          (names starting with '.' or '_' are left out)\n"
+       "  --shard I/N             take the captures whose index % N == I; without it, from\n"
+       "                          SLURM_ARRAY_TASK_ID/_MIN/_COUNT or JOB_COMPLETION_INDEX\n"
+       "  --shard-count N         the shard count with JOB_COMPLETION_INDEX (Kubernetes Indexed\n"
+       "                          Job completions; or set GSLIFT_SHARD_COUNT)\n"
        "  --set NODE.PARAM=VALUE  override a param (repeatable); NODE.type=TYPE swaps a stage,\n"
        "                          NAME=VALUE sets the graph param NAME\n"
        "  --threads N             worker threads per capture, 0 = all cores (default 0, at most "
@@ -381,22 +389,44 @@ int cmd_nodes(int argc, char** argv, const Registry& registry) {
 }
 
 int cmd_batch(int argc, char** argv, const Registry& registry) {
-  const Args args =
-      parse_args(argc, argv, 2, {"set", "out", "shard", "threads", "seed", "log-level"}, {"help"});
+  const Args args = parse_args(
+      argc, argv, 2,
+      {"set", "out", "shard", "shard-count", "discover", "threads", "seed", "log-level"}, {"help"});
   if (args.flags.count("help")) return print_command_help(command_named("batch")), 0;
-  if (args.positional.size() != 2) throw UsageError("batch expects MANIFEST and GRAPH");
+  const bool discover = args.has("discover");
+  if (args.positional.size() != (discover ? 1u : 2u))
+    throw UsageError(discover ? "batch --discover DIR expects GRAPH only"
+                              : "batch expects MANIFEST and GRAPH");
   if (!args.has("out")) throw UsageError("batch needs --out DIR");
   check_output_folder(args.last("out"));
   set_up_logging(args);
   Shard shard;
   try {
-    if (args.has("shard")) shard = parse_shard(args.last("shard"));
+    std::optional<int> shard_count;
+    if (args.has("shard-count"))
+      shard_count = static_cast<int>(parse_integer("shard-count", args.last("shard-count"), 1,
+                                                   std::numeric_limits<int>::max()));
+    if (args.has("shard")) {
+      shard = parse_shard(args.last("shard"));
+    } else if (const auto from_env = shard_from_environment(
+                   [](const std::string& name) -> std::optional<std::string> {
+                     const char* v = std::getenv(name.c_str());
+                     return v ? std::optional<std::string>(v) : std::nullopt;
+                   },
+                   shard_count)) {
+      shard = from_env->shard;
+      spdlog::info("shard {}/{} from {}", shard.index, shard.count, from_env->source);
+    }
   } catch (const std::invalid_argument& e) {
     throw UsageError(e.what());
   }
   const RunOptions base = command_line_run_options(args);
-  const auto manifest = read_manifest(args.positional[0]);
-  const std::string graph_file = args.positional[1];
+  const auto manifest = discover ? discover_captures(args.last("discover"), args.last("out"))
+                                 : read_manifest(args.positional[0]);
+  const std::string graph_file = args.positional[discover ? 0 : 1];
+  if (discover)
+    spdlog::info("discovered {} capture(s) without a result under {}", manifest.size(),
+                 args.last("discover"));
   // Validate once up front (with the shard's first capture as ${input}) so that a broken graph
   // is one error, not one failure per capture.
   for (const auto& e : manifest) {
