@@ -217,7 +217,8 @@ json BatchSummary::json() const {
           {"done", count(CaptureStatus::Done)},
           {"skipped", count(CaptureStatus::Skipped)},
           {"failed", count(CaptureStatus::Failed)},
-          {"interrupted", interrupted}};
+          {"interrupted", interrupted},
+          {"cannot_write", cannot_write}};
 }
 
 std::string BatchSummary::table() const {
@@ -235,7 +236,9 @@ std::string BatchSummary::table() const {
   }
   std::snprintf(row, sizeof row, "%d done, %d skipped, %d failed%s\n", count(CaptureStatus::Done),
                 count(CaptureStatus::Skipped), count(CaptureStatus::Failed),
-                interrupted ? ", interrupted" : "");
+                cannot_write  ? ", stopped: results cannot be written"
+                : interrupted ? ", interrupted"
+                              : "");
   return out + row;
 }
 
@@ -243,7 +246,8 @@ namespace {
 
 // One capture: run into a temporary folder, mark it, rename it into place.
 CaptureOutcome run_capture_once(const ManifestEntry& e, const fs::path& out_root,
-                                const CaptureRunner& run_capture, const std::atomic<bool>* cancel) {
+                                const CaptureRunner& run_capture,
+                                const std::atomic<bool>* cancel) try {
   CaptureOutcome outcome;
   outcome.name = e.name;
   outcome.path = e.path;
@@ -254,12 +258,18 @@ CaptureOutcome run_capture_once(const ManifestEntry& e, const fs::path& out_root
   }
   const fs::path tmp = out_root / ("." + e.name + ".partial");
   fs::remove_all(tmp);
-  fs::create_directories(tmp);
+  std::error_code ec;
+  fs::create_directories(tmp, ec);
+  if (ec) throw OutputError("cannot create " + tmp.string() + ": " + ec.message());
   const auto t0 = std::chrono::steady_clock::now();
   std::optional<RunResult> result;
   try {
     result = run_capture(e, tmp);
     if (!result->ok()) outcome.error = result->error ? result->error->str() : "failed";
+    outcome.cannot_write = result->error && result->error->kind == RunError::Kind::Output;
+  } catch (const OutputError& ex) {  // run.json could not be written
+    outcome.error = ex.what();
+    outcome.cannot_write = true;
   } catch (const std::exception& ex) {
     outcome.error = ex.what();
   }
@@ -269,6 +279,12 @@ CaptureOutcome run_capture_once(const ManifestEntry& e, const fs::path& out_root
   if (interrupted) {
     fs::remove_all(tmp);
     outcome.status = CaptureStatus::Interrupted;
+    return outcome;
+  }
+  if (outcome.cannot_write) {
+    // No marker: the capture did not fail, its disk did; a rerun after freeing space redoes it.
+    fs::remove_all(tmp);
+    outcome.status = CaptureStatus::Failed;
     return outcome;
   }
   json marker = {{"capture", e.name},
@@ -286,8 +302,16 @@ CaptureOutcome run_capture_once(const ManifestEntry& e, const fs::path& out_root
   }
   // A failed capture's folder from an earlier run is replaced by this attempt's.
   fs::remove_all(final_dir);
-  fs::rename(tmp, final_dir);
+  fs::rename(tmp, final_dir, ec);
+  if (ec)
+    throw OutputError("cannot rename " + tmp.string() + " to " + final_dir.string() + ": " +
+                      ec.message());
   return outcome;
+} catch (const OutputError&) {
+  // The marker could not be written: no half-finished capture stays behind.
+  std::error_code ec;
+  fs::remove_all(out_root / ("." + e.name + ".partial"), ec);
+  throw;
 }
 
 // Merges every _summary-<i><suffix> in out_root into _summary.json. The lock makes the list and
@@ -341,7 +365,9 @@ void merge_shard_summaries(const fs::path& out_root, const std::string& suffix) 
 BatchSummary run_batch(const std::vector<ManifestEntry>& manifest, const fs::path& out_root,
                        Shard shard, const CaptureRunner& run_capture,
                        const std::atomic<bool>* cancel) {
-  fs::create_directories(out_root);
+  std::error_code ec;
+  fs::create_directories(out_root, ec);
+  if (ec) throw OutputError("cannot create " + out_root.string() + ": " + ec.message());
   BatchSummary summary;
   for (const auto& e : manifest) {
     if (!shard.takes(e.index)) continue;
@@ -355,21 +381,29 @@ BatchSummary run_batch(const std::vector<ManifestEntry>& manifest, const fs::pat
       spdlog::error("capture {} failed: {}", e.name, outcome.error);
     else
       spdlog::info("capture {}: {}", e.name, to_string(outcome.status));
-    const bool stop = outcome.status == CaptureStatus::Interrupted;
+    const bool stop = outcome.status == CaptureStatus::Interrupted || outcome.cannot_write;
+    summary.cannot_write = outcome.cannot_write;
     summary.captures.push_back(std::move(outcome));
     if (stop) {
       summary.interrupted = true;
       break;
     }
   }
-  if (shard.count == 1) {
-    write_file_atomically(out_root / "_summary.json", summary.json().dump(2) + "\n");
-    return summary;
+  // A disk that filled up may not take the summary either: that is said, and the summary is
+  // still returned (and printed by the command line).
+  try {
+    if (shard.count == 1) {
+      write_file_atomically(out_root / "_summary.json", summary.json().dump(2) + "\n");
+    } else {
+      const std::string suffix = "of" + std::to_string(shard.count) + ".json";
+      write_file_atomically(out_root / ("_summary-" + std::to_string(shard.index) + suffix),
+                            summary.json().dump(2) + "\n");
+      merge_shard_summaries(out_root, suffix);
+    }
+  } catch (const OutputError& e) {
+    spdlog::error("{}", e.what());
+    summary.cannot_write = true;
   }
-  const std::string suffix = "of" + std::to_string(shard.count) + ".json";
-  write_file_atomically(out_root / ("_summary-" + std::to_string(shard.index) + suffix),
-                        summary.json().dump(2) + "\n");
-  merge_shard_summaries(out_root, suffix);
   return summary;
 }
 

@@ -76,12 +76,16 @@ struct CaptureOutcome {
   std::string path;
   CaptureStatus status = CaptureStatus::Done;
   double seconds = 0;
-  std::string error;  // RunError::str() or the exception text, when failed
+  std::string error;          // RunError::str() or the exception text, when failed
+  bool cannot_write = false;  // failed because results could not be written (disk full, ...)
 };
 
 struct BatchSummary {
   std::vector<CaptureOutcome> captures;  // this shard's captures, manifest order
   bool interrupted = false;              // stopped early; later captures are absent
+  // Stopped early because a capture's results could not be written (OutputError: disk full,
+  // read-only folder): the rest would fail alike. The command line exits kCannotWrite.
+  bool cannot_write = false;
   int count(CaptureStatus s) const;
   nlohmann::json json() const;
   // A fixed-width table, one row per capture, then the totals.
@@ -94,7 +98,9 @@ using CaptureRunner =
     std::function<RunResult(const ManifestEntry& capture, const std::filesystem::path& out_dir)>;
 
 // Runs the shard's captures one after the other into out_root/<name>/. Stops after the current
-// capture when *cancel becomes true (its temporary folder is removed). Writes the summary to
+// capture when *cancel becomes true (its temporary folder is removed), or when it could not be
+// written (its temporary folder is removed; when not even the summary can be written, the
+// OutputError propagates). Writes the summary to
 // out_root/_summary.json and returns it. With several shards each writes
 // out_root/_summary-<i>of<n>.json and then, under a lock on out_root/.summary.lock, merges every
 // _summary-*of<n>.json there into out_root/_summary.json (rows by name, counts summed, the

@@ -4,8 +4,10 @@
 #include "runtime/cli.hpp"
 
 #include <algorithm>
+#include <cerrno>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <limits>
 #include <map>
@@ -15,12 +17,15 @@
 #include <string>
 #include <vector>
 
+#include <unistd.h>
+
 #include <oneapi/tbb/global_control.h>
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 
 #include "graph/loader.hpp"
 #include "graph/suggest.hpp"
+#include "runtime/atomic_file.hpp"
 #include "runtime/batch.hpp"
 #include "runtime/executor.hpp"
 #include "runtime/exit_codes.hpp"
@@ -50,6 +55,7 @@ constexpr const char* kExitCodes =
     "  5    a node failed while running\n"
     "  6    batch: some captures failed, the others are done\n"
     "  70   internal error (a bug)\n"
+    "  73   cannot write the results: disk full, read-only or unwritable folder (path named)\n"
     "  130  interrupted (SIGINT/SIGTERM)\n";
 
 // The parsed options of one command: --name value / --name=value, repeatable ones collected.
@@ -138,6 +144,12 @@ void check_output_folder(const fs::path& out) {
   std::error_code ec;
   if (fs::exists(out, ec) && !fs::is_directory(out, ec))
     throw InputError("--out " + out.string() + " exists and is not a folder");
+  // Created (and its writability tried) before anything runs: a read-only or unwritable folder
+  // is one clear error, not a run that fails at its first output.
+  fs::create_directories(out, ec);
+  if (ec) throw OutputError("cannot create --out " + out.string() + ": " + ec.message());
+  if (::access(out.c_str(), W_OK | X_OK) != 0)
+    throw OutputError("cannot write in --out " + out.string() + ": " + std::strerror(errno));
 }
 
 int64_t parse_threads(const Args& args) {
@@ -211,6 +223,7 @@ RunOptions command_line_run_options(const Args& args) {
 int exit_code_of(const RunResult& r) {
   if (r.status == RunStatus::Ok) return exit_code::kOk;
   if (r.status == RunStatus::Interrupted) return exit_code::kInterrupted;
+  if (r.error && r.error->kind == RunError::Kind::Output) return exit_code::kCannotWrite;
   return r.error && r.error->kind == RunError::Kind::BadInput ? exit_code::kBadInput
                                                               : exit_code::kNodeFailed;
 }
@@ -342,6 +355,9 @@ int cmd_run(int argc, char** argv, const Registry& registry) {
   opt.seed = run_seed(*graph);
   opt.out_dir = args.last("out", (fs::path("out") / graph->name).string());
   check_output_folder(opt.out_dir);
+  if (const size_t stale = remove_stale_temporaries(opt.out_dir))
+    spdlog::info("removed {} unfinished file(s) left in {} by a killed run", stale,
+                 opt.out_dir.string());
   ConsoleProgress progress(is_terminal(stderr), stderr);
   opt.progress = &progress;
   install_interrupt_handlers();
@@ -457,6 +473,7 @@ int cmd_batch(int argc, char** argv, const Registry& registry) {
   const BatchSummary summary =
       run_batch(manifest, args.last("out"), shard, run_capture, &interrupt_flag());
   std::printf("%s", summary.table().c_str());
+  if (summary.cannot_write) return exit_code::kCannotWrite;
   if (summary.interrupted) return exit_code::kInterrupted;
   return summary.count(CaptureStatus::Failed) ? exit_code::kBatchPartial : exit_code::kOk;
 }
@@ -535,6 +552,9 @@ int cli_main(int argc, char** argv, const Registry& registry,
   } catch (const InputError& e) {
     std::fprintf(stderr, "error: %s\n", e.what());
     return exit_code::kBadInput;
+  } catch (const OutputError& e) {
+    std::fprintf(stderr, "error: %s\n", e.what());
+    return exit_code::kCannotWrite;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "internal error: %s\n", e.what());
     return exit_code::kInternal;
