@@ -244,6 +244,17 @@ std::string BatchSummary::table() const {
 
 namespace {
 
+// Each capture's run.json then reports its own peak memory rather than the batch's so far, which
+// is what shows whether memory stays flat from one capture to the next: writing 5 to
+// /proc/self/clear_refs resets the peak RSS that getrusage reports (Linux >= 4.0, proc(5));
+// elsewhere, or when /proc is absent, the peak stays the process's.
+void reset_peak_rss() {
+  if (std::FILE* f = std::fopen("/proc/self/clear_refs", "w")) {
+    std::fputs("5", f);
+    std::fclose(f);
+  }
+}
+
 // One capture: run into a temporary folder, mark it, rename it into place.
 CaptureOutcome run_capture_once(const ManifestEntry& e, const fs::path& out_root,
                                 const CaptureRunner& run_capture,
@@ -261,6 +272,7 @@ CaptureOutcome run_capture_once(const ManifestEntry& e, const fs::path& out_root
   std::error_code ec;
   fs::create_directories(tmp, ec);
   if (ec) throw OutputError("cannot create " + tmp.string() + ": " + ec.message());
+  reset_peak_rss();
   const auto t0 = std::chrono::steady_clock::now();
   std::optional<RunResult> result;
   try {
