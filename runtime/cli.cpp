@@ -414,7 +414,6 @@ int cmd_batch(int argc, char** argv, const Registry& registry) {
     throw UsageError(discover ? "batch --discover DIR expects GRAPH only"
                               : "batch expects MANIFEST and GRAPH");
   if (!args.has("out")) throw UsageError("batch needs --out DIR");
-  check_output_folder(args.last("out"));
   set_up_logging(args);
   Shard shard;
   try {
@@ -437,6 +436,7 @@ int cmd_batch(int argc, char** argv, const Registry& registry) {
     throw UsageError(e.what());
   }
   const RunOptions base = command_line_run_options(args);
+  check_output_folder(args.last("out"));
   const auto manifest = discover ? discover_captures(args.last("discover"), args.last("out"))
                                  : read_manifest(args.positional[0]);
   const std::string graph_file = args.positional[discover ? 0 : 1];
