@@ -13,4 +13,11 @@ struct InputError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// Thrown when results cannot be written (disk full, read-only or unwritable folder): the message
+// names the file or folder and the system's reason. The CLI exits with the "cannot write" code,
+// which a scheduler should not retry before someone frees space or fixes permissions.
+struct OutputError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
 }  // namespace gslift

@@ -1,13 +1,21 @@
 #include "runtime/batch.hpp"
 
+#include <algorithm>
+#include <cerrno>
 #include <chrono>
 #include <cstdio>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <stdexcept>
 
+#include <fcntl.h>
+#include <sys/file.h>
+#include <unistd.h>
+
 #include <spdlog/spdlog.h>
 
+#include "base/hash.hpp"
 #include "runtime/atomic_file.hpp"
 #include "runtime/node.hpp"
 #include "runtime/utc_time.hpp"
@@ -82,6 +90,101 @@ Shard parse_shard(const std::string& text) {
   return s;
 }
 
+namespace {
+
+// A scheduler variable's value as a non-negative integer; anything else names the variable.
+int env_integer(const std::string& name, const std::string& value) {
+  size_t used = 0;
+  long long v = -1;
+  try {
+    v = std::stoll(value, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used == 0 || used != value.size() || v < 0 || v > std::numeric_limits<int>::max())
+    throw std::invalid_argument("environment variable " + name +
+                                " should be a non-negative integer, got '" + value + "'");
+  return static_cast<int>(v);
+}
+
+}  // namespace
+
+std::optional<ShardFromEnvironment> shard_from_environment(const EnvironmentLookup& env,
+                                                           std::optional<int> count_option) {
+  ShardFromEnvironment out;
+  if (const auto id = env("SLURM_ARRAY_TASK_ID")) {
+    const auto count = env("SLURM_ARRAY_TASK_COUNT");
+    if (!count)
+      throw std::invalid_argument(
+          "SLURM_ARRAY_TASK_ID is set but SLURM_ARRAY_TASK_COUNT is not; pass --shard I/N");
+    const auto min = env("SLURM_ARRAY_TASK_MIN");
+    const int task = env_integer("SLURM_ARRAY_TASK_ID", *id);
+    const int first = min ? env_integer("SLURM_ARRAY_TASK_MIN", *min) : 0;
+    out.shard.count = env_integer("SLURM_ARRAY_TASK_COUNT", *count);
+    out.shard.index = task - first;
+    out.source = "SLURM_ARRAY_TASK_ID=" + *id + " (SLURM_ARRAY_TASK_MIN=" + (min ? *min : "0") +
+                 ", SLURM_ARRAY_TASK_COUNT=" + *count + ")";
+    if (out.shard.count < 1 || out.shard.index < 0 || out.shard.index >= out.shard.count)
+      throw std::invalid_argument(
+          out.source +
+          " is not shard 0 <= ID - MIN < COUNT: submit the array as a contiguous range (e.g. "
+          "--array=0-3), or pass --shard I/N");
+    return out;
+  }
+  if (const auto index = env("JOB_COMPLETION_INDEX")) {
+    std::optional<int> count = count_option;
+    std::string count_source = "--shard-count";
+    if (!count) {
+      const auto from_env = env("GSLIFT_SHARD_COUNT");
+      if (!from_env)
+        throw std::invalid_argument(
+            "JOB_COMPLETION_INDEX is set but not the shard count: pass --shard-count N or set "
+            "GSLIFT_SHARD_COUNT to the Job's completions");
+      count = env_integer("GSLIFT_SHARD_COUNT", *from_env);
+      count_source = "GSLIFT_SHARD_COUNT";
+    }
+    out.shard.index = env_integer("JOB_COMPLETION_INDEX", *index);
+    out.shard.count = *count;
+    out.source =
+        "JOB_COMPLETION_INDEX=" + *index + " (" + count_source + " " + std::to_string(*count) + ")";
+    if (out.shard.count < 1 || out.shard.index >= out.shard.count)
+      throw std::invalid_argument(out.source + ": need 0 <= index < count");
+    return out;
+  }
+  return std::nullopt;
+}
+
+std::vector<ManifestEntry> discover_captures(const fs::path& dir, const fs::path& out_root) {
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec))
+    throw InputError("--discover " + dir.string() + " is not a folder");
+  const fs::path out_canonical = fs::weakly_canonical(out_root, ec);
+  std::vector<ManifestEntry> out;
+  fs::directory_iterator it(dir, ec);
+  if (ec) throw InputError("cannot list --discover " + dir.string() + ": " + ec.message());
+  for (const auto& entry : it) {
+    const std::string name = entry.path().filename().string();
+    if (name.empty() || name[0] == '.' || name[0] == '_' || !fs::is_directory(entry.path(), ec))
+      continue;
+    if (fs::weakly_canonical(entry.path(), ec) == out_canonical) continue;
+    ManifestEntry e;
+    e.path = entry.path().string();
+    e.name = output_name(name);
+    if (fs::exists(out_root / e.name / "_DONE", ec)) continue;
+    // The shard of a capture is a function of its name alone, so array tasks that discover at
+    // slightly different moments still agree on who takes which capture.
+    e.index = static_cast<size_t>(fnv1a64(e.name));
+    out.push_back(std::move(e));
+  }
+  std::sort(out.begin(), out.end(),
+            [](const ManifestEntry& a, const ManifestEntry& b) { return a.name < b.name; });
+  for (size_t i = 1; i < out.size(); ++i)
+    if (out[i].name == out[i - 1].name)
+      throw InputError("--discover " + dir.string() + ": folders '" + out[i - 1].path + "' and '" +
+                       out[i].path + "' have the same output folder name '" + out[i].name + "'");
+  return out;
+}
+
 const char* to_string(CaptureStatus s) {
   switch (s) {
     case CaptureStatus::Done:
@@ -114,7 +217,8 @@ json BatchSummary::json() const {
           {"done", count(CaptureStatus::Done)},
           {"skipped", count(CaptureStatus::Skipped)},
           {"failed", count(CaptureStatus::Failed)},
-          {"interrupted", interrupted}};
+          {"interrupted", interrupted},
+          {"cannot_write", cannot_write}};
 }
 
 std::string BatchSummary::table() const {
@@ -132,15 +236,29 @@ std::string BatchSummary::table() const {
   }
   std::snprintf(row, sizeof row, "%d done, %d skipped, %d failed%s\n", count(CaptureStatus::Done),
                 count(CaptureStatus::Skipped), count(CaptureStatus::Failed),
-                interrupted ? ", interrupted" : "");
+                cannot_write  ? ", stopped: results cannot be written"
+                : interrupted ? ", interrupted"
+                              : "");
   return out + row;
 }
 
 namespace {
 
+// Each capture's run.json then reports its own peak memory rather than the batch's so far, which
+// is what shows whether memory stays flat from one capture to the next: writing 5 to
+// /proc/self/clear_refs resets the peak RSS that getrusage reports (Linux >= 4.0, proc(5));
+// elsewhere, or when /proc is absent, the peak stays the process's.
+void reset_peak_rss() {
+  if (std::FILE* f = std::fopen("/proc/self/clear_refs", "w")) {
+    std::fputs("5", f);
+    std::fclose(f);
+  }
+}
+
 // One capture: run into a temporary folder, mark it, rename it into place.
 CaptureOutcome run_capture_once(const ManifestEntry& e, const fs::path& out_root,
-                                const CaptureRunner& run_capture, const std::atomic<bool>* cancel) {
+                                const CaptureRunner& run_capture,
+                                const std::atomic<bool>* cancel) try {
   CaptureOutcome outcome;
   outcome.name = e.name;
   outcome.path = e.path;
@@ -151,12 +269,19 @@ CaptureOutcome run_capture_once(const ManifestEntry& e, const fs::path& out_root
   }
   const fs::path tmp = out_root / ("." + e.name + ".partial");
   fs::remove_all(tmp);
-  fs::create_directories(tmp);
+  std::error_code ec;
+  fs::create_directories(tmp, ec);
+  if (ec) throw OutputError("cannot create " + tmp.string() + ": " + ec.message());
+  reset_peak_rss();
   const auto t0 = std::chrono::steady_clock::now();
   std::optional<RunResult> result;
   try {
     result = run_capture(e, tmp);
     if (!result->ok()) outcome.error = result->error ? result->error->str() : "failed";
+    outcome.cannot_write = result->error && result->error->kind == RunError::Kind::Output;
+  } catch (const OutputError& ex) {  // run.json could not be written
+    outcome.error = ex.what();
+    outcome.cannot_write = true;
   } catch (const std::exception& ex) {
     outcome.error = ex.what();
   }
@@ -166,6 +291,12 @@ CaptureOutcome run_capture_once(const ManifestEntry& e, const fs::path& out_root
   if (interrupted) {
     fs::remove_all(tmp);
     outcome.status = CaptureStatus::Interrupted;
+    return outcome;
+  }
+  if (outcome.cannot_write) {
+    // No marker: the capture did not fail, its disk did; a rerun after freeing space redoes it.
+    fs::remove_all(tmp);
+    outcome.status = CaptureStatus::Failed;
     return outcome;
   }
   json marker = {{"capture", e.name},
@@ -183,8 +314,62 @@ CaptureOutcome run_capture_once(const ManifestEntry& e, const fs::path& out_root
   }
   // A failed capture's folder from an earlier run is replaced by this attempt's.
   fs::remove_all(final_dir);
-  fs::rename(tmp, final_dir);
+  fs::rename(tmp, final_dir, ec);
+  if (ec)
+    throw OutputError("cannot rename " + tmp.string() + " to " + final_dir.string() + ": " +
+                      ec.message());
   return outcome;
+} catch (const OutputError&) {
+  // The marker could not be written: no half-finished capture stays behind.
+  std::error_code ec;
+  fs::remove_all(out_root / ("." + e.name + ".partial"), ec);
+  throw;
+}
+
+// Merges every _summary-<i><suffix> in out_root into _summary.json. The lock makes the list and
+// the write one step, so the shard that finishes last cannot be overwritten by an earlier one's
+// merge that did not see its file.
+void merge_shard_summaries(const fs::path& out_root, const std::string& suffix) {
+  const fs::path lock_file = out_root / ".summary.lock";
+  const int fd = ::open(lock_file.c_str(), O_CREAT | O_RDWR | O_CLOEXEC, 0644);
+  if (fd < 0) throw std::runtime_error("cannot open " + lock_file.string());
+  struct Unlock {
+    int fd;
+    ~Unlock() { ::close(fd); }  // closing releases the flock
+  } unlock{fd};
+  while (::flock(fd, LOCK_EX) != 0)
+    if (errno != EINTR) throw std::runtime_error("cannot lock " + lock_file.string());
+  std::vector<json> rows;
+  std::vector<int> shards;
+  bool interrupted = false;
+  for (const auto& entry : fs::directory_iterator(out_root)) {
+    const std::string name = entry.path().filename().string();
+    if (name.rfind("_summary-", 0) != 0 || name.size() <= suffix.size() + 9 ||
+        name.compare(name.size() - suffix.size(), suffix.size(), suffix) != 0)
+      continue;
+    std::ifstream in(entry.path());
+    const json part = json::parse(in, nullptr, false);
+    if (part.is_discarded() || !part.contains("captures")) {
+      spdlog::warn("{}: not a shard summary, left out of _summary.json", entry.path().string());
+      continue;
+    }
+    shards.push_back(std::stoi(name.substr(9)));
+    interrupted |= part.value("interrupted", false);
+    for (const auto& row : part["captures"]) rows.push_back(row);
+  }
+  std::sort(rows.begin(), rows.end(),
+            [](const json& a, const json& b) { return a.value("name", "") < b.value("name", ""); });
+  std::sort(shards.begin(), shards.end());
+  std::map<std::string, int> counts = {{"done", 0}, {"skipped", 0}, {"failed", 0}};
+  for (const auto& row : rows) ++counts[row.value("status", "")];
+  json merged = {{"captures", rows},
+                 {"done", counts["done"]},
+                 {"skipped", counts["skipped"]},
+                 {"failed", counts["failed"]},
+                 {"interrupted", interrupted},
+                 {"shards_merged", shards},
+                 {"shard_count", std::stoi(suffix.substr(2))}};
+  write_file_atomically(out_root / "_summary.json", merged.dump(2) + "\n");
 }
 
 }  // namespace
@@ -192,7 +377,9 @@ CaptureOutcome run_capture_once(const ManifestEntry& e, const fs::path& out_root
 BatchSummary run_batch(const std::vector<ManifestEntry>& manifest, const fs::path& out_root,
                        Shard shard, const CaptureRunner& run_capture,
                        const std::atomic<bool>* cancel) {
-  fs::create_directories(out_root);
+  std::error_code ec;
+  fs::create_directories(out_root, ec);
+  if (ec) throw OutputError("cannot create " + out_root.string() + ": " + ec.message());
   BatchSummary summary;
   for (const auto& e : manifest) {
     if (!shard.takes(e.index)) continue;
@@ -206,17 +393,29 @@ BatchSummary run_batch(const std::vector<ManifestEntry>& manifest, const fs::pat
       spdlog::error("capture {} failed: {}", e.name, outcome.error);
     else
       spdlog::info("capture {}: {}", e.name, to_string(outcome.status));
-    const bool stop = outcome.status == CaptureStatus::Interrupted;
+    const bool stop = outcome.status == CaptureStatus::Interrupted || outcome.cannot_write;
+    summary.cannot_write = outcome.cannot_write;
     summary.captures.push_back(std::move(outcome));
     if (stop) {
       summary.interrupted = true;
       break;
     }
   }
-  const std::string file = shard.count == 1 ? "_summary.json"
-                                            : "_summary-" + std::to_string(shard.index) + "of" +
-                                                  std::to_string(shard.count) + ".json";
-  write_file_atomically(out_root / file, summary.json().dump(2) + "\n");
+  // A disk that filled up may not take the summary either: that is said, and the summary is
+  // still returned (and printed by the command line).
+  try {
+    if (shard.count == 1) {
+      write_file_atomically(out_root / "_summary.json", summary.json().dump(2) + "\n");
+    } else {
+      const std::string suffix = "of" + std::to_string(shard.count) + ".json";
+      write_file_atomically(out_root / ("_summary-" + std::to_string(shard.index) + suffix),
+                            summary.json().dump(2) + "\n");
+      merge_shard_summaries(out_root, suffix);
+    }
+  } catch (const OutputError& e) {
+    spdlog::error("{}", e.what());
+    summary.cannot_write = true;
+  }
   return summary;
 }
 

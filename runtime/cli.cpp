@@ -4,7 +4,10 @@
 #include "runtime/cli.hpp"
 
 #include <algorithm>
+#include <cerrno>
 #include <cstdio>
+#include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -15,6 +18,8 @@
 #include <stdexcept>
 #include <string>
 #include <vector>
+
+#include <unistd.h>
 
 #include <oneapi/tbb/global_control.h>
 #include <spdlog/sinks/stdout_color_sinks.h>
@@ -57,6 +62,7 @@ constexpr const char* kExitCodes =
     "  5    a node failed while running\n"
     "  6    batch: some captures failed, the others are done; sweep: some runs failed\n"
     "  70   internal error (a bug)\n"
+    "  73   cannot write the results: disk full, read-only or unwritable folder (path named)\n"
     "  130  interrupted (SIGINT/SIGTERM)\n";
 
 // The parsed options of one command: --name value / --name=value, repeatable ones collected.
@@ -145,6 +151,12 @@ void check_output_folder(const fs::path& out) {
   std::error_code ec;
   if (fs::exists(out, ec) && !fs::is_directory(out, ec))
     throw InputError("--out " + out.string() + " exists and is not a folder");
+  // Created (and its writability tried) before anything runs: a read-only or unwritable folder
+  // is one clear error, not a run that fails at its first output.
+  fs::create_directories(out, ec);
+  if (ec) throw OutputError("cannot create --out " + out.string() + ": " + ec.message());
+  if (::access(out.c_str(), W_OK | X_OK) != 0)
+    throw OutputError("cannot write in --out " + out.string() + ": " + std::strerror(errno));
 }
 
 int64_t parse_threads(const Args& args) {
@@ -246,6 +258,7 @@ std::string cache_summary(const RunResult& r) {
 int exit_code_of(const RunResult& r) {
   if (r.status == RunStatus::Ok) return exit_code::kOk;
   if (r.status == RunStatus::Interrupted) return exit_code::kInterrupted;
+  if (r.error && r.error->kind == RunError::Kind::Output) return exit_code::kCannotWrite;
   return r.error && r.error->kind == RunError::Kind::BadInput ? exit_code::kBadInput
                                                               : exit_code::kNodeFailed;
 }
@@ -325,15 +338,22 @@ const std::vector<Command>& commands() {
        cmd_nodes},
       {"batch", "run a graph over many captures",
        "usage: gslift batch MANIFEST GRAPH --out DIR [--shard I/N] [--set NODE.PARAM=VALUE]...\n"
-       "                    [--threads N] [--seed S] [--log-level L]\n\n"
+       "                    [--threads N] [--seed S] [--log-level L]\n"
+       "       gslift batch --discover DIR GRAPH --out OUT [options as above]\n\n"
        "MANIFEST lists one capture path per line ('#' comments; relative paths are relative to\n"
        "the manifest). Each capture's results go to DIR/<capture name>/, written under a\n"
        "temporary name and renamed when finished, with a _DONE marker: a rerun skips finished\n"
        "captures. A failed capture gets _FAILED.json and the others go on. A summary table is\n"
-       "printed and written to DIR/_summary.json (_summary-IofN.json with --shard).\n\n"
+       "printed and written to DIR/_summary.json (with shards, each writes _summary-IofN.json and\n"
+       "_summary.json merges those present). docs/batch-cluster.md: Slurm, Kubernetes, nightly.\n\n"
        "options:\n"
        "  --out DIR               results root (required)\n"
-       "  --shard I/N             take the captures whose index % N == I (Slurm/K8s arrays)\n"
+       "  --discover DIR          the captures are DIR's subfolders without OUT/<name>/_DONE\n"
+       "                          (names starting with '.' or '_' are left out)\n"
+       "  --shard I/N             take the captures whose index % N == I; without it, from\n"
+       "                          SLURM_ARRAY_TASK_ID/_MIN/_COUNT or JOB_COMPLETION_INDEX\n"
+       "  --shard-count N         the shard count with JOB_COMPLETION_INDEX (Kubernetes Indexed\n"
+       "                          Job completions; or set GSLIFT_SHARD_COUNT)\n"
        "  --set NODE.PARAM=VALUE  override a param (repeatable); NODE.type=TYPE swaps a stage,\n"
        "                          NAME=VALUE sets the graph param NAME\n"
        "  --threads N             worker threads per capture, 0 = all cores (default 0, at most "
@@ -445,6 +465,9 @@ int cmd_run(int argc, char** argv, const Registry& registry) {
   check_output_folder(opt.out_dir);
   const auto cache = command_line_cache(args);
   opt.cache = cache.get();
+  if (const size_t stale = remove_stale_temporaries(opt.out_dir))
+    spdlog::info("removed {} unfinished file(s) left in {} by a killed run", stale,
+                 opt.out_dir.string());
   ConsoleProgress progress(is_terminal(stderr), stderr);
   opt.progress = &progress;
   install_interrupt_handlers();
@@ -492,26 +515,47 @@ int cmd_nodes(int argc, char** argv, const Registry& registry) {
 }
 
 int cmd_batch(int argc, char** argv, const Registry& registry) {
-  const Args args =
-      parse_args(argc, argv, 2,
-                 {"set", "out", "shard", "threads", "seed", "log-level", "cache-dir", "cache-size"},
-                 {"help", "no-cache"});
+  const Args args = parse_args(argc, argv, 2,
+                               {"set", "out", "shard", "shard-count", "discover", "threads", "seed",
+                                "log-level", "cache-dir", "cache-size"},
+                               {"help", "no-cache"});
   if (args.flags.count("help")) return print_command_help(command_named("batch")), 0;
-  if (args.positional.size() != 2) throw UsageError("batch expects MANIFEST and GRAPH");
+  const bool discover = args.has("discover");
+  if (args.positional.size() != (discover ? 1u : 2u))
+    throw UsageError(discover ? "batch --discover DIR expects GRAPH only"
+                              : "batch expects MANIFEST and GRAPH");
   if (!args.has("out")) throw UsageError("batch needs --out DIR");
-  check_output_folder(args.last("out"));
   set_up_logging(args);
   Shard shard;
   try {
-    if (args.has("shard")) shard = parse_shard(args.last("shard"));
+    std::optional<int> shard_count;
+    if (args.has("shard-count"))
+      shard_count = static_cast<int>(parse_integer("shard-count", args.last("shard-count"), 1,
+                                                   std::numeric_limits<int>::max()));
+    if (args.has("shard")) {
+      shard = parse_shard(args.last("shard"));
+    } else if (const auto from_env = shard_from_environment(
+                   [](const std::string& name) -> std::optional<std::string> {
+                     const char* v = std::getenv(name.c_str());
+                     return v ? std::optional<std::string>(v) : std::nullopt;
+                   },
+                   shard_count)) {
+      shard = from_env->shard;
+      spdlog::info("shard {}/{} from {}", shard.index, shard.count, from_env->source);
+    }
   } catch (const std::invalid_argument& e) {
     throw UsageError(e.what());
   }
   RunOptions base = command_line_run_options(args);
+  check_output_folder(args.last("out"));
   const auto cache = command_line_cache(args);
   base.cache = cache.get();
-  const auto manifest = read_manifest(args.positional[0]);
-  const std::string graph_file = args.positional[1];
+  const auto manifest = discover ? discover_captures(args.last("discover"), args.last("out"))
+                                 : read_manifest(args.positional[0]);
+  const std::string graph_file = args.positional[discover ? 0 : 1];
+  if (discover)
+    spdlog::info("discovered {} capture(s) without a result under {}", manifest.size(),
+                 args.last("discover"));
   // Validate once up front (with the shard's first capture as ${input}) so that a broken graph
   // is one error, not one failure per capture.
   for (const auto& e : manifest) {
@@ -542,6 +586,7 @@ int cmd_batch(int argc, char** argv, const Registry& registry) {
   const BatchSummary summary =
       run_batch(manifest, args.last("out"), shard, run_capture, &interrupt_flag());
   std::printf("%s", summary.table().c_str());
+  if (summary.cannot_write) return exit_code::kCannotWrite;
   if (summary.interrupted) return exit_code::kInterrupted;
   return summary.count(CaptureStatus::Failed) ? exit_code::kBatchPartial : exit_code::kOk;
 }
@@ -780,6 +825,9 @@ int cli_main(int argc, char** argv, const Registry& registry,
   } catch (const InputError& e) {
     std::fprintf(stderr, "error: %s\n", e.what());
     return exit_code::kBadInput;
+  } catch (const OutputError& e) {
+    std::fprintf(stderr, "error: %s\n", e.what());
+    return exit_code::kCannotWrite;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "internal error: %s\n", e.what());
     return exit_code::kInternal;

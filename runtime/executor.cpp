@@ -53,6 +53,8 @@ const char* to_string(RunError::Kind k) {
       return "node-failed";
     case RunError::Kind::Cancelled:
       return "cancelled";
+    case RunError::Kind::Output:
+      return "output";
   }
   return "?";
 }
@@ -109,7 +111,9 @@ class RunningNode final : public NodeContext {
     const fs::path dir = options_.out_dir / node().id;
     std::lock_guard<std::mutex> lock(mutex_);
     if (!out_dir_created_) {
-      fs::create_directories(dir);
+      std::error_code ec;
+      fs::create_directories(dir, ec);
+      if (ec) throw OutputError("cannot create folder " + dir.string() + ": " + ec.message());
       out_dir_created_ = true;
     }
     return dir;
@@ -234,6 +238,8 @@ class Execution {
       }
     } catch (const InputError& e) {
       fail(i, RunError::Kind::BadInput, e.what(), group);
+    } catch (const OutputError& e) {
+      fail(i, RunError::Kind::Output, e.what(), group);
     } catch (const std::exception& e) {
       fail(i, RunError::Kind::NodeFailed, e.what(), group);
     } catch (...) {

@@ -46,7 +46,8 @@ const char* to_string(NodeStatus s);
 // Why a run stopped. BadInput: the node threw InputError; NodeFailed: any other exception or a
 // broken contract (a missing output); Cancelled: interrupted from outside (SIGINT).
 struct RunError {
-  enum class Kind { BadInput, NodeFailed, Cancelled };
+  // Output: the node's results could not be written (OutputError: disk full, read-only folder).
+  enum class Kind { BadInput, NodeFailed, Cancelled, Output };
   Kind kind = Kind::NodeFailed;
   std::string node;  // node id; empty for a run cancelled before any node failed
   std::string type;  // node type

@@ -27,12 +27,16 @@ std::string describe(const cv::Mat& m) {
          (m.depth() == CV_32F || m.depth() == CV_64F ? " float" : "");
 }
 
+// Encoded in memory, then written by write_file_atomically, which checks that every byte reached
+// the file: cv::imwrite reported success on a full disk and left empty or truncated PNGs that
+// were renamed into place (issue 16).
 void write_image(const std::filesystem::path& path, const cv::Mat& m,
                  const std::vector<int>& flags = {}) {
-  write_atomically(path, [&](const std::filesystem::path& tmp) {
-    if (!cv::imwrite(tmp.string(), m, flags))
-      throw std::runtime_error(path.string() + ": cannot encode image");
-  });
+  std::vector<uchar> bytes;
+  if (!cv::imencode(path.extension().string(), m, bytes, flags))
+    throw std::runtime_error(path.string() + ": cannot encode image");
+  write_file_atomically(
+      path, std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()));
 }
 
 void require_type(const std::filesystem::path& path, const cv::Mat& m, int type, const char* what) {

@@ -10,15 +10,27 @@
 namespace gslift {
 namespace {
 
+struct BodySink {
+  std::string* body;
+  size_t max_bytes;
+  bool too_large = false;
+};
+
 size_t append_body(char* data, size_t size, size_t count, void* out) {
-  static_cast<std::string*>(out)->append(data, size * count);
+  auto* sink = static_cast<BodySink*>(out);
+  if (sink->body->size() + size * count > sink->max_bytes) {
+    sink->too_large = true;
+    return 0;  // less than given: libcurl stops the transfer (CURLE_WRITE_ERROR)
+  }
+  sink->body->append(data, size * count);
   return size * count;
 }
 
 }  // namespace
 
 HttpResult http_post_json(const std::string& url, const std::string& body,
-                          const std::vector<std::string>& headers, double timeout_s) {
+                          const std::vector<std::string>& headers, double timeout_s,
+                          size_t max_body_bytes) {
   // curl_global_init is not thread-safe and must run once before any handle exists.
   static std::once_flag init;
   std::call_once(init, [] { curl_global_init(CURL_GLOBAL_DEFAULT); });
@@ -40,12 +52,19 @@ HttpResult http_post_json(const std::string& url, const std::string& body,
   curl_easy_setopt(curl, CURLOPT_POSTFIELDS, body.data());
   curl_easy_setopt(curl, CURLOPT_POSTFIELDSIZE_LARGE, static_cast<curl_off_t>(body.size()));
   curl_easy_setopt(curl, CURLOPT_WRITEFUNCTION, append_body);
-  curl_easy_setopt(curl, CURLOPT_WRITEDATA, &result.body);
+  BodySink sink{&result.body, max_body_bytes};
+  curl_easy_setopt(curl, CURLOPT_WRITEDATA, &sink);
+  // A declared Content-Length past the cap fails before any byte is read.
+  curl_easy_setopt(curl, CURLOPT_MAXFILESIZE_LARGE, static_cast<curl_off_t>(max_body_bytes));
   curl_easy_setopt(curl, CURLOPT_TIMEOUT_MS, static_cast<long>(std::ceil(timeout_s * 1000)));
   curl_easy_setopt(curl, CURLOPT_NOSIGNAL, 1L);  // timeouts without SIGALRM: safe in threads
   curl_easy_setopt(curl, CURLOPT_ERRORBUFFER, message);
   const CURLcode code = curl_easy_perform(curl);
-  if (code != CURLE_OK) {
+  if (sink.too_large || code == CURLE_FILESIZE_EXCEEDED) {
+    result.too_large = true;
+    result.body.clear();
+    result.error = "the reply is larger than " + std::to_string(max_body_bytes >> 20) + " MiB";
+  } else if (code != CURLE_OK) {
     result.transport_failed = true;
     result.timed_out = code == CURLE_OPERATION_TIMEDOUT;
     result.error = message[0] ? message : curl_easy_strerror(code);
@@ -58,6 +77,7 @@ HttpResult http_post_json(const std::string& url, const std::string& body,
 }
 
 bool retryable(const HttpResult& result) {
+  if (result.too_large) return false;
   return result.transport_failed || result.status == 429 || result.status >= 500;
 }
 

@@ -19,6 +19,19 @@ uint64_t request_seed(uint64_t seed, size_t view, int round) {
   return stream_seed(seed, view, static_cast<uint64_t>(round)) >> 33;
 }
 
+namespace {
+
+// The API key never leaves in a message or a stored reply, even from a server that echoes the
+// request's headers back (some proxies do on errors).
+std::string redact(std::string text, const std::string& secret) {
+  if (secret.empty()) return text;
+  for (size_t at = text.find(secret); at != std::string::npos; at = text.find(secret, at))
+    text.replace(at, secret.size(), "[api key]");
+  return text;
+}
+
+}  // namespace
+
 std::vector<std::vector<VlmRoundReply>> query_vlm(const std::vector<VlmImage>& images,
                                                   const std::string& prompt,
                                                   const VlmQueryOptions& options,
@@ -53,11 +66,16 @@ std::vector<std::vector<VlmRoundReply>> query_vlm(const std::vector<VlmImage>& i
       request.seed = request_seed(options.seed, v, k);
       const std::string body = build_chat_request(request);
       int attempts = 0;
-      const HttpResult result = post_with_retries(
+      HttpResult result = post_with_retries(
           [&] { return http_post_json(options.url, body, headers, options.timeout_s); },
           options.retries, options.backoff_s, &attempts);
+      // Before anything is cut or parsed, so that no part of the key survives.
+      result.body = redact(std::move(result.body), options.api_key);
+      result.error = redact(std::move(result.error), options.api_key);
       const std::string tries = " after " + std::to_string(attempts) + " attempt(s)";
       try {
+        if (result.too_large)
+          throw InputError(where + ": " + result.error + " (not retried; a chat reply is text)");
         if (result.transport_failed)
           throw InputError(where + ": " + (result.timed_out ? "timed out" : "request failed") +
                            tries + ": " + result.error);

@@ -316,3 +316,78 @@ TEST_CASE("two runs sharing a cache folder at once both finish and leave whole e
   for (const auto& e : fs::directory_iterator(dir / "cache"))
     CHECK(e.path().filename().string().find(".tmp-") == std::string::npos);
 }
+
+TEST_CASE("batch takes its shard from Slurm or Kubernetes variables; --shard wins", "[cli]") {
+  const fs::path dir = test::scratch_dir("cli_batch_env");
+  const fs::path graph = write_text(dir / "write.yaml", "nodes:\n  w: {type: debug.write}\n");
+  const fs::path manifest = write_text(dir / "m.txt", "a\nb\nc\nd\n");
+  const auto batch = [&](const std::string& env, const std::string& out,
+                         const std::string& extra = {}) {
+    return run_command("env -u SLURM_ARRAY_TASK_ID -u JOB_COMPLETION_INDEX " + env + " " + kBinary +
+                       " batch " + quoted(manifest) + " " + quoted(graph) + " --out " +
+                       quoted(dir / out) + extra);
+  };
+  // --array=1-4, task 3: shard 2/4 takes c.
+  auto r = batch("SLURM_ARRAY_TASK_ID=3 SLURM_ARRAY_TASK_MIN=1 SLURM_ARRAY_TASK_COUNT=4", "slurm");
+  INFO(r.output);
+  CHECK(r.code == exit_code::kOk);
+  CHECK(r.output.find("shard 2/4 from SLURM_ARRAY_TASK_ID=3") != std::string::npos);
+  CHECK(fs::exists(dir / "slurm" / "c" / "_DONE"));
+  CHECK_FALSE(fs::exists(dir / "slurm" / "a"));
+  // --shard wins over the environment.
+  r = batch("SLURM_ARRAY_TASK_ID=0 SLURM_ARRAY_TASK_COUNT=4", "explicit", " --shard 1/4");
+  CHECK(r.code == exit_code::kOk);
+  CHECK(fs::exists(dir / "explicit" / "b" / "_DONE"));
+  CHECK_FALSE(fs::exists(dir / "explicit" / "a"));
+  // Kubernetes Indexed Job: the count from --shard-count or GSLIFT_SHARD_COUNT.
+  r = batch("JOB_COMPLETION_INDEX=3", "k8s", " --shard-count 4");
+  CHECK(r.code == exit_code::kOk);
+  CHECK(fs::exists(dir / "k8s" / "d" / "_DONE"));
+  CHECK_FALSE(fs::exists(dir / "k8s" / "a"));
+  r = batch("JOB_COMPLETION_INDEX=0 GSLIFT_SHARD_COUNT=2", "k8s_env");
+  CHECK(r.code == exit_code::kOk);
+  CHECK(fs::exists(dir / "k8s_env" / "c" / "_DONE"));
+  CHECK_FALSE(fs::exists(dir / "k8s_env" / "b"));
+  // A malformed value is a usage error naming the variable; nothing runs.
+  r = batch("SLURM_ARRAY_TASK_ID=two SLURM_ARRAY_TASK_COUNT=4", "bad");
+  CHECK(r.code == exit_code::kUsage);
+  CHECK(r.output.find("SLURM_ARRAY_TASK_ID") != std::string::npos);
+  r = batch("JOB_COMPLETION_INDEX=1", "bad");
+  CHECK(r.code == exit_code::kUsage);
+  CHECK(r.output.find("--shard-count") != std::string::npos);
+  CHECK_FALSE(fs::exists(dir / "bad"));
+}
+
+TEST_CASE("batch --discover runs the capture folders without a result, then only new ones",
+          "[cli]") {
+  const fs::path dir = test::scratch_dir("cli_batch_discover");
+  const fs::path graph = write_text(dir / "write.yaml", "nodes:\n  w: {type: debug.write}\n");
+  for (const char* name : {"or_mon", "or_tue", ".or_copying"})
+    fs::create_directories(dir / "in" / name);
+  const std::string cmd = kBinary + " batch --discover " + quoted(dir / "in") + " " +
+                          quoted(graph) + " --out " + quoted(dir / "out");
+  auto r = run_command(cmd);
+  INFO(r.output);
+  CHECK(r.code == exit_code::kOk);
+  CHECK(r.output.find("discovered 2 capture(s)") != std::string::npos);
+  CHECK(fs::exists(dir / "out" / "or_mon" / "_DONE"));
+  CHECK(fs::exists(dir / "out" / "or_tue" / "_DONE"));
+  CHECK_FALSE(fs::exists(dir / "out" / ".or_copying"));
+  // The next night: one new capture, and the copy finished (renamed into place).
+  fs::create_directories(dir / "in" / "or_wed");
+  fs::rename(dir / "in" / ".or_copying", dir / "in" / "or_thu");
+  r = run_command(cmd);
+  CHECK(r.code == exit_code::kOk);
+  CHECK(r.output.find("discovered 2 capture(s)") != std::string::npos);
+  CHECK(r.output.find("2 done, 0 skipped, 0 failed") != std::string::npos);
+  const json summary = read_json(dir / "out" / "_summary.json");
+  REQUIRE(summary["captures"].size() == 2);
+  CHECK(summary["captures"][0]["name"] == "or_thu");
+  CHECK(summary["captures"][1]["name"] == "or_wed");
+  // Nothing new: nothing runs, success.
+  r = run_command(cmd);
+  CHECK(r.code == exit_code::kOk);
+  CHECK(r.output.find("discovered 0 capture(s)") != std::string::npos);
+  // --discover takes GRAPH only.
+  CHECK(run_command(cmd + " extra.yaml").code == exit_code::kUsage);
+}

@@ -1,4 +1,5 @@
 #include <fstream>
+#include <map>
 #include <stdexcept>
 
 #include <nlohmann/json.hpp>
@@ -144,6 +145,113 @@ TEST_CASE("shards of one manifest run disjoint captures that cover it", "[batch]
   CHECK(s1.count(CaptureStatus::Done) == 2);
   CHECK(fs::exists(dir / "out" / "_summary-0of2.json"));
   CHECK(fs::exists(dir / "out" / "_summary-1of2.json"));
+  // The second shard to finish merged both into _summary.json, rows by name.
+  const json merged = read_json(dir / "out" / "_summary.json");
+  CHECK(merged["done"] == 5);
+  CHECK(merged["shards_merged"] == json::array({0, 1}));
+  CHECK(merged["shard_count"] == 2);
+  REQUIRE(merged["captures"].size() == 5);
+  for (size_t i = 0; i < 5; ++i) CHECK(merged["captures"][i]["name"] == std::string(1, 'a' + i));
+}
+
+namespace {
+
+EnvironmentLookup environment(std::map<std::string, std::string> vars) {
+  return [vars](const std::string& name) -> std::optional<std::string> {
+    auto it = vars.find(name);
+    return it == vars.end() ? std::nullopt : std::optional<std::string>(it->second);
+  };
+}
+
+std::string shard_error(std::map<std::string, std::string> vars, std::optional<int> count = {}) {
+  try {
+    shard_from_environment(environment(std::move(vars)), count);
+  } catch (const std::invalid_argument& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+}  // namespace
+
+TEST_CASE("array tasks take their shard from Slurm or Kubernetes variables", "[batch]") {
+  CHECK_FALSE(shard_from_environment(environment({}), std::nullopt));
+  // --array=0-3: task 2 of 4.
+  auto s = shard_from_environment(
+      environment({{"SLURM_ARRAY_TASK_ID", "2"}, {"SLURM_ARRAY_TASK_COUNT", "4"}}), std::nullopt);
+  REQUIRE(s);
+  CHECK(s->shard.index == 2);
+  CHECK(s->shard.count == 4);
+  // --array=1-4: task 4 is the last shard, 3 of 4.
+  s = shard_from_environment(environment({{"SLURM_ARRAY_TASK_ID", "4"},
+                                          {"SLURM_ARRAY_TASK_MIN", "1"},
+                                          {"SLURM_ARRAY_TASK_COUNT", "4"}}),
+                             std::nullopt);
+  CHECK(s->shard.index == 3);
+  CHECK(s->shard.count == 4);
+  // Slurm wins over Kubernetes when both are set.
+  s = shard_from_environment(environment({{"SLURM_ARRAY_TASK_ID", "0"},
+                                          {"SLURM_ARRAY_TASK_COUNT", "2"},
+                                          {"JOB_COMPLETION_INDEX", "5"}}),
+                             8);
+  CHECK(s->shard.count == 2);
+  // Kubernetes: the count from the option, else GSLIFT_SHARD_COUNT.
+  s = shard_from_environment(environment({{"JOB_COMPLETION_INDEX", "5"}}), 8);
+  CHECK(s->shard.index == 5);
+  CHECK(s->shard.count == 8);
+  s = shard_from_environment(
+      environment({{"JOB_COMPLETION_INDEX", "1"}, {"GSLIFT_SHARD_COUNT", "3"}}), std::nullopt);
+  CHECK(s->shard.index == 1);
+  CHECK(s->shard.count == 3);
+  CHECK_THAT(s->source, Catch::Contains("GSLIFT_SHARD_COUNT"));
+}
+
+TEST_CASE("a malformed scheduler variable names itself", "[batch]") {
+  CHECK_THAT(shard_error({{"SLURM_ARRAY_TASK_ID", "x1"}, {"SLURM_ARRAY_TASK_COUNT", "4"}}),
+             Catch::Contains("SLURM_ARRAY_TASK_ID") && Catch::Contains("'x1'"));
+  CHECK_THAT(shard_error({{"SLURM_ARRAY_TASK_ID", "1"}, {"SLURM_ARRAY_TASK_COUNT", "4 "}}),
+             Catch::Contains("SLURM_ARRAY_TASK_COUNT"));
+  CHECK_THAT(shard_error({{"SLURM_ARRAY_TASK_ID", "1"}}),
+             Catch::Contains("SLURM_ARRAY_TASK_COUNT"));
+  // --array=0-6:2 has IDs 0, 2, 4, 6 and COUNT 4: ID 6 is outside 0..3.
+  CHECK_THAT(shard_error({{"SLURM_ARRAY_TASK_ID", "6"}, {"SLURM_ARRAY_TASK_COUNT", "4"}}),
+             Catch::Contains("contiguous range"));
+  CHECK_THAT(shard_error({{"SLURM_ARRAY_TASK_ID", "-1"}, {"SLURM_ARRAY_TASK_COUNT", "4"}}),
+             Catch::Contains("SLURM_ARRAY_TASK_ID"));
+  CHECK_THAT(shard_error({{"JOB_COMPLETION_INDEX", "2"}}), Catch::Contains("--shard-count"));
+  CHECK_THAT(shard_error({{"JOB_COMPLETION_INDEX", "2"}}, 2), Catch::Contains("0 <= index"));
+  CHECK_THAT(shard_error({{"JOB_COMPLETION_INDEX", "2"}, {"GSLIFT_SHARD_COUNT", "zero"}}),
+             Catch::Contains("GSLIFT_SHARD_COUNT"));
+}
+
+TEST_CASE("discovery lists the capture folders without a done-marker, by name", "[batch]") {
+  const fs::path dir = test::scratch_dir("batch_discover");
+  const fs::path in = dir / "incoming", out = dir / "out";
+  for (const char* name : {"or_b", "or_a", ".or_copying", "_trash", "or_done", "or_failed"})
+    fs::create_directories(in / name);
+  std::ofstream(in / "notes.txt") << "a file, not a capture\n";
+  fs::create_directories(out / "or_done");
+  std::ofstream(out / "or_done" / "_DONE") << "{}\n";
+  fs::create_directories(out / "or_failed");
+  std::ofstream(out / "or_failed" / "_FAILED.json") << "{}\n";
+  auto names = [](const std::vector<ManifestEntry>& m) {
+    std::vector<std::string> n;
+    for (const auto& e : m) n.push_back(e.name);
+    return n;
+  };
+  const auto found = discover_captures(in, out);
+  CHECK(names(found) == std::vector<std::string>{"or_a", "or_b", "or_failed"});
+  CHECK(found[0].path == (in / "or_a").string());
+  // A capture's index (and so its shard) depends on its name only.
+  const auto again = discover_captures(in, dir / "elsewhere");
+  CHECK(names(again) == std::vector<std::string>{"or_a", "or_b", "or_done", "or_failed"});
+  CHECK(again[0].index == found[0].index);
+  CHECK(again[3].index == found[2].index);
+  // An output root inside the folder is not a capture.
+  CHECK(names(discover_captures(in, in / "or_b")) ==
+        std::vector<std::string>{"or_a", "or_done", "or_failed"});
+  CHECK_THROWS_AS(discover_captures(in / "notes.txt", out), InputError);
+  CHECK_THROWS_AS(discover_captures(dir / "missing", out), InputError);
 }
 
 TEST_CASE("a runner that throws fails only its capture", "[batch]") {

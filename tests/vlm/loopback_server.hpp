@@ -1,7 +1,11 @@
 // A scripted HTTP/1.1 server on 127.0.0.1 for the vlm.query tests: it answers the n-th request
 // with the n-th canned response (the last one repeats), one connection per request, and keeps
 // every request body it received. A `hang` response is never answered: the server holds the
-// connection until the client gives up and closes it (a stuck server, without timing).
+// connection until the client gives up and closes it (a stuck server, without timing). The
+// faults of issue 16: `reset` aborts the connection (RST) instead of answering, `stream_bytes`
+// sends that many bytes of body (with no Content-Length unless `declare_length`) until the client
+// stops reading, and `echo_headers` answers with the request's headers as the body (a proxy that
+// echoes the Authorization header back).
 #pragma once
 
 #include <arpa/inet.h>
@@ -9,6 +13,7 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <mutex>
 #include <stdexcept>
@@ -21,7 +26,11 @@ namespace gslift::test {
 struct CannedResponse {
   int status = 200;
   std::string body;
-  bool hang = false;  // never answer; wait until the client closes the connection
+  bool hang = false;   // never answer; wait until the client closes the connection
+  bool reset = false;  // close with SO_LINGER 0: the client sees "connection reset by peer"
+  size_t stream_bytes = 0;
+  bool declare_length = false;  // with stream_bytes: send Content-Length: stream_bytes first
+  bool echo_headers = false;
 };
 
 class LoopbackServer {
@@ -66,7 +75,8 @@ class LoopbackServer {
     while (!stopping_) {
       const int client = ::accept(listener_, nullptr, nullptr);
       if (client < 0) return;  // listener closed
-      const std::string body = read_request(client);
+      std::string headers;
+      const std::string body = read_request(client, &headers);
       {
         std::lock_guard<std::mutex> lock(mutex_);
         bodies_.push_back(body);
@@ -77,10 +87,22 @@ class LoopbackServer {
         ::close(client);
         continue;
       }
+      if (r.reset) {
+        const linger abort{1, 0};
+        ::setsockopt(client, SOL_SOCKET, SO_LINGER, &abort, sizeof abort);
+        ::close(client);
+        continue;
+      }
+      if (r.stream_bytes > 0) {
+        stream(client, r);
+        ::close(client);
+        continue;
+      }
+      const std::string& text = r.echo_headers ? headers : r.body;
       const std::string reply = "HTTP/1.1 " + std::to_string(r.status) +
                                 " Canned\r\nContent-Type: application/json\r\nContent-Length: " +
-                                std::to_string(r.body.size()) + "\r\nConnection: close\r\n\r\n" +
-                                r.body;
+                                std::to_string(text.size()) + "\r\nConnection: close\r\n\r\n" +
+                                text;
       // MSG_NOSIGNAL: the client may have given up (timeout) and closed its end.
       ::send(client, reply.data(), reply.size(), MSG_NOSIGNAL);
       ::close(client);
@@ -94,8 +116,23 @@ class LoopbackServer {
     }
   }
 
-  // Headers up to the blank line, then Content-Length bytes of body.
-  static std::string read_request(int client) {
+  // A 200 whose body is r.stream_bytes of 'x', sent until done or the client stops reading.
+  static void stream(int client, const CannedResponse& r) {
+    std::string head = "HTTP/1.1 200 Canned\r\nContent-Type: application/json\r\n";
+    if (r.declare_length) head += "Content-Length: " + std::to_string(r.stream_bytes) + "\r\n";
+    head += "Connection: close\r\n\r\n";
+    if (::send(client, head.data(), head.size(), MSG_NOSIGNAL) < 0) return;
+    const std::string block(1 << 16, 'x');
+    for (size_t sent = 0; sent < r.stream_bytes;) {
+      const ssize_t n =
+          ::send(client, block.data(), std::min(block.size(), r.stream_bytes - sent), MSG_NOSIGNAL);
+      if (n <= 0) return;  // the client closed the connection
+      sent += static_cast<size_t>(n);
+    }
+  }
+
+  // Headers up to the blank line (into *headers), then Content-Length bytes of body.
+  static std::string read_request(int client, std::string* headers_out) {
     std::string data;
     char buffer[65536];
     size_t header_end = std::string::npos, length = 0;
@@ -106,7 +143,8 @@ class LoopbackServer {
       if (header_end == std::string::npos) {
         header_end = data.find("\r\n\r\n");
         if (header_end == std::string::npos) continue;
-        std::string headers = data.substr(0, header_end);
+        *headers_out = data.substr(0, header_end);
+        std::string headers = *headers_out;
         for (auto& c : headers) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
         const size_t at = headers.find("content-length:");
         if (at != std::string::npos) length = std::stoul(headers.substr(at + 15));

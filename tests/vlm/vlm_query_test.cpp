@@ -15,6 +15,7 @@
 #include "tests/vlm/loopback_server.hpp"
 
 using namespace gslift;
+using gslift::test::CannedResponse;
 
 namespace {
 
@@ -242,4 +243,89 @@ TEST_CASE("vlm.query names the url, view and round of a malformed, refused or em
     CHECK_THAT(run.error->str(),
                Catch::Contains("view 'left': none of its 2 replies holds a box list"));
   }
+}
+
+TEST_CASE("vlm.query fails a capture on a hanging, resetting, 500 or 100 MB server", "[faults]") {
+  const Registry registry = registry_with_capture();
+  RunOptions options;
+  options.out_dir = test::scratch_dir("vlm_query_faults");
+  SECTION("a server that never answers: every attempt times out") {
+    test::LoopbackServer server({{200, "", true}});
+    const RunResult run = run_graph_text(
+        graph(server.url(), "rounds: 1, retries: 1, timeout_s: 0.2"), registry, options);
+    REQUIRE_FALSE(run.ok());
+    CHECK_THAT(run.error->str(), Catch::Contains("timed out after 2 attempt(s)") &&
+                                     Catch::Contains("view 'left', round 0"));
+    CHECK(server.bodies().size() == 2);
+  }
+  SECTION("a server that resets the connection, then answers: retried") {
+    CannedResponse reset;
+    reset.reset = true;
+    test::LoopbackServer server({reset, {200, reply(kGood)}});
+    const RunResult run =
+        run_graph_text(graph(server.url(), "rounds: 1, retries: 2"), registry, options);
+    INFO((run.error ? run.error->str() : std::string()));
+    REQUIRE(run.ok());
+    CHECK(std::get<double>(run.node("vlm")->records.at("requests_retried")) == 1);
+  }
+  SECTION("a server that always resets: the retries run out") {
+    CannedResponse reset;
+    reset.reset = true;
+    test::LoopbackServer server({reset});
+    const RunResult run =
+        run_graph_text(graph(server.url(), "rounds: 1, retries: 2"), registry, options);
+    REQUIRE_FALSE(run.ok());
+    CHECK_THAT(run.error->str(), Catch::Contains("request failed after 3 attempt(s)"));
+    CHECK(server.bodies().size() == 3);
+  }
+  SECTION("a server that answers 500 every time") {
+    test::LoopbackServer server({{500, "{\"error\": \"CUDA out of memory\"}"}});
+    const RunResult run =
+        run_graph_text(graph(server.url(), "rounds: 1, retries: 2"), registry, options);
+    REQUIRE_FALSE(run.ok());
+    CHECK_THAT(run.error->str(), Catch::Contains("HTTP 500 after 3 attempt(s)") &&
+                                     Catch::Contains("CUDA out of memory"));
+  }
+  for (const bool declared : {false, true}) {
+    SECTION(declared ? "a 100 MB reply with its Content-Length" : "a 100 MB reply, no length") {
+      CannedResponse huge;
+      huge.stream_bytes = size_t(100) << 20;
+      huge.declare_length = declared;
+      test::LoopbackServer server({huge});
+      const RunResult run =
+          run_graph_text(graph(server.url(), "rounds: 1, retries: 2"), registry, options);
+      REQUIRE_FALSE(run.ok());
+      CHECK_THAT(run.error->str(),
+                 Catch::Contains("larger than 8 MiB") && Catch::Contains("view 'left', round 0"));
+      CHECK(server.bodies().size() == 1);  // not retried
+    }
+  }
+}
+
+TEST_CASE("the API key never appears in an error, even when the server echoes it", "[faults]") {
+  const Registry registry = registry_with_capture();
+  RunOptions options;
+  options.out_dir = test::scratch_dir("vlm_query_key");
+  const std::string key = "sk-gslift-test-3f9a1c";
+  ::setenv("GSLIFT_TEST_VLM_KEY", key.c_str(), 1);
+  CannedResponse echo{500, ""};
+  echo.echo_headers = true;
+  for (const int status : {500, 200}) {
+    echo.status = status;
+    test::LoopbackServer server({echo});
+    const RunResult run = run_graph_text(
+        graph(server.url(), "rounds: 1, retries: 0, api_key_env: GSLIFT_TEST_VLM_KEY"), registry,
+        options);
+    REQUIRE_FALSE(run.ok());
+    INFO(run.error->str());
+    // The header was sent and echoed (in a 500's message; a 200 that is not JSON is named as
+    // such): the message shows where the key was, not the key.
+    if (status == 500)
+      CHECK_THAT(run.error->str(), Catch::Contains("Authorization: Bearer [api key]"));
+    else
+      CHECK_THAT(run.error->str(), Catch::Contains("not JSON"));
+    CHECK(run.error->str().find(key) == std::string::npos);
+    CHECK(read_file(options.out_dir / "run.json").find(key) == std::string::npos);
+  }
+  ::unsetenv("GSLIFT_TEST_VLM_KEY");
 }
