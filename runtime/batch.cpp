@@ -2,14 +2,16 @@
 
 #include <chrono>
 #include <cstdio>
-#include <fstream>
 #include <map>
+#include <sstream>
 #include <stdexcept>
 
 #include <spdlog/spdlog.h>
 
+#include "base/input_file.hpp"
 #include "runtime/atomic_file.hpp"
 #include "runtime/node.hpp"
+#include "runtime/run_record.hpp"
 #include "runtime/utc_time.hpp"
 
 namespace gslift {
@@ -37,8 +39,8 @@ std::string output_name(std::string path) {
 }  // namespace
 
 std::vector<ManifestEntry> read_manifest(const fs::path& manifest) {
-  std::ifstream in(manifest);
-  if (!in) throw InputError("cannot read manifest " + manifest.string());
+  // A directory opened as a manifest reads as empty: 0 captures and exit 0, so refuse it.
+  std::istringstream in(read_input_file(manifest, "batch manifest"));
   std::vector<ManifestEntry> out;
   std::map<std::string, int> line_of_name;
   std::string text;
@@ -174,12 +176,12 @@ CaptureOutcome run_capture_once(const ManifestEntry& e, const fs::path& out_root
                  {"seconds", outcome.seconds}};
   if (outcome.error.empty()) {
     outcome.status = CaptureStatus::Done;
-    write_file_atomically(tmp / "_DONE", marker.dump(2) + "\n");
+    write_file_atomically(tmp / "_DONE", json_text(marker));
   } else {
     outcome.status = CaptureStatus::Failed;
     marker["error"] = outcome.error;
     if (result && result->error) marker["kind"] = to_string(result->error->kind);
-    write_file_atomically(tmp / "_FAILED.json", marker.dump(2) + "\n");
+    write_file_atomically(tmp / "_FAILED.json", json_text(marker));
   }
   // A failed capture's folder from an earlier run is replaced by this attempt's.
   fs::remove_all(final_dir);
@@ -216,7 +218,7 @@ BatchSummary run_batch(const std::vector<ManifestEntry>& manifest, const fs::pat
   const std::string file = shard.count == 1 ? "_summary.json"
                                             : "_summary-" + std::to_string(shard.index) + "of" +
                                                   std::to_string(shard.count) + ".json";
-  write_file_atomically(out_root / file, summary.json().dump(2) + "\n");
+  write_file_atomically(out_root / file, json_text(summary.json()));
   return summary;
 }
 

@@ -18,6 +18,7 @@
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 
+#include "base/input_file.hpp"
 #include "graph/loader.hpp"
 #include "graph/suggest.hpp"
 #include "runtime/batch.hpp"
@@ -175,7 +176,7 @@ void print_diagnostics(const std::vector<Diagnostic>& diagnostics) {
 // Loads and validates; prints every diagnostic; nullopt when the graph is invalid.
 std::optional<Graph> load_checked(const std::string& file, const Registry& registry,
                                   const LoadOptions& opt) {
-  if (!fs::exists(file)) throw InputError("graph file " + file + " does not exist");
+  require_regular_file(file, "graph file");  // a directory, FIFO or symlink loop: exit 4
   LoadResult loaded = load_graph(file, registry, opt);
   print_diagnostics(loaded.diagnostics);
   if (!loaded.ok()) {
@@ -355,10 +356,12 @@ int cmd_validate(int argc, char** argv, const Registry& registry) {
   set_up_logging(args);
   const auto graph = load_checked(args.positional[0], registry, load_options(args));
   if (!graph) return exit_code::kInvalidGraph;
-  if (args.flags.count("print"))
-    std::printf("%s", graph_yaml(*graph).c_str());
-  else
+  if (args.flags.count("print")) {
+    const std::string text = graph_yaml(*graph);
+    std::fwrite(text.data(), 1, text.size(), stdout);  // all of it, should it hold a NUL
+  } else {
     std::printf("ok: graph '%s' (%zu nodes)\n", graph->name.c_str(), graph->nodes.size());
+  }
   return exit_code::kOk;
 }
 

@@ -5,10 +5,10 @@
 #include <fstream>
 
 #include <nlohmann/json.hpp>
-#include <opencv2/imgcodecs.hpp>
 
 #include "base/errors.hpp"
 #include "nodes/ingest/numeric_text.hpp"
+#include "nodes/scene/image_io.hpp"
 
 namespace gslift {
 namespace {
@@ -102,8 +102,7 @@ std::vector<ViewFiles> read_3dmatch_views(const fs::path& folder) {
         continue;
       const std::string frame = file.substr(0, file.size() - suffix.size());
       if (cam.width == 0) {
-        const cv::Mat probe = cv::imread(p.string(), cv::IMREAD_UNCHANGED);
-        if (probe.empty()) throw InputError(p.string() + ": not a readable image");
+        const cv::Mat probe = read_image(p);
         cam.width = probe.cols;
         cam.height = probe.rows;
       }

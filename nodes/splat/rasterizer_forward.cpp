@@ -212,6 +212,7 @@ RenderOutput render(const GaussianModel& model, const Camera& camera, const Pose
         "rasterizer: camera has no pixels, more than 32767 in a row or column, or a "
         "non-positive focal length (" +
         std::to_string(camera.width) + "x" + std::to_string(camera.height) + ")");
+  check_camera(camera, "rasterizer");  // at most kMaxImagePixels: the state below is per pixel
   const ViewTransform view(camera, pose);
   auto state = std::make_shared<RasterState>();
   RasterState& s = *state;
