@@ -37,13 +37,13 @@ std::optional<std::pair<long long, long long>> png_header_size(const std::filesy
 
 }  // namespace
 
-cv::Mat read_image(const std::filesystem::path& path) {
+cv::Mat read_image(const std::filesystem::path& path, int flags) {
   require_regular_file(path, "image");
   if (const auto size = png_header_size(path))
     check_image_size(size->first, size->second, path.string() + " (PNG header)");
   cv::Mat m;
   try {
-    m = cv::imread(path.string(), cv::IMREAD_UNCHANGED);
+    m = cv::imread(path.string(), flags);
   } catch (const cv::Exception& e) {  // e.g. a header over OpenCV's own size limit
     throw InputError(path.string() + ": not a readable image (" + e.err + ")");
   }
