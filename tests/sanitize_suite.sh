@@ -8,7 +8,13 @@ set -euo pipefail
 src=$(cd "$(dirname "$0")/.." && pwd)
 build=${1:-$src/build-asan}
 jobs=${2:-2}
-flags="-fsanitize=address,undefined -fno-sanitize-recover=undefined -fno-omit-frame-pointer -g -O1"
+# -fno-sanitize=vptr: oneTBB's flow graph (the executor) downcasts its task objects in a way the
+# vptr check reports inside /usr/include/oneapi/tbb/detail/_flow_graph_impl.h:368 ("downcast of
+# address ... which does not point to an object of type 'apply_body_task_bypass'") for every graph
+# run; it is in TBB's header, not gslift's code, and a check built as non-recoverable cannot be
+# suppressed at run time. Every other UBSan check stays on.
+flags="-fsanitize=address,undefined -fno-sanitize=vptr -fno-sanitize-recover=undefined"
+flags="$flags -fno-omit-frame-pointer -g -O1"
 start=$(date +%s)
 cmake -S "$src" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=None -DGSLIFT_BUILD_BENCH=OFF \
       -DCMAKE_CXX_FLAGS="$flags" -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=address,undefined" \

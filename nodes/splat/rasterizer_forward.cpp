@@ -126,7 +126,7 @@ void bin_gaussians(const GaussianModel& model, const ViewTransform& view,
                         int16_t(rect.y1),
                         uint32_t(g),
                         0u};
-          float* v = &s.values[g * s.channels];
+          float* v = s.values.data() + g * s.channels;  // values is empty without channels
           if (s.rgb_offset >= 0) {
             float length;
             sh_basis(s.sh_degree, view_direction(view, &model.means[3 * g], length), basis);
