@@ -17,7 +17,7 @@ namespace fs = std::filesystem;
 
 using Entries = std::vector<std::pair<YAML::Node, YAML::Node>>;
 
-// A map's entries in file order, each key once (the first wins; check_duplicate_keys reports
+// A map's entries in file order, each key once (the first wins; check_values reports
 // the others).
 Entries unique_entries(const YAML::Node& map) {
   Entries out;
@@ -27,12 +27,37 @@ Entries unique_entries(const YAML::Node& map) {
   return out;
 }
 
+// A graph file expands to at most this many YAML values (scalars, lists, maps), aliases
+// expanded: yaml-cpp shares an aliased node, but everything that walks the document (this check,
+// the params, the merge with a base) visits it once per alias, so a 557-byte file of nested
+// aliases ("billion laughs", 10x per level) kept `validate` busy for minutes. The graphs shipped
+// in graphs/ hold a few hundred values; a generated sweep with thousands of nodes stays far below.
+constexpr size_t kMaxYamlValues = 100000;
+
+// What one walk of a document has seen: values so far, and whether it stopped at the budget.
+struct Walk {
+  size_t values = 0;
+  bool over_budget = false;
+};
+
 // yaml-cpp 0.7 keeps every entry of a map, duplicates included, and node["key"] returns the
 // first: walk every map and report each repeated key where it repeats. `what` names the keys
 // ("node id" for the entries of the top-level `nodes:`). `ancestors` stops the walk at an alias
-// of an enclosing node (`&x [1, *x]`), which yaml-cpp builds as a recursive structure.
-void check_duplicate_keys(const YAML::Node& node, const std::string& file, const std::string& what,
-                          std::vector<YAML::Node>& ancestors, Diagnostics& diagnostics) {
+// of an enclosing node (`&x [1, *x]`), which yaml-cpp builds as a recursive structure. The same
+// walk bounds the expanded size (kMaxYamlValues) and refuses NUL bytes in scalars, which would
+// cut every message and path built from them short (C strings end there).
+void check_values(const YAML::Node& node, const std::string& file, const std::string& what,
+                  std::vector<YAML::Node>& ancestors, Walk& walk, Diagnostics& diagnostics) {
+  if (walk.over_budget) return;
+  if (++walk.values > kMaxYamlValues) {
+    walk.over_budget = true;
+    diagnostics.error(loc_of(node, file), "too-large",
+                      "the graph file expands to more than " + std::to_string(kMaxYamlValues) +
+                          " values here (nested YAML aliases?); refusing to expand it");
+    return;
+  }
+  if (node.IsScalar() && node.Scalar().find('\0') != std::string::npos)
+    diagnostics.error(loc_of(node, file), "schema", "a value may not contain a NUL byte");
   if (!node.IsMap() && !node.IsSequence()) return;
   for (const auto& a : ancestors)
     if (a.is(node)) {
@@ -41,16 +66,17 @@ void check_duplicate_keys(const YAML::Node& node, const std::string& file, const
     }
   ancestors.push_back(node);
   if (node.IsSequence())
-    for (const auto& e : node) check_duplicate_keys(e, file, "key", ancestors, diagnostics);
+    for (const auto& e : node) check_values(e, file, "key", ancestors, walk, diagnostics);
   std::map<std::string, SourceLoc> seen;
-  for (auto it = node.begin(); node.IsMap() && it != node.end(); ++it) {
+  for (auto it = node.begin(); node.IsMap() && it != node.end() && !walk.over_budget; ++it) {
+    check_values(it->first, file, "key", ancestors, walk, diagnostics);
     const std::string key = it->first.Scalar();
     const SourceLoc at = loc_of(it->first, file);
     if (auto [first, inserted] = seen.emplace(key, at); !inserted)
       diagnostics.error(at, "duplicate-key", "duplicate " + what + " '" + key + "'",
                         "first defined at line " + std::to_string(first->second.line));
     const bool node_ids = ancestors.size() == 1 && key == "nodes";
-    check_duplicate_keys(it->second, file, node_ids ? "node id" : "key", ancestors, diagnostics);
+    check_values(it->second, file, node_ids ? "node id" : "key", ancestors, walk, diagnostics);
   }
   ancestors.pop_back();
 }
@@ -118,7 +144,8 @@ DocNode read_node(const YAML::Node& key, const YAML::Node& value, const std::str
 
 std::optional<std::string> read_text(const fs::path& file) {
   std::error_code ec;
-  if (!fs::is_regular_file(file, ec)) return std::nullopt;  // a directory opens, then reads ""
+  // A directory opens, then reads ""; a FIFO blocks; /dev/zero never ends.
+  if (!fs::is_regular_file(file, ec)) return std::nullopt;
   std::ifstream in(file, std::ios::binary);
   if (!in) return std::nullopt;
   std::ostringstream ss;
@@ -175,7 +202,9 @@ std::optional<GraphDocument> read(const std::string& text, const std::string& na
     return std::nullopt;
   }
   std::vector<YAML::Node> ancestors;
-  check_duplicate_keys(root, name, "key", ancestors, diagnostics);
+  Walk walk;
+  check_values(root, name, "key", ancestors, walk, diagnostics);
+  if (walk.over_budget) return std::nullopt;
 
   GraphDocument own;
   own.files.push_back(name);

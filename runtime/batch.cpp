@@ -7,6 +7,7 @@
 #include <fstream>
 #include <limits>
 #include <map>
+#include <sstream>
 #include <stdexcept>
 
 #include <fcntl.h>
@@ -16,8 +17,10 @@
 #include <spdlog/spdlog.h>
 
 #include "base/hash.hpp"
+#include "base/input_file.hpp"
 #include "runtime/atomic_file.hpp"
 #include "runtime/node.hpp"
+#include "runtime/run_record.hpp"
 #include "runtime/utc_time.hpp"
 
 namespace gslift {
@@ -45,8 +48,8 @@ std::string output_name(std::string path) {
 }  // namespace
 
 std::vector<ManifestEntry> read_manifest(const fs::path& manifest) {
-  std::ifstream in(manifest);
-  if (!in) throw InputError("cannot read manifest " + manifest.string());
+  // A directory opened as a manifest reads as empty: 0 captures and exit 0, so refuse it.
+  std::istringstream in(read_input_file(manifest, "batch manifest"));
   std::vector<ManifestEntry> out;
   std::map<std::string, int> line_of_name;
   std::string text;
@@ -305,12 +308,12 @@ CaptureOutcome run_capture_once(const ManifestEntry& e, const fs::path& out_root
                  {"seconds", outcome.seconds}};
   if (outcome.error.empty()) {
     outcome.status = CaptureStatus::Done;
-    write_file_atomically(tmp / "_DONE", marker.dump(2) + "\n");
+    write_file_atomically(tmp / "_DONE", json_text(marker));
   } else {
     outcome.status = CaptureStatus::Failed;
     marker["error"] = outcome.error;
     if (result && result->error) marker["kind"] = to_string(result->error->kind);
-    write_file_atomically(tmp / "_FAILED.json", marker.dump(2) + "\n");
+    write_file_atomically(tmp / "_FAILED.json", json_text(marker));
   }
   // A failed capture's folder from an earlier run is replaced by this attempt's.
   fs::remove_all(final_dir);
@@ -369,7 +372,7 @@ void merge_shard_summaries(const fs::path& out_root, const std::string& suffix) 
                  {"interrupted", interrupted},
                  {"shards_merged", shards},
                  {"shard_count", std::stoi(suffix.substr(2))}};
-  write_file_atomically(out_root / "_summary.json", merged.dump(2) + "\n");
+  write_file_atomically(out_root / "_summary.json", json_text(merged));
 }
 
 }  // namespace
@@ -405,11 +408,11 @@ BatchSummary run_batch(const std::vector<ManifestEntry>& manifest, const fs::pat
   // still returned (and printed by the command line).
   try {
     if (shard.count == 1) {
-      write_file_atomically(out_root / "_summary.json", summary.json().dump(2) + "\n");
+      write_file_atomically(out_root / "_summary.json", json_text(summary.json()));
     } else {
       const std::string suffix = "of" + std::to_string(shard.count) + ".json";
       write_file_atomically(out_root / ("_summary-" + std::to_string(shard.index) + suffix),
-                            summary.json().dump(2) + "\n");
+                            json_text(summary.json()));
       merge_shard_summaries(out_root, suffix);
     }
   } catch (const OutputError& e) {

@@ -25,6 +25,7 @@
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 
+#include "base/input_file.hpp"
 #include "graph/loader.hpp"
 #include "graph/suggest.hpp"
 #include "report/report_page.hpp"
@@ -37,6 +38,7 @@
 #include "runtime/graph_yaml.hpp"
 #include "runtime/node_catalogue.hpp"
 #include "runtime/progress.hpp"
+#include "runtime/run_record.hpp"
 #include "runtime/signals.hpp"
 #include "runtime/sweep.hpp"
 #include "runtime/version.hpp"
@@ -195,7 +197,7 @@ void print_diagnostics(const std::vector<Diagnostic>& diagnostics) {
 // Loads and validates; prints every diagnostic; nullopt when the graph is invalid.
 std::optional<Graph> load_checked(const std::string& file, const Registry& registry,
                                   const LoadOptions& opt) {
-  if (!fs::exists(file)) throw InputError("graph file " + file + " does not exist");
+  require_regular_file(file, "graph file");  // a directory, FIFO or symlink loop: exit 4
   LoadResult loaded = load_graph(file, registry, opt);
   print_diagnostics(loaded.diagnostics);
   if (!loaded.ok()) {
@@ -489,10 +491,12 @@ int cmd_validate(int argc, char** argv, const Registry& registry) {
   set_up_logging(args);
   const auto graph = load_checked(args.positional[0], registry, load_options(args));
   if (!graph) return exit_code::kInvalidGraph;
-  if (args.flags.count("print"))
-    std::printf("%s", graph_yaml(*graph).c_str());
-  else
+  if (args.flags.count("print")) {
+    const std::string text = graph_yaml(*graph);
+    std::fwrite(text.data(), 1, text.size(), stdout);  // all of it, should it hold a NUL
+  } else {
     std::printf("ok: graph '%s' (%zu nodes)\n", graph->name.c_str(), graph->nodes.size());
+  }
   return exit_code::kOk;
 }
 
@@ -708,7 +712,7 @@ int cmd_sweep(int argc, char** argv, const Registry& registry) {
     runs.push_back(run);
     table = sweep_json(graph_file, axes, seeds, runs);
     table["headline"] = headline;
-    write_file_atomically(out / "sweep.json", table.dump(2) + "\n");
+    write_file_atomically(out / "sweep.json", json_text(table));
     write_file_atomically(out / "results.csv", sweep_runs_csv(axes, runs));
     write_file_atomically(out / "summary.csv", sweep_summary_csv(axes, table));
   }

@@ -1,5 +1,6 @@
 #include "runtime/run_record.hpp"
 
+#include "base/utf8.hpp"
 #include "runtime/atomic_file.hpp"
 #include "runtime/version.hpp"
 
@@ -47,7 +48,28 @@ json node_json(const NodeRecord& n) {
   if (n.status == NodeStatus::Failed) out["error"] = n.error;
   return out;
 }
+// A copy of `j` whose strings and keys are valid UTF-8 (escape_invalid_utf8), strings without
+// terminal colour codes (a library's error message may carry them).
+json with_valid_utf8(const json& j) {
+  if (j.is_string())
+    return escape_invalid_utf8(without_terminal_codes(j.get_ref<const std::string&>()));
+  if (j.is_array()) {
+    json out = json::array();
+    for (const auto& e : j) out.push_back(with_valid_utf8(e));
+    return out;
+  }
+  if (j.is_object()) {
+    json out = json::object();
+    for (const auto& [k, v] : j.items()) out[escape_invalid_utf8(k)] = with_valid_utf8(v);
+    return out;
+  }
+  return j;
+}
 }  // namespace
+
+std::string json_text(const json& j) {
+  return with_valid_utf8(j).dump(2) + "\n";
+}
 
 json graph_json(const Graph& graph) {
   json nodes = json::array();
@@ -84,7 +106,7 @@ json run_record_json(const Graph& graph, const RunResult& result) {
 
 void write_run_record(const std::filesystem::path& file, const Graph& graph,
                       const RunResult& result) {
-  write_file_atomically(file, run_record_json(graph, result).dump(2) + "\n");
+  write_file_atomically(file, json_text(run_record_json(graph, result)));
 }
 
 }  // namespace gslift

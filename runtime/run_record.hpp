@@ -28,7 +28,13 @@ nlohmann::json graph_json(const Graph& graph);
 // The whole record.
 nlohmann::json run_record_json(const Graph& graph, const RunResult& result);
 
-// Writes run_record_json, indented, with write_file_atomically.
+// `j` as indented JSON text, never throwing on bytes: every string and key that is not valid UTF-8
+// (a Latin-1 folder name, a stray byte in a graph param or an error message) is written with
+// its invalid bytes as "\xNN" (base/utf8.hpp), so run.json, batch markers and summaries survive
+// and the real error is the one reported.
+std::string json_text(const nlohmann::json& j);
+
+// Writes run_record_json with json_text and write_file_atomically.
 void write_run_record(const std::filesystem::path& file, const Graph& graph,
                       const RunResult& result);
 

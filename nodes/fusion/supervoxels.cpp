@@ -61,7 +61,9 @@ cv::Mat1i oversegment_rgbd(const cv::Mat& rgb, const cv::Mat1f& depth, const Cam
     return Eigen::Vector3d((u + 0.5 - camera.cx) / camera.fx * z,
                            (v + 0.5 - camera.cy) / camera.fy * z, z);
   };
-  auto colour = [&](int u, int v) {
+  // Returns a Vector3d, not the Eigen expression: `auto` would return a quotient that refers to
+  // a temporary already gone (ASan: stack-use-after-scope).
+  auto colour = [&](int u, int v) -> Eigen::Vector3d {
     const cv::Vec3b c = rgb.at<cv::Vec3b>(v, u);
     return Eigen::Vector3d(c[0], c[1], c[2]) / 255.0;
   };

@@ -7,6 +7,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "base/errors.hpp"
+#include "nodes/scene/image_io.hpp"
 
 namespace gslift {
 namespace {
@@ -49,8 +50,12 @@ Prompt prompt_from_json(const nlohmann::json& j, const std::filesystem::path& ba
       throw InputError(where + ": a " + kind + " prompt needs \"mask\": \"<png file>\"");
     std::filesystem::path file = j["mask"].get<std::string>();
     if (file.is_relative()) file = base / file;
-    const cv::Mat m = cv::imread(file.string(), cv::IMREAD_GRAYSCALE);
-    if (m.empty()) throw InputError(where + ": cannot read the mask image " + file.string());
+    cv::Mat m;
+    try {
+      m = read_image(file, cv::IMREAD_GRAYSCALE);
+    } catch (const InputError& e) {
+      throw InputError(where + ": cannot read the mask image: " + e.what());
+    }
     p.mask = m > 127;
   }
   return p;

@@ -1,28 +1,18 @@
 #include "nodes/ingest/capture_annotations.hpp"
 
-#include <fstream>
-#include <sstream>
-
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "base/errors.hpp"
+#include "base/input_file.hpp"
 #include "nodes/ingest/capture_manifest.hpp"
 #include "nodes/ingest/sam_masks.hpp"
 #include "nodes/ingest/vlm_reply.hpp"
+#include "nodes/scene/image_io.hpp"
 
 namespace gslift {
 namespace {
 
 namespace fs = std::filesystem;
-
-std::string read_text(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  if (!in) throw InputError(p.string() + ": cannot open");
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
 
 fs::path round_file(const fs::path& folder, const std::string& view, int k, const char* ext) {
   return folder / view / ("round_" + std::to_string(k) + ext);
@@ -46,15 +36,14 @@ cv::Mat1b to_view_grid(const cv::Mat1b& m, const Camera& cam, const std::string&
 // Width of the image file the VLM was shown, for `pixels` coordinates after a downscale.
 double pixel_scale(const View& v) {
   if (v.rgb.path().empty()) return 1;
-  const cv::Mat full = cv::imread(v.rgb.path().string(), cv::IMREAD_UNCHANGED);
-  if (full.empty()) throw InputError(v.rgb.path().string() + ": not a readable image");
+  const cv::Mat full = read_image(v.rgb.path());
   return static_cast<double>(v.camera.width) / full.cols;
 }
 
 }  // namespace
 
 BoxSet load_vlm_boxes(const Capture& capture, const VlmLoadOptions& options, int* rounds_unparsed) {
-  const CaptureManifest m = read_capture_manifest(capture.root);
+  const CaptureManifest m = read_capture_manifest(capture.root, capture.allow_outside_paths);
   const fs::path folder = capture.root / m.vlm;
   VlmFrame frame;
   frame.coords = options.coords == VlmCoords::Auto ? m.vlm_coords : options.coords;
@@ -66,12 +55,12 @@ BoxSet load_vlm_boxes(const Capture& capture, const VlmLoadOptions& options, int
     std::vector<std::string> replies;
     for (int k = 0; options.rounds == 0 || k < options.rounds; ++k) {
       const fs::path file = round_file(folder, v.name, k, ".txt");
-      if (!fs::exists(file)) {
+      if (!entry_exists(file)) {
         if (options.rounds == 0) break;
         throw InputError(file.string() + ": VLM reply of round " + std::to_string(k) +
                          " is missing (" + std::to_string(options.rounds) + " rounds asked)");
       }
-      replies.push_back(read_text(file));
+      replies.push_back(read_input_file(file));
     }
     frame.image_width = v.camera.width;
     frame.image_height = v.camera.height;
@@ -92,7 +81,7 @@ MaskSet load_sam_box_masks(const Capture& capture, const BoxSet& boxes) {
     for (const ViewBoxes& vb : boxes.views) none.views.push_back({vb.view, {}});
     return none;
   }
-  const CaptureManifest m = read_capture_manifest(capture.root);
+  const CaptureManifest m = read_capture_manifest(capture.root, capture.allow_outside_paths);
   const fs::path folder = capture.root / m.sam_box;
   MaskSet set;
   for (const ViewBoxes& vb : boxes.views) {
@@ -103,8 +92,8 @@ MaskSet load_sam_box_masks(const Capture& capture, const BoxSet& boxes) {
     vm.view = vb.view;
     for (int k = 0; k < vb.rounds; ++k) {
       const fs::path file = round_file(folder, vb.view, k, ".json");
-      if (!fs::exists(file)) continue;
-      auto masks = parse_sam_box_masks(read_text(file), file.string());
+      if (!entry_exists(file)) continue;
+      auto masks = parse_sam_box_masks(read_input_file(file), file.string());
       for (size_t j = 0; j < masks.size(); ++j) {
         if (!masks[j]) continue;
         for (size_t b = 0; b < vb.boxes.size(); ++b) {
@@ -124,15 +113,15 @@ MaskSet load_sam_box_masks(const Capture& capture, const BoxSet& boxes) {
 }
 
 MaskSet load_sam_auto_masks(const Capture& capture) {
-  const CaptureManifest m = read_capture_manifest(capture.root);
+  const CaptureManifest m = read_capture_manifest(capture.root, capture.allow_outside_paths);
   const fs::path folder = capture.root / m.sam_auto;
   MaskSet set;
   for (const View& v : capture.views) {
     ViewMasks vm;
     vm.view = v.name;
     const fs::path file = folder / (v.name + ".json");
-    if (fs::exists(file)) {
-      vm.masks = parse_sam_auto_masks(read_text(file), file.string());
+    if (entry_exists(file)) {
+      vm.masks = parse_sam_auto_masks(read_input_file(file), file.string());
       for (Mask& mask : vm.masks) mask.pixels = to_view_grid(mask.pixels, v.camera, file.string());
     }
     set.views.push_back(std::move(vm));

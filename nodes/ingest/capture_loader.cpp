@@ -5,6 +5,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include "base/errors.hpp"
+#include "base/input_file.hpp"
 #include "nodes/ingest/capture_manifest.hpp"
 #include "nodes/ingest/colmap_capture.hpp"
 #include "nodes/ingest/nerf_transforms.hpp"
@@ -19,20 +20,23 @@ bool has_model(const fs::path& dir) {
   return fs::exists(dir / "cameras.bin") || fs::exists(dir / "cameras.txt");
 }
 
-// The first existing <folder>/<stem><ext>, or an empty path.
+// The first existing <folder>/<stem><ext>, or an empty path. An entry that is there but is not
+// a readable file (a directory, a FIFO, a dangling symlink) is an error naming it, not "absent".
 fs::path find_file(const fs::path& folder, const std::string& stem,
                    std::initializer_list<const char*> exts) {
   for (const char* ext : exts) {
     fs::path p = folder / (stem + ext);
-    if (fs::is_regular_file(p)) return p;
+    if (!entry_exists(p)) continue;
+    require_regular_file(p, "view file");
+    return p;
   }
   return {};
 }
 
 void read_classes(const fs::path& file, Capture& capture) {
-  if (!fs::exists(file)) return;
+  if (!entry_exists(file)) return;
   try {
-    const YAML::Node y = YAML::LoadFile(file.string());
+    const YAML::Node y = YAML::Load(read_input_file(file, "classes.yaml"));
     if (const auto c = y["classes"])
       for (const auto& kv : c) capture.classes[kv.first.as<int>()] = kv.second.as<std::string>();
     if (const auto i = y["instances"])
@@ -84,14 +88,16 @@ std::string folder_name(const fs::path& dir) {
 
 std::vector<ViewFiles> detected_views(const fs::path& path, const CaptureOptions& options,
                                       Capture& capture) {
-  if (fs::is_regular_file(path) && path.extension() == ".json") return read_nerf_transforms(path);
+  if (fs::is_regular_file(path) && path.extension() == ".json")
+    return read_nerf_transforms(path, options.allow_outside_paths);
   if (!fs::is_directory(path)) throw InputError(path.string() + ": no such capture folder");
   for (const char* model : {"sparse/0", "colmap"})
     if (has_model(path / model))
       return read_colmap_views(path / model, path / "images", options, capture.points);
   if (has_model(path)) return read_colmap_views(path, images_beside(path), options, capture.points);
   for (const char* json : {"transforms.json", "transforms_train.json"})
-    if (fs::exists(path / json)) return read_nerf_transforms(path / json);
+    if (fs::exists(path / json))
+      return read_nerf_transforms(path / json, options.allow_outside_paths);
   if (fs::is_directory(path / "results") && fs::exists(path / "traj.txt"))
     return read_replica_views(path);
   if (fs::exists(path / "camera-intrinsics.txt")) return read_3dmatch_views(path);
@@ -101,19 +107,18 @@ std::vector<ViewFiles> detected_views(const fs::path& path, const CaptureOptions
                    "(results/ + traj.txt) and 3DMatch (camera-intrinsics.txt)");
 }
 
-}  // namespace
-
-Capture load_capture(const fs::path& input, const CaptureOptions& options) {
+Capture load_capture_files(const fs::path& input, const CaptureOptions& options) {
   if (options.downscale < 1)
     throw InputError(input.string() + ": downscale must be >= 1, got " +
                      std::to_string(options.downscale));
   const fs::path path = input.filename() == "capture.yaml" ? input.parent_path() : input;
   Capture capture;
   capture.root = fs::is_regular_file(path) ? path.parent_path() : path;
+  capture.allow_outside_paths = options.allow_outside_paths;
   std::vector<ViewFiles> views;
   bool named_held_out = false;
-  if (fs::exists(path / "capture.yaml")) {
-    const CaptureManifest m = read_capture_manifest(path);
+  if (entry_exists(path / "capture.yaml")) {  // a directory or FIFO there is an error naming it
+    const CaptureManifest m = read_capture_manifest(path, options.allow_outside_paths);
     capture.name = m.name;
     views = manifest_views(path, m, options, capture);
     named_held_out = m.has_held_out;
@@ -127,6 +132,18 @@ Capture load_capture(const fs::path& input, const CaptureOptions& options) {
       views[i].held_out = i % static_cast<size_t>(options.holdout_every) == 0;
   for (const auto& v : views) capture.views.push_back(make_view(v, options));
   return capture;
+}
+
+}  // namespace
+
+Capture load_capture(const fs::path& input, const CaptureOptions& options) {
+  try {
+    return load_capture_files(input, options);
+  } catch (const fs::filesystem_error& e) {
+    // std::filesystem's queries throw on what a hostile capture holds (a symlink loop, a name too
+    // long): bad input naming the path, not a node failure with a raw system message.
+    throw InputError(e.path1().string() + ": " + e.code().message());
+  }
 }
 
 const ParamTable<CaptureOptions>& capture_param_table() {
@@ -147,7 +164,11 @@ const ParamTable<CaptureOptions>& capture_param_table() {
                "pinholes; off keeps the images and Camera::distortion as captured")
           .add("undistort_crop", &O::undistort_crop,
                "undistort: crop to the rectangle of valid pixels (COLMAP's undistorter), so no "
-               "pixel is black for want of a source; off keeps the captured size");
+               "pixel is black for want of a source; off keeps the captured size")
+          .add("allow_outside_paths", &O::allow_outside_paths,
+               "follow file names in the capture's files (images.txt, transforms.json, "
+               "capture.yaml) that point outside its folder (../, absolute paths, symlinks out); "
+               "off refuses them (docs/security.md)");
   return table;
 }
 

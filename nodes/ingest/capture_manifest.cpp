@@ -3,16 +3,17 @@
 #include <yaml-cpp/yaml.h>
 
 #include "base/errors.hpp"
+#include "base/input_file.hpp"
 
 namespace gslift {
 
-CaptureManifest read_capture_manifest(const std::filesystem::path& root) {
+CaptureManifest read_capture_manifest(const std::filesystem::path& root, bool allow_outside_paths) {
   CaptureManifest m;
   const auto file = root / "capture.yaml";
-  if (!std::filesystem::exists(file)) return m;
+  if (!entry_exists(file)) return m;
   const std::string where = file.string();
   try {
-    const YAML::Node y = YAML::LoadFile(file.string());
+    const YAML::Node y = YAML::Load(read_input_file(file, "capture.yaml"));
     const std::string format = y["format"] ? y["format"].as<std::string>() : "";
     if (format != "gslift.capture/v1")
       throw InputError(where + ": format must be gslift.capture/v1, got '" + format + "'");
@@ -53,6 +54,15 @@ CaptureManifest read_capture_manifest(const std::filesystem::path& root) {
   } catch (const YAML::Exception& e) {
     throw InputError(where + ": " + e.what());
   }
+  for (const auto& [key, folder] :
+       {std::pair<const char*, const std::filesystem::path*>{"model", &m.model},
+        {"images", &m.images},
+        {"depth.folder", &m.depth},
+        {"vlm.folder", &m.vlm},
+        {"sam_box", &m.sam_box},
+        {"sam_auto", &m.sam_auto},
+        {"gt", &m.gt}})
+    path_inside(root, folder->string(), allow_outside_paths, where + " (" + key + ")");
   return m;
 }
 

@@ -30,7 +30,9 @@ struct CaptureManifest {
 };
 
 // Reads <root>/capture.yaml when it exists, else returns the defaults. Throws InputError naming
-// the file for a wrong `format`, mistyped fields or an unknown vlm.coords.
-CaptureManifest read_capture_manifest(const std::filesystem::path& root);
+// the file for a wrong `format`, mistyped fields, an unknown vlm.coords, a capture.yaml that is
+// not a regular file, and (unless `allow_outside_paths`) a folder that points outside `root`.
+CaptureManifest read_capture_manifest(const std::filesystem::path& root,
+                                      bool allow_outside_paths = false);
 
 }  // namespace gslift

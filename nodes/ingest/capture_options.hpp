@@ -27,6 +27,11 @@ struct CaptureOptions {
   // Off: the captured size, with 1-3 black pixels along the border of a radially distorted
   // camera; on DTU scan 24 those cost about 1 dB of held-out PSNR (bench/splat_recon).
   bool undistort_crop = true;
+  // A capture is untrusted (docs/security.md): file and folder names read from its files
+  // (images.txt / images.bin, transforms.json, capture.yaml) must stay inside the capture's
+  // folders, so `../../etc/passwd`, absolute paths and symlinks that leave it are refused. Set
+  // for a capture you trust whose files really live elsewhere.
+  bool allow_outside_paths = false;
 };
 
 // The params of ingest.capture that shape the reading: one entry per field above.

@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "base/errors.hpp"
+#include "nodes/scene/camera.hpp"
 
 namespace gslift {
 
@@ -26,9 +27,12 @@ std::vector<uint32_t> rle_encode(const cv::Mat1b& mask) {
 
 cv::Mat1b rle_decode(const std::vector<uint32_t>& counts, int height, int width,
                      const std::string& where) {
+  // A record's size is checked before anything is allocated: [0, 0] has no pixels to decode into,
+  // and a size over kMaxImagePixels (camera.hpp) would cost gigabytes for a few bytes of counts.
+  check_image_size(height, width, where + " (RLE size [height, width])");
   uint64_t total = 0;
   for (uint32_t c : counts) total += c;
-  if (height < 0 || width < 0 || total != static_cast<uint64_t>(height) * width)
+  if (total != static_cast<uint64_t>(height) * width)
     throw InputError(where + ": RLE counts sum to " + std::to_string(total) + ", but the mask is " +
                      std::to_string(height) + " x " + std::to_string(width) + " = " +
                      std::to_string(static_cast<int64_t>(height) * width) + " pixels");
@@ -95,7 +99,10 @@ cv::Mat1b rle_decode_json(const nlohmann::json& rle, const std::string& where) {
   if (!size.is_array() || size.size() != 2 || !size[0].is_number_integer() ||
       !size[1].is_number_integer())
     throw InputError(where + ": RLE size must be [height, width]");
-  const int h = size[0].get<int>(), w = size[1].get<int>();
+  // As int64: get<int> of 1e10 would wrap.
+  const int64_t h64 = size[0].get<int64_t>(), w64 = size[1].get<int64_t>();
+  check_image_size(h64, w64, where + " (RLE size [height, width])");
+  const int h = static_cast<int>(h64), w = static_cast<int>(w64);
   const auto& counts = rle["counts"];
   if (counts.is_string())
     return rle_decode(rle_counts_from_string(counts.get<std::string>(), where), h, w, where);

@@ -44,9 +44,6 @@ Camera camera_from_colmap(const ColmapCameraModel& model, int width, int height,
     throw InputError(where + ": camera model " + model.name + " takes " +
                      std::to_string(model.num_params) + " parameters, got " +
                      std::to_string(p.size()));
-  if (width <= 0 || height <= 0)
-    throw InputError(where + ": camera size must be positive, got " + std::to_string(width) +
-                     " x " + std::to_string(height));
   Camera c;
   c.width = width;
   c.height = height;
@@ -76,7 +73,7 @@ Camera camera_from_colmap(const ColmapCameraModel& model, int width, int height,
     default:
       break;
   }
-  if (!(c.fx > 0 && c.fy > 0)) throw InputError(where + ": focal length must be positive");
+  check_camera(c, where);  // size, finite positive focal lengths (the binary model has NaNs too)
   return c;
 }
 

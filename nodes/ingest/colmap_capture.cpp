@@ -3,6 +3,7 @@
 #include <spdlog/spdlog.h>
 
 #include "base/errors.hpp"
+#include "base/input_file.hpp"
 #include "nodes/ingest/colmap_model.hpp"
 
 namespace gslift {
@@ -14,7 +15,8 @@ std::vector<ViewFiles> read_colmap_views(const std::filesystem::path& model_dir,
   std::vector<ViewFiles> views;
   int skipped = 0;
   for (const auto& im : model.images) {
-    const auto rgb = images_dir / im.name;
+    const auto rgb = path_inside(images_dir, im.name, options.allow_outside_paths,
+                                 model_dir.string() + " (image '" + im.name + "')");
     if (!std::filesystem::is_regular_file(rgb)) {
       if (!options.skip_missing_images)
         throw InputError(rgb.string() + ": image listed in the COLMAP model " + model_dir.string() +

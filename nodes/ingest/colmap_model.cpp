@@ -1,14 +1,17 @@
 #include "nodes/ingest/colmap_model.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <fstream>
 #include <iomanip>
+#include <limits>
 #include <locale>
 #include <set>
 #include <sstream>
 
 #include "base/errors.hpp"
+#include "base/input_file.hpp"
 #include "nodes/ingest/colmap_camera_model.hpp"
 #include "nodes/ingest/numeric_text.hpp"
 #include "runtime/atomic_file.hpp"
@@ -21,11 +24,23 @@ namespace fs = std::filesystem;
 Pose pose_from_colmap(double qw, double qx, double qy, double qz, const Eigen::Vector3d& t,
                       const std::string& where) {
   Eigen::Quaterniond q(qw, qx, qy, qz);
+  // The text reader refuses "nan" and "inf" as numbers; the binary one reads them as doubles.
+  if (!(std::isfinite(q.norm()) && t.allFinite()))
+    throw InputError(where + ": the pose holds NaN or Inf");
   if (!(q.norm() > 1e-12)) throw InputError(where + ": zero rotation quaternion");
   Pose p;
   p.R = q.normalized().toRotationMatrix();
   p.t = t;
   return p;
+}
+
+// A sparse point's coordinate as stored (float): NaN, Inf and values beyond float's range are
+// refused (the binary reader used to pass them on, and reconstruction collapsed to one Gaussian).
+float point_coordinate(double x, const std::string& where) {
+  if (!(std::abs(x) <= std::numeric_limits<float>::max()))
+    throw InputError(where + ": point coordinate " + std::to_string(x) +
+                     " is NaN, Inf or out of range");
+  return static_cast<float>(x);
 }
 
 // Shared by both readers: deterministic view order and referential integrity.
@@ -49,6 +64,7 @@ void finish(ColmapModel& m, const fs::path& images_file) {
 // may be empty).
 template <class Fn>
 void for_each_record(const fs::path& file, Fn fn) {
+  require_regular_file(file, "COLMAP model file");
   std::ifstream in(file);
   if (!in) throw InputError(file.string() + ": cannot open");
   std::string line;
@@ -61,19 +77,21 @@ void for_each_record(const fs::path& file, Fn fn) {
 
 ColmapModel read_text(const fs::path& folder) {
   ColmapModel m;
-  for_each_record(folder / "cameras.txt",
-                  [&](const auto& tok, const std::string& where, auto&, int&) {
-                    if (tok.size() < 4)
-                      throw InputError(where + ": expected CAMERA_ID MODEL WIDTH HEIGHT PARAMS");
-                    const auto& model = colmap_camera_model(tok[1], where);
-                    std::vector<double> params;
-                    for (size_t i = 4; i < tok.size(); ++i)
-                      params.push_back(parse_double(tok[i], where, "param"));
-                    const int id = static_cast<int>(parse_integer(tok[0], where, "CAMERA_ID"));
-                    m.cameras[id] = camera_from_colmap(
-                        model, static_cast<int>(parse_integer(tok[2], where, "WIDTH")),
-                        static_cast<int>(parse_integer(tok[3], where, "HEIGHT")), params, where);
-                  });
+  for_each_record(
+      folder / "cameras.txt", [&](const auto& tok, const std::string& where, auto&, int&) {
+        if (tok.size() < 4)
+          throw InputError(where + ": expected CAMERA_ID MODEL WIDTH HEIGHT PARAMS");
+        const auto& model = colmap_camera_model(tok[1], where);
+        std::vector<double> params;
+        for (size_t i = 4; i < tok.size(); ++i)
+          params.push_back(parse_double(tok[i], where, "param"));
+        const int id = static_cast<int>(parse_integer(tok[0], where, "CAMERA_ID"));
+        const long long w = parse_integer(tok[2], where, "WIDTH"),
+                        h = parse_integer(tok[3], where, "HEIGHT");
+        check_image_size(w, h, where);  // before narrowing to int
+        m.cameras[id] =
+            camera_from_colmap(model, static_cast<int>(w), static_cast<int>(h), params, where);
+      });
   for_each_record(folder / "images.txt", [&](const auto& tok, const std::string& where,
                                              std::istream& in, int& n) {
     if (tok.size() != 10)
@@ -98,7 +116,7 @@ ColmapModel read_text(const fs::path& folder) {
       Eigen::Vector3f x;
       Eigen::Matrix<uint8_t, 3, 1> c;
       for (int i = 0; i < 3; ++i) {
-        x[i] = static_cast<float>(parse_double(tok[1 + i], where, "coordinate"));
+        x[i] = point_coordinate(parse_double(tok[1 + i], where, "coordinate"), where);
         const long long ci = parse_integer(tok[4 + i], where, "colour");
         if (ci < 0 || ci > 255) throw InputError(where + ": colour must be in [0, 255]");
         c[i] = static_cast<uint8_t>(ci);
@@ -115,7 +133,9 @@ ColmapModel read_text(const fs::path& folder) {
 // Little-endian reads that name the file when it ends early.
 class BinaryFile {
  public:
-  explicit BinaryFile(const fs::path& path) : path_(path), in_(path, std::ios::binary) {
+  explicit BinaryFile(const fs::path& path)
+      : path_((require_regular_file(path, "COLMAP model file"), path)),
+        in_(path, std::ios::binary) {
     if (!in_) throw InputError(path.string() + ": cannot open");
     in_.seekg(0, std::ios::end);
     size_ = static_cast<uint64_t>(in_.tellg());
@@ -169,7 +189,9 @@ ColmapModel read_binary(const fs::path& folder) {
       const std::string where = f.path().string() + " (camera " + std::to_string(id) + ")";
       const auto& model = colmap_camera_model(f.read<int32_t>(), where);
       const uint64_t w = f.read<uint64_t>(), h = f.read<uint64_t>();
-      if (w > 1u << 20 || h > 1u << 20) f.truncated();
+      const uint64_t most = uint64_t(1) << 62;  // signed for check_image_size, still absurd
+      check_image_size(static_cast<long long>(std::min(w, most)),
+                       static_cast<long long>(std::min(h, most)), where);
       std::vector<double> params(model.num_params);
       for (auto& p : params) p = f.read<double>();
       m.cameras[id] =
@@ -202,7 +224,9 @@ ColmapModel read_binary(const fs::path& folder) {
     for (uint64_t i = 0; i < n; ++i) {
       f.read<uint64_t>();  // point id
       Eigen::Vector3f x;
-      for (int k = 0; k < 3; ++k) x[k] = static_cast<float>(f.read<double>());
+      for (int k = 0; k < 3; ++k)
+        x[k] = point_coordinate(f.read<double>(),
+                                f.path().string() + " (point " + std::to_string(i) + ")");
       Eigen::Matrix<uint8_t, 3, 1> c;
       for (int k = 0; k < 3; ++k) c[k] = f.read<uint8_t>();
       f.read<double>();  // reprojection error

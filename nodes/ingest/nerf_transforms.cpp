@@ -1,15 +1,15 @@
 #include "nodes/ingest/nerf_transforms.hpp"
 
 #include <cmath>
-#include <fstream>
 #include <optional>
 #include <set>
 
 #include <spdlog/spdlog.h>
 #include <nlohmann/json.hpp>
-#include <opencv2/imgcodecs.hpp>
 
 #include "base/errors.hpp"
+#include "base/input_file.hpp"
+#include "nodes/scene/image_io.hpp"
 
 namespace gslift {
 namespace {
@@ -52,6 +52,7 @@ Eigen::Matrix4d matrix_of(const json& m, const std::string& where) {
       c2w(r, c) = m[r][c].get<double>();
     }
   }
+  if (!c2w.allFinite()) throw InputError(where + ": transform_matrix holds NaN or Inf");
   return c2w;
 }
 
@@ -64,12 +65,11 @@ Pose pose_from_opengl_c2w(const Eigen::Matrix4d& c2w) {
   return Pose::from_camera_to_world(cv);
 }
 
-std::vector<ViewFiles> read_nerf_transforms(const fs::path& json_file) {
-  std::ifstream in(json_file);
-  if (!in) throw InputError(json_file.string() + ": cannot open");
+std::vector<ViewFiles> read_nerf_transforms(const fs::path& json_file, bool allow_outside_paths) {
+  const std::string text = read_input_file(json_file, "transforms file");
   json top;
   try {
-    top = json::parse(in);
+    top = json::parse(text);
   } catch (const json::exception& e) {
     throw InputError(json_file.string() + ": invalid JSON: " + e.what());
   }
@@ -87,7 +87,8 @@ std::vector<ViewFiles> read_nerf_transforms(const fs::path& json_file) {
     const std::string where = json_file.string() + " frame " + std::to_string(i);
     if (!f.is_object() || !f.contains("file_path") || !f["file_path"].is_string())
       throw InputError(where + ": needs a 'file_path' string");
-    const auto rgb = find_image(dir / f["file_path"].get<std::string>());
+    const auto rgb =
+        find_image(path_inside(dir, f["file_path"].get<std::string>(), allow_outside_paths, where));
     if (!rgb) {
       ++missing;
       continue;
@@ -104,13 +105,17 @@ std::vector<ViewFiles> read_nerf_transforms(const fs::path& json_file) {
     if (!w || !h) {
       // Decoded once: frames share the size (each image is checked against it when loaded).
       if (probed.empty()) {
-        const cv::Mat probe = cv::imread(rgb->string(), cv::IMREAD_UNCHANGED);
-        if (probe.empty()) throw InputError(rgb->string() + ": not a readable image");
-        probed = probe.size();
+        probed = read_image(*rgb).size();
       }
       w = probed.width;
       h = probed.height;
     }
+    // Checked before narrowing to int: 1e20 would be undefined behaviour, 1e9 a huge allocation.
+    if (!(std::abs(*w) < 1e15 && std::abs(*h) < 1e15 && *w == std::floor(*w) &&
+          *h == std::floor(*h)))
+      throw InputError(where + ": image size must be whole numbers, got " + std::to_string(*w) +
+                       " x " + std::to_string(*h));
+    check_image_size(static_cast<long long>(*w), static_cast<long long>(*h), where);
     c.width = static_cast<int>(*w);
     c.height = static_cast<int>(*h);
     auto fx = number(f, top, "fl_x", where);
@@ -128,8 +133,6 @@ std::vector<ViewFiles> read_nerf_transforms(const fs::path& json_file) {
     c.fy = *fy;
     c.cx = number(f, top, "cx", where).value_or(0.5 * c.width);
     c.cy = number(f, top, "cy", where).value_or(0.5 * c.height);
-    if (!(c.fx > 0 && c.fy > 0 && c.width > 0 && c.height > 0))
-      throw InputError(where + ": focal lengths and image size must be positive");
     // nerfstudio names its model; only the OpenCV radial-tangential one maps onto Camera.
     const json& model_of = f.contains("camera_model") ? f : top;
     if (model_of.contains("camera_model")) {
@@ -146,9 +149,11 @@ std::vector<ViewFiles> read_nerf_transforms(const fs::path& json_file) {
     if (const auto k3 = number(f, top, "k3", where); k3 && *k3 != 0) d.push_back(*k3);
     for (double x : d)
       if (x != 0) c.distortion = d;
+    check_camera(c, where);
 
     if (f.contains("depth_file_path") && f["depth_file_path"].is_string()) {
-      v.depth = dir / f["depth_file_path"].get<std::string>();
+      v.depth =
+          path_inside(dir, f["depth_file_path"].get<std::string>(), allow_outside_paths, where);
       v.depth_scale = 1000;
     }
     views.push_back(std::move(v));

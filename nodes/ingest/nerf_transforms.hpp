@@ -22,7 +22,10 @@
 
 namespace gslift {
 
-std::vector<ViewFiles> read_nerf_transforms(const std::filesystem::path& json_file);
+// Frame file names (file_path, depth_file_path) must stay inside the file's folder unless
+// `allow_outside_paths` (the ingest param).
+std::vector<ViewFiles> read_nerf_transforms(const std::filesystem::path& json_file,
+                                            bool allow_outside_paths = false);
 
 // The OpenCV world-to-camera pose of an OpenGL/NeRF camera-to-world matrix.
 Pose pose_from_opengl_c2w(const Eigen::Matrix4d& c2w);

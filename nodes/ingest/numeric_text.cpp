@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "base/errors.hpp"
+#include "base/input_file.hpp"
 
 namespace gslift {
 
@@ -42,6 +43,7 @@ long long parse_integer(const std::string& token, const std::string& where,
 }
 
 std::vector<double> read_numbers_file(const std::string& path) {
+  require_regular_file(path);
   std::ifstream in(path);
   if (!in) throw InputError(path + ": cannot open");
   std::vector<double> values;

@@ -2,13 +2,13 @@
 
 #include <algorithm>
 #include <cstdio>
-#include <fstream>
 
 #include <nlohmann/json.hpp>
-#include <opencv2/imgcodecs.hpp>
 
 #include "base/errors.hpp"
+#include "base/input_file.hpp"
 #include "nodes/ingest/numeric_text.hpp"
+#include "nodes/scene/image_io.hpp"
 
 namespace gslift {
 namespace {
@@ -34,14 +34,16 @@ std::vector<fs::path> sorted_entries(const fs::path& dir) {
 std::vector<ViewFiles> read_replica_views(const fs::path& folder) {
   fs::path params = folder / "cam_params.json";
   if (!fs::exists(params)) params = folder.parent_path() / "cam_params.json";
-  std::ifstream in(params);
-  if (!in) throw InputError((folder / "cam_params.json").string() + ": cannot open");
+  const std::string text = read_input_file(params, "cam_params.json");
   Camera cam;
   double scale = 0;
   try {
-    const auto j = nlohmann::json::parse(in).at("camera");
-    cam.width = j.at("w").get<int>();
-    cam.height = j.at("h").get<int>();
+    const auto j = nlohmann::json::parse(text).at("camera");
+    // As 64-bit integers and checked before narrowing: get<int> wraps 1e10.
+    const long long w = j.at("w").get<long long>(), h = j.at("h").get<long long>();
+    check_image_size(w, h, params.string());
+    cam.width = static_cast<int>(w);
+    cam.height = static_cast<int>(h);
     cam.fx = j.at("fx").get<double>();
     cam.fy = j.at("fy").get<double>();
     cam.cx = j.at("cx").get<double>();
@@ -51,6 +53,7 @@ std::vector<ViewFiles> read_replica_views(const fs::path& folder) {
     throw InputError(params.string() +
                      ": expected {\"camera\": {w, h, fx, fy, cx, cy, scale}}: " + e.what());
   }
+  check_camera(cam, params.string());
   const fs::path traj = folder / "traj.txt";
   const std::vector<double> poses = read_numbers_file(traj.string());
   if (poses.size() % 16 != 0)
@@ -102,8 +105,7 @@ std::vector<ViewFiles> read_3dmatch_views(const fs::path& folder) {
         continue;
       const std::string frame = file.substr(0, file.size() - suffix.size());
       if (cam.width == 0) {
-        const cv::Mat probe = cv::imread(p.string(), cv::IMREAD_UNCHANGED);
-        if (probe.empty()) throw InputError(p.string() + ": not a readable image");
+        const cv::Mat probe = read_image(p);
         cam.width = probe.cols;
         cam.height = probe.rows;
       }

@@ -9,6 +9,7 @@
 
 #include "base/errors.hpp"
 #include "nodes/ingest/sam_masks.hpp"
+#include "nodes/scene/image_io.hpp"
 
 namespace gslift {
 
@@ -96,8 +97,7 @@ MaskSet mask_folder(const Capture& capture, const std::filesystem::path& folder,
     } else {
       continue;
     }
-    cv::Mat m = cv::imread(file.string(), cv::IMREAD_GRAYSCALE);
-    if (m.empty()) throw InputError("masks.folder: cannot read " + file.string());
+    cv::Mat m = read_image(file, cv::IMREAD_GRAYSCALE);
     const cv::Size size(view.camera.width, view.camera.height);
     if (m.size() != size) cv::resize(m, m, size, 0, 0, cv::INTER_AREA);
     Mask mask;

@@ -1,5 +1,9 @@
 #include "nodes/scene/camera.hpp"
 
+#include <cmath>
+
+#include "base/errors.hpp"
+
 namespace gslift {
 
 Eigen::Matrix3d Camera::K() const {
@@ -17,6 +21,27 @@ Camera Camera::scaled(double s) const {
   c.cx *= s;
   c.cy *= s;
   return c;
+}
+
+void check_image_size(long long width, long long height, const std::string& where) {
+  if (width <= 0 || height <= 0)
+    throw InputError(where + ": image size must be positive, got " + std::to_string(width) + " x " +
+                     std::to_string(height));
+  if (width > kMaxImagePixels || height > kMaxImagePixels / width)
+    throw InputError(where + ": image size " + std::to_string(width) + " x " +
+                     std::to_string(height) + " is over gslift's limit of " +
+                     std::to_string(kMaxImagePixels) + " pixels (docs/security.md)");
+}
+
+void check_camera(const Camera& c, const std::string& where) {
+  check_image_size(c.width, c.height, where);
+  if (!(std::isfinite(c.fx) && std::isfinite(c.fy) && c.fx > 0 && c.fy > 0))
+    throw InputError(where + ": focal lengths must be finite and positive, got fx " +
+                     std::to_string(c.fx) + ", fy " + std::to_string(c.fy));
+  if (!(std::isfinite(c.cx) && std::isfinite(c.cy)))
+    throw InputError(where + ": the principal point must be finite");
+  for (double d : c.distortion)
+    if (!std::isfinite(d)) throw InputError(where + ": distortion coefficients must be finite");
 }
 
 Pose Pose::from_camera_to_world(const Eigen::Matrix4d& c2w) {

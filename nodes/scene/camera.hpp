@@ -23,6 +23,21 @@ struct Camera {
   Camera scaled(double s) const;
 };
 
+// The most pixels an image gslift reads, renders or allocates for may have: 2^26 (67 Mpx, e.g.
+// 8192 x 8192, twice an 8K frame, more than any operating-room camera). Above it a corrupt or
+// hostile header costs gigabytes before anything fails: a 30000 x 30000 camera (0.9 Gpx) made
+// splat.render allocate 24 GB of per-pixel state until the kernel killed it.
+constexpr long long kMaxImagePixels = 1LL << 26;
+
+// Throws InputError "<where>: ..." unless width and height are positive and their product is at
+// most kMaxImagePixels. Takes 64-bit sizes so that a header's value is checked before it is
+// narrowed to int.
+void check_image_size(long long width, long long height, const std::string& where);
+
+// check_image_size, and focal lengths finite and positive, a finite principal point and
+// distortion: what every reader checks before a camera enters a Capture.
+void check_camera(const Camera& camera, const std::string& where);
+
 struct Pose {
   Eigen::Matrix3d R = Eigen::Matrix3d::Identity();  // world -> camera rotation
   Eigen::Vector3d t = Eigen::Vector3d::Zero();      // world -> camera translation

@@ -46,6 +46,9 @@ struct SparsePoints {
 struct Capture {
   std::string name;
   std::filesystem::path root;  // folder it was read from (empty for in-memory captures)
+  // ingest.capture's allow_outside_paths, kept for the nodes that read the annotation folders
+  // capture.yaml names (vlm/, sam_box/, sam_auto/) later: false refuses folders outside `root`.
+  bool allow_outside_paths = false;
   std::vector<View> views;
   SparsePoints points;
   // Ground-truth vocabulary: class id -> class name (id 0 = background). Empty without GT.

@@ -1,6 +1,9 @@
 #include "nodes/scene/image_io.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <fstream>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -9,17 +12,47 @@
 #include <opencv2/imgproc.hpp>
 
 #include "base/errors.hpp"
+#include "base/input_file.hpp"
+#include "nodes/scene/camera.hpp"
 #include "runtime/atomic_file.hpp"
 
 namespace gslift {
 namespace {
 
-cv::Mat read_unchanged(const std::filesystem::path& path) {
-  if (!std::filesystem::is_regular_file(path)) throw InputError(path.string() + ": file not found");
-  cv::Mat m = cv::imread(path.string(), cv::IMREAD_UNCHANGED);
+// A PNG's size from its IHDR chunk (bytes 16..23, big-endian), before anything is decoded; nullopt
+// for other formats. OpenCV refuses headers above 2^30 pixels itself (with a raw cv::Exception),
+// but below that it would allocate whatever a header claims.
+std::optional<std::pair<long long, long long>> png_header_size(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  unsigned char h[24];
+  if (!in.read(reinterpret_cast<char*>(h), sizeof h)) return std::nullopt;
+  static const unsigned char magic[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+  if (!std::equal(magic, magic + 8, h) || std::string(h + 12, h + 16) != "IHDR")
+    return std::nullopt;
+  const auto be32 = [&](int i) {
+    return (static_cast<long long>(h[i]) << 24) | (h[i + 1] << 16) | (h[i + 2] << 8) | h[i + 3];
+  };
+  return std::make_pair(be32(16), be32(20));
+}
+
+}  // namespace
+
+cv::Mat read_image(const std::filesystem::path& path, int flags) {
+  require_regular_file(path, "image");
+  if (const auto size = png_header_size(path))
+    check_image_size(size->first, size->second, path.string() + " (PNG header)");
+  cv::Mat m;
+  try {
+    m = cv::imread(path.string(), flags);
+  } catch (const cv::Exception& e) {  // e.g. a header over OpenCV's own size limit
+    throw InputError(path.string() + ": not a readable image (" + e.err + ")");
+  }
   if (m.empty()) throw InputError(path.string() + ": not a readable image");
+  check_image_size(m.cols, m.rows, path.string());
   return m;
 }
+
+namespace {
 
 std::string describe(const cv::Mat& m) {
   return std::to_string(m.channels()) + "-channel " +
@@ -60,7 +93,7 @@ void write_float_image(const std::filesystem::path& path, const cv::Mat& m) {
 }  // namespace
 
 cv::Mat read_rgb(const std::filesystem::path& path, const cv::Scalar& background) {
-  cv::Mat m = read_unchanged(path);
+  cv::Mat m = read_image(path);
   if (m.depth() == CV_16U) m.convertTo(m, CV_8U, 1.0 / 257.0);
   if (m.depth() != CV_8U)
     throw InputError(path.string() + ": expected an 8- or 16-bit RGB image, got " + describe(m));
@@ -90,7 +123,7 @@ cv::Mat read_rgb(const std::filesystem::path& path, const cv::Scalar& background
 }
 
 cv::Mat read_alpha(const std::filesystem::path& path) {
-  cv::Mat m = read_unchanged(path);
+  cv::Mat m = read_image(path);
   if (m.channels() != 4) return {};
   cv::Mat alpha;
   cv::extractChannel(m, alpha, 3);
@@ -99,7 +132,7 @@ cv::Mat read_alpha(const std::filesystem::path& path) {
 }
 
 cv::Mat read_depth(const std::filesystem::path& path, double scale) {
-  cv::Mat m = read_unchanged(path);
+  cv::Mat m = read_image(path);
   if (m.channels() != 1)
     throw InputError(path.string() + ": depth must be single-channel, got " + describe(m));
   cv::Mat depth;
@@ -119,7 +152,7 @@ cv::Mat read_depth(const std::filesystem::path& path, double scale) {
 }
 
 cv::Mat read_label_map(const std::filesystem::path& path, bool accept_8bit) {
-  cv::Mat m = read_unchanged(path);
+  cv::Mat m = read_image(path);
   if (m.channels() != 1)
     throw InputError(path.string() + ": label map must be single-channel, got a " + describe(m) +
                      " colour image");
@@ -137,7 +170,7 @@ cv::Mat read_label_map(const std::filesystem::path& path, bool accept_8bit) {
 }
 
 cv::Mat read_float_tiff(const std::filesystem::path& path) {
-  cv::Mat m = read_unchanged(path);
+  cv::Mat m = read_image(path);
   if (m.depth() != CV_32F)
     throw InputError(path.string() + ": expected a float32 map, got " + describe(m));
   if (m.channels() == 3) cv::cvtColor(m, m, cv::COLOR_BGR2RGB);  // back to file order

@@ -10,6 +10,12 @@
 
 namespace gslift {
 
+// The image decoded with cv::imread `flags` (as stored by default). Refused with InputError naming
+// the file: a path that is not a regular file, a PNG whose header claims more than
+// kMaxImagePixels (camera.hpp; checked before decoding), and anything OpenCV cannot decode. Every
+// reader below starts here, and so does every other image read of gslift.
+cv::Mat read_image(const std::filesystem::path& path, int flags = -1 /* IMREAD_UNCHANGED */);
+
 // CV_8UC3 in RGB channel order. Grey images are replicated to three channels, 16-bit images are
 // reduced to 8 bits, and an alpha channel is composited onto `background` (RGB; NeRF's Blender
 // scenes are rendered for a white background, hence the default).

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include <open3d/geometry/KDTreeFlann.h>
 #include <open3d/geometry/PointCloud.h>
@@ -78,8 +79,54 @@ ColouredPoints sparse_points(const Capture& capture) {
   return out;
 }
 
+namespace {
+
+// The error Open3D's VoxelDownSample would raise ("voxel_size is too small", in terminal
+// colours, naming nothing), raised here with the numbers: its grid indexes voxels with int, so
+// the points must span fewer than 2^31 voxels along every axis. An extreme pose or focal length
+// (a camera 1e20 m out, a focal of 1e-9 px) is what breaks it.
+void check_voxel_grid(const ColouredPoints& points, double voxel) {
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
+  Eigen::Vector3d hi = -lo;
+  for (const auto& x : points.xyz) {
+    if (!x.allFinite())
+      throw InputError("initialise: a point is NaN or Inf (" + std::to_string(x.x()) + ", " +
+                       std::to_string(x.y()) + ", " + std::to_string(x.z()) + ")");
+    lo = lo.cwiseMin(x);
+    hi = hi.cwiseMax(x);
+  }
+  if (voxel <= 0 || points.xyz.empty()) return;
+  const double span = (hi - lo).maxCoeff() + voxel;
+  if (!std::isfinite(voxel) || !(span / voxel < std::numeric_limits<int>::max()))
+    throw InputError("initialise: voxel size " + std::to_string(voxel) + " m for points spanning " +
+                     std::to_string(span) +
+                     " m needs more than 2^31 voxels per axis (an extreme pose or focal length?)");
+}
+
+// The training views with the most extreme camera centre and focal length, to name in an error.
+std::string extreme_views(const Capture& capture, const std::vector<int>& views) {
+  if (views.empty()) return {};
+  int far = views[0], small = views[0], large = views[0];
+  const auto focal = [&](int v) {
+    return std::min(capture.views[v].camera.fx, capture.views[v].camera.fy);
+  };
+  const auto dist = [&](int v) { return capture.views[v].pose.centre().norm(); };
+  for (int v : views) {
+    if (dist(v) > dist(far)) far = v;
+    if (focal(v) < focal(small)) small = v;
+    if (focal(v) > focal(large)) large = v;
+  }
+  const auto name = [&](int v) { return "view '" + capture.views[v].name + "'"; };
+  return name(far) + " has the camera farthest from the origin (" + std::to_string(dist(far)) +
+         " m), " + name(small) + " the smallest focal length (" + std::to_string(focal(small)) +
+         " px), " + name(large) + " the largest (" + std::to_string(focal(large)) + " px)";
+}
+
+}  // namespace
+
 GaussianModel gaussians_from_points(const ColouredPoints& points, double voxel,
                                     const InitialiseOptions& options) {
+  check_voxel_grid(points, voxel);
   open3d::geometry::PointCloud cloud;
   cloud.points_ = points.xyz;
   cloud.colors_ = points.rgb;
@@ -218,8 +265,12 @@ GaussianModel initialise_gaussians(const Capture& capture, const InitialiseOptio
     if (points.xyz.empty())
       throw InputError(where +
                        "no valid depth prior pixel in the training views to initialise from");
-    return gaussians_from_points(points, options.footprint_factor * points.median_footprint,
-                                 options);
+    try {
+      return gaussians_from_points(points, options.footprint_factor * points.median_footprint,
+                                   options);
+    } catch (const InputError& e) {
+      throw InputError(where + e.what() + "; " + extreme_views(capture, train));
+    }
   }
   if (source == InitSource::Random) {
     const double extent = scene_extent(capture);

@@ -3,12 +3,14 @@
 #include <cmath>
 #include <cstring>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include "base/errors.hpp"
+#include "base/input_file.hpp"
 #include "runtime/atomic_file.hpp"
 
 namespace gslift {
@@ -117,6 +119,15 @@ std::vector<int> numbered(const std::map<std::string, int>& index, const std::st
   }
 }
 
+// An instance or class id stored as a PLY scalar; NaN or a value beyond int32 would make the cast
+// undefined.
+int32_t id_value(double v, const std::string& where, size_t vertex) {
+  if (!(v >= std::numeric_limits<int32_t>::min() && v <= std::numeric_limits<int32_t>::max()))
+    throw InputError(where + "vertex " + std::to_string(vertex) + " has id " + std::to_string(v) +
+                     ", not an int32");
+  return static_cast<int32_t>(v);
+}
+
 }  // namespace
 
 void write_ply(const GaussianModel& model, const std::filesystem::path& path) {
@@ -153,6 +164,7 @@ void write_ply(const GaussianModel& model, const std::filesystem::path& path) {
 
 GaussianModel read_ply(const std::filesystem::path& path) {
   const std::string where = path.string() + ": ";
+  require_regular_file(path, "PLY file");  // /dev/zero has no size to check counts against
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(where + "cannot open PLY file");
   std::string line;
@@ -179,8 +191,13 @@ GaussianModel read_ply(const std::filesystem::path& path) {
                          "' (need binary_little_endian or ascii)");
     } else if (key == "element") {
       Element e;
-      words >> e.name >> e.count;
-      if (!words) throw InputError(where + "malformed PLY line '" + line + "'");
+      std::string count;
+      words >> e.name >> count;
+      // Digits only: ">> size_t" would wrap "-1" to 2^64 - 1 and read "1e10" as 1.
+      if (!words || count.empty() || count.size() > 19 ||
+          count.find_first_not_of("0123456789") != std::string::npos)
+        throw InputError(where + "malformed PLY line '" + line + "'");
+      e.count = std::stoull(count);
       elements.push_back(e);
     } else if (key == "property") {
       if (elements.empty()) throw InputError(where + "PLY property before any element");
@@ -227,6 +244,26 @@ GaussianModel read_ply(const std::filesystem::path& path) {
   const int instance = index.count("instance_id") ? index["instance_id"] : -1;
   const int class_id = index.count("class_id") ? index["class_id"] : -1;
 
+  size_t row_bytes = 0;
+  std::vector<size_t> offset;
+  for (const auto& p : vertex.properties) {
+    offset.push_back(row_bytes);
+    row_bytes += scalar_size(p.type);
+  }
+  // The declared count against what the file can hold, before allocating for it: a 1.2 KB file
+  // declaring 3e7 vertices reached 4.9 GB before failing, 2^32 ended in a bare bad_alloc. Binary
+  // rows are row_bytes each; an ASCII value takes at least one character and a separator.
+  const auto data_start = in.tellg();
+  in.seekg(0, std::ios::end);
+  const uint64_t left = static_cast<uint64_t>(in.tellg() - data_start);
+  in.seekg(data_start);
+  const uint64_t min_row = binary ? row_bytes : 2 * vertex.properties.size() - 1;
+  if (vertex.count > left / min_row)
+    throw InputError(where + "PLY data truncated: the header declares " +
+                     std::to_string(vertex.count) + " vertices, but the file holds " +
+                     std::to_string(left) + " bytes after its header (at least " +
+                     std::to_string(min_row) + " per vertex)");
+
   GaussianModel model;
   model.sh_degree = degree;
   model.feature_dim = static_cast<int>(feat.size());
@@ -234,12 +271,6 @@ GaussianModel read_ply(const std::filesystem::path& path) {
   if (class_id >= 0) model.class_ids.assign(vertex.count, -1);
   model.resize(vertex.count);
 
-  size_t row_bytes = 0;
-  std::vector<size_t> offset;
-  for (const auto& p : vertex.properties) {
-    offset.push_back(row_bytes);
-    row_bytes += scalar_size(p.type);
-  }
   std::vector<double> values(vertex.properties.size());
   std::vector<char> row(row_bytes);
   for (size_t i = 0; i < vertex.count; ++i) {
@@ -255,6 +286,10 @@ GaussianModel read_ply(const std::filesystem::path& path) {
           throw InputError(where + "PLY data truncated or not numeric at vertex " +
                            std::to_string(i));
     }
+    for (double v : values)  // stored as float: a finite double beyond its range is undefined
+      if (std::isfinite(v) && std::abs(v) > std::numeric_limits<float>::max())
+        throw InputError(where + "vertex " + std::to_string(i) + " holds " + std::to_string(v) +
+                         ", beyond float range");
     for (int k = 0; k < 3; ++k) {
       model.means[i * 3 + k] = static_cast<float>(values[pos[k]]);
       model.log_scales[i * 3 + k] = static_cast<float>(values[scale[k]]);
@@ -267,8 +302,8 @@ GaussianModel read_ply(const std::filesystem::path& path) {
     model.opacity_logits[i] = static_cast<float>(values[opacity]);
     for (size_t k = 0; k < feat.size(); ++k)
       model.features[i * feat.size() + k] = static_cast<float>(values[feat[k]]);
-    if (instance >= 0) model.instance_ids[i] = static_cast<int32_t>(values[instance]);
-    if (class_id >= 0) model.class_ids[i] = static_cast<int32_t>(values[class_id]);
+    if (instance >= 0) model.instance_ids[i] = id_value(values[instance], where, i);
+    if (class_id >= 0) model.class_ids[i] = id_value(values[class_id], where, i);
   }
   return model;
 }

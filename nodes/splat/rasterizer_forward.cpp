@@ -126,7 +126,7 @@ void bin_gaussians(const GaussianModel& model, const ViewTransform& view,
                         int16_t(rect.y1),
                         uint32_t(g),
                         0u};
-          float* v = &s.values[g * s.channels];
+          float* v = s.values.data() + g * s.channels;  // values is empty without channels
           if (s.rgb_offset >= 0) {
             float length;
             sh_basis(s.sh_degree, view_direction(view, &model.means[3 * g], length), basis);
@@ -212,6 +212,7 @@ RenderOutput render(const GaussianModel& model, const Camera& camera, const Pose
         "rasterizer: camera has no pixels, more than 32767 in a row or column, or a "
         "non-positive focal length (" +
         std::to_string(camera.width) + "x" + std::to_string(camera.height) + ")");
+  check_camera(camera, "rasterizer");  // at most kMaxImagePixels: the state below is per pixel
   const ViewTransform view(camera, pose);
   auto state = std::make_shared<RasterState>();
   RasterState& s = *state;

@@ -133,6 +133,10 @@ void run_render(NodeContext& ctx, const RenderNodeOptions& o) {
   settings.normalize_depth = true;  // a picture of the surface, not of the blend weights
   const auto dir = ctx.out_dir();
   const std::vector<int> views = capture->views_named(o.views);
+  // Every camera before the first render: a view too large to render (kMaxImagePixels) is bad
+  // input naming the view, not hours of work followed by an out-of-memory kill.
+  for (int v : views)
+    check_camera(capture->views[v].camera, "view '" + capture->views[v].name + "'");
   for (size_t k = 0; k < views.size(); ++k) {
     ctx.check_cancelled();
     const View& view = capture->views[views[k]];
