@@ -76,6 +76,35 @@ TEST_CASE("CVP lifting finds the two objects across views and their prototypes (
   CHECK(cvp_lifting(s.views, s.masks, p).labels == r.labels);
 }
 
+TEST_CASE("pixels no Gaussian covers (zero features) are noise, not a failed capture") {
+  // The top rows of view 0 render nothing: their features are zero, which has no cosine
+  // distance. HDBSCAN used to reject the whole capture (the stability matrix found it).
+  Scene s = two_objects(2);
+  for (int y = 0; y < 4; ++y)
+    for (int x = 0; x < kW; ++x) std::fill_n(s.views[0].values.data() + (y * kW + x) * kD, kD, 0.f);
+  CvpLiftingParams p;
+  p.samples_per_mask = 60;
+  p.seed = 11;
+  const LiftedInstances r = cvp_lifting(s.views, s.masks, p);
+  REQUIRE(r.prototypes.rows() == 2);
+  int zero = 0, zero_labelled = 0, kept = 0;
+  std::vector<int> kept_labels, kept_truth;
+  for (size_t i = 0; i < r.samples.size(); ++i) {
+    const bool uncovered = r.samples[i].view == 0 && r.samples[i].y < 4;
+    zero += uncovered;
+    zero_labelled += uncovered && r.labels[i] >= 0;
+    if (!uncovered && r.labels[i] >= 0) {
+      ++kept;
+      kept_labels.push_back(r.labels[i]);
+      kept_truth.push_back(r.samples[i].mask);
+    }
+  }
+  CHECK(zero > 0);
+  CHECK(zero_labelled == 0);
+  CHECK(kept > int(r.samples.size()) * 6 / 10);
+  CHECK(same_partition(kept_labels, kept_truth));
+}
+
 TEST_CASE("CVP sampling concentrates on mask centres (Eq. 4)") {
   const Scene s = two_objects(1);
   CvpLiftingParams p;
