@@ -21,28 +21,17 @@
 #include <nlohmann/json.hpp>
 
 #include "base/statistics.hpp"
+#include "bench/common/tsv.hpp"
 #include "report/charts.hpp"
 #include "report/pareto.hpp"
 #include "runtime/atomic_file.hpp"
 
 using namespace gslift;
+using bench::read_tsv;
 using nlohmann::json;
 namespace fs = std::filesystem;
 
 namespace {
-
-std::vector<std::vector<std::string>> read_tsv(const fs::path& file) {
-  std::vector<std::vector<std::string>> rows;
-  std::ifstream in(file);
-  for (std::string line; std::getline(in, line);) {
-    if (line.empty() || line[0] == '#') continue;
-    std::vector<std::string> cells;
-    std::stringstream s(line);
-    for (std::string cell; std::getline(s, cell, '\t');) cells.push_back(cell);
-    rows.push_back(cells);
-  }
-  return rows;
-}
 
 json read_json(const fs::path& file) {
   std::ifstream in(file);

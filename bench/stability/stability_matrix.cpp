@@ -19,36 +19,16 @@
 
 #include "base/statistics.hpp"
 #include "bench/common/svg.hpp"
+#include "bench/common/tsv.hpp"
 #include "runtime/atomic_file.hpp"
 
 using namespace gslift;
+using bench::read_tsv;
+using bench::split;
 using nlohmann::json;
 namespace fs = std::filesystem;
 
 namespace {
-
-std::vector<std::vector<std::string>> read_tsv(const fs::path& file) {
-  std::vector<std::vector<std::string>> rows;
-  std::ifstream in(file);
-  std::string line;
-  while (std::getline(in, line)) {
-    if (line.empty() || line[0] == '#') continue;
-    std::vector<std::string> cells;
-    std::stringstream s(line);
-    std::string cell;
-    while (std::getline(s, cell, '\t')) cells.push_back(cell);
-    rows.push_back(cells);
-  }
-  return rows;
-}
-
-std::vector<std::string> split(const std::string& text, char sep) {
-  std::vector<std::string> out;
-  std::stringstream s(text);
-  std::string item;
-  while (std::getline(s, item, sep)) out.push_back(item);
-  return out;
-}
 
 // "embedded:or?seed=1&width=240&height=180&depth_noise=0.05" -> {seed: 1, ..., depth_noise: 0.05}
 std::map<std::string, std::string> spec_settings(const std::string& spec) {
@@ -122,6 +102,8 @@ int main(int argc, char** argv) {
     // knob -> level -> cell
     std::map<std::string, std::map<std::string, Cell>> cells;
     for (const auto& run : sweep["runs"]) {
+      // A run stopped from outside (the sweep was interrupted) says nothing about the method.
+      if (run["status"] == "interrupted") continue;
       const auto settings = spec_settings(run["params"].value("input", std::string()));
       for (const auto& k : knobs) {
         auto it = settings.find(k.name);
