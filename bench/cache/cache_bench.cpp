@@ -65,6 +65,7 @@ int main(int argc, char** argv) {
     if (a == "--out") out_dir = argv[i + 1];
   }
   const fs::path scratch = fs::temp_directory_path() / "gslift_bench_cache";
+  fs::create_directories(scratch);
   std::vector<double> cold, warm;
   int warm_hits = 0;
   double cold_miou = 0, warm_miou = 0;
