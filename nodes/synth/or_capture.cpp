@@ -15,6 +15,7 @@
 #include "nodes/scene/image_io.hpp"
 #include "nodes/synth/bvh.hpp"
 #include "nodes/synth/depth_prior_simulator.hpp"
+#include "nodes/synth/drapes.hpp"
 #include "nodes/synth/pose_noise.hpp"
 #include "nodes/synth/render_view.hpp"
 #include "nodes/synth/sam_auto_simulator.hpp"
@@ -80,8 +81,9 @@ struct ViewOutput {
   SparsePoints points;
 };
 
-void write_view(const OrCaptureSettings& s, const OrScene& scene, const Bvh& bvh, int index,
-                int points_per_view, const fs::path& dir, ViewOutput& out) {
+void write_view(const OrCaptureSettings& s, const OrScene& scene, const std::set<int>& draped,
+                const Bvh& bvh, int index, int points_per_view, const fs::path& dir,
+                ViewOutput& out) {
   const OrCamera& cam = scene.cameras[index];
   const SynthKnobs& k = s.knobs;
   const uint64_t seed = s.scene.seed;
@@ -129,7 +131,8 @@ void write_view(const OrCaptureSettings& s, const OrScene& scene, const Bvh& bvh
   write_file_atomically(dir / "sam_auto" / (stem + ".json"), autos.dump());
 
   // Sparse points: random pixels of the training views back-projected with the exact depth,
-  // displaced along the ray by the depth-prior noise level (an MVS point cloud's error).
+  // displaced along the ray by the depth-prior noise level (an MVS point cloud's error). SfM
+  // finds no features on a textureless drape: its pixels give no point (the draws stay the same).
   if (cam.held_out) return;
   RandomStream pts_rng(stream_seed(seed, kSparsePointStream, index));
   const Eigen::Vector3d centre = cam.pose.centre();
@@ -137,7 +140,7 @@ void write_view(const OrCaptureSettings& s, const OrScene& scene, const Bvh& bvh
     const int u = pts_rng.below(r.depth.cols), v = pts_rng.below(r.depth.rows);
     const float d = r.depth.at<float>(v, u);
     const double noise = pts_rng.normal(0, k.depth_noise);
-    if (d <= 0) continue;
+    if (d <= 0 || draped.count(r.instance.at<int>(v, u))) continue;
     const Eigen::Vector3d ray_cam((u + 0.5 - cam.camera.cx) / cam.camera.fx,
                                   (v + 0.5 - cam.camera.cy) / cam.camera.fy, 1.0);
     const Eigen::Vector3d x = centre + cam.pose.R.transpose() * ray_cam * (d * (1 + noise));
@@ -206,7 +209,8 @@ void write_or_capture(const OrCaptureSettings& s, const fs::path& out_dir) {
   if (fs::exists(out_dir) && !(fs::is_directory(out_dir) && fs::is_empty(out_dir))) {
     throw std::invalid_argument(out_dir.string() + " already exists and is not an empty folder");
   }
-  const OrScene scene = make_or_scene(s.scene);
+  OrScene scene = make_or_scene(s.scene);
+  const std::set<int> draped = drape_equipment(scene, s.knobs.drapes, s.scene.seed);
   const Bvh bvh(scene.primitives);
   const fs::path parent = out_dir.has_parent_path() ? out_dir.parent_path() : fs::path(".");
   fs::create_directories(parent);
@@ -220,8 +224,9 @@ void write_or_capture(const OrCaptureSettings& s, const fs::path& out_dir) {
     const int train = views - held_out_count(views);
     const int points_per_view = s.knobs.sparse_points / std::max(1, train);
     std::vector<ViewOutput> outputs(views);
-    tbb::parallel_for(
-        0, views, [&](int i) { write_view(s, scene, bvh, i, points_per_view, tmp, outputs[i]); });
+    tbb::parallel_for(0, views, [&](int i) {
+      write_view(s, scene, draped, bvh, i, points_per_view, tmp, outputs[i]);
+    });
 
     ColmapModel model;
     Camera shared = scene.cameras.front().camera;

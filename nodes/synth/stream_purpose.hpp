@@ -20,6 +20,7 @@ enum StreamPurpose : uint64_t {
   kDepthPriorStream,
   kPoseNoiseStream,
   kSparsePointStream,
+  kDrapeStream,
 };
 
 }  // namespace gslift::synth

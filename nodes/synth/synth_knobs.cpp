@@ -83,6 +83,10 @@ const ParamTable<SynthKnobs>& synth_knob_table() {
                "sigma of the rotation error of the written poses, degrees", 0, 30)
           .add("pose_noise_m", &K::pose_noise_m,
                "sigma of the camera-centre error of the written poses, metres", 0, 1)
+          .add("drapes", &K::drapes,
+               "fraction of the equipment covered by textureless sterile drapes (no SfM points "
+               "there)",
+               0, 1)
           .add("shadows", &K::shadows, "render hard shadows from every light")
           .add("sparse_points", &K::sparse_points,
                "coloured sparse points sampled from the training views (SfM/MVS initialisation)", 0,

@@ -33,6 +33,8 @@ struct SynthKnobs {
   double depth_holes = 0.03;  // fraction of depth-prior pixels set invalid (0), in blobs
   double pose_noise_deg = 0;  // sigma of the rotation error of the written poses (degrees)
   double pose_noise_m = 0;    // sigma of the camera-centre error of the written poses (metres)
+  // Scene.
+  double drapes = 0;  // fraction of the equipment under textureless drapes (nodes/synth/drapes.hpp)
   // Rendering and initialisation.
   bool shadows = true;        // hard shadows from every light
   int sparse_points = 20000;  // SfM/MVS-like coloured points sampled from the training views
