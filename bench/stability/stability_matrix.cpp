@@ -5,6 +5,7 @@
 // standard deviations. Writes <results>/stability.json, stability.md (the README's table) and
 // stability_<method>.svg (a heat map per method).
 //   stability_matrix SWEEPS_DIR METHODS.tsv KNOBS.tsv RESULTS_DIR
+// A method's runs are those of SWEEPS_DIR/<method>/sweep.json and of every <method>@*/sweep.json.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -92,16 +93,28 @@ int main(int argc, char** argv) {
     if (m.size() < 4) continue;
     const std::string name = m[0], headline = m[2];
     const std::vector<std::string> inputs = split(m[3], ',');
-    const fs::path sweep_file = sweeps / name / "sweep.json";
-    if (!fs::exists(sweep_file)) {
-      std::cerr << "stability: no " << sweep_file << ", method skipped\n";
+    // A method's runs: the sweep <name> and any later one of a few knobs, <name>@<knobs>.
+    std::vector<fs::path> sweep_files;
+    for (const auto& e : fs::directory_iterator(sweeps)) {
+      const std::string folder = e.path().filename().string();
+      if ((folder == name || folder.rfind(name + "@", 0) == 0) &&
+          fs::exists(e.path() / "sweep.json"))
+        sweep_files.push_back(e.path() / "sweep.json");
+    }
+    std::sort(sweep_files.begin(), sweep_files.end());
+    if (sweep_files.empty()) {
+      std::cerr << "stability: no sweep of " << name << " in " << sweeps << ", method skipped\n";
       continue;
     }
-    json sweep;
-    std::ifstream(sweep_file) >> sweep;
+    json runs = json::array();
+    for (const auto& f : sweep_files) {
+      json sweep;
+      std::ifstream(f) >> sweep;
+      for (const auto& run : sweep["runs"]) runs.push_back(run);
+    }
     // knob -> level -> cell
     std::map<std::string, std::map<std::string, Cell>> cells;
-    for (const auto& run : sweep["runs"]) {
+    for (const auto& run : runs) {
       // A run stopped from outside (the sweep was interrupted) says nothing about the method.
       if (run["status"] == "interrupted") continue;
       const auto settings = spec_settings(run["params"].value("input", std::string()));
