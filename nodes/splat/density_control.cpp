@@ -82,10 +82,14 @@ DensityChange densify_and_prune(GaussianModel& model, const DensityStats& stats,
   // Each clone adds one Gaussian, each split adds split_children - 1.
   size_t budget_left = o.max_gaussians > kept_before ? o.max_gaussians - kept_before : 0;
   std::vector<char> clone(n, 0), split(n, 0);
-  for (const auto& [neg, i] : grow) {
+  for (size_t g = 0; g < grow.size(); ++g) {
+    const size_t i = grow[g].second;
     const bool small = max_scale(model, i) <= o.clone_max_scale * extent;
     const size_t cost = small ? 1 : static_cast<size_t>(std::max(o.split_children - 1, 0));
-    if (cost > budget_left) break;
+    if (cost > budget_left) {
+      change.refused = grow.size() - g;
+      break;
+    }
     budget_left -= cost;
     (small ? clone : split)[i] = 1;
   }

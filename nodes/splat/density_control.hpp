@@ -49,6 +49,7 @@ struct DensityChange {
   // as 3DGS's densification_postfix gives new Gaussians). Feed it to AdamGroup::remap.
   std::vector<int> source;
   size_t cloned = 0, split = 0, pruned = 0;
+  size_t refused = 0;  // growth candidates the Gaussian budget left out (max_gaussians reached)
 };
 
 // True when `step` (0-based, after the step's update) is a densification round.

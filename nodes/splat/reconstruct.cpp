@@ -159,6 +159,11 @@ double mean_psnr(const GaussianModel& model, const Capture& capture, const std::
   return sum / static_cast<double>(views.size());
 }
 
+const char* model_size_reason(const ReconstructResult& result) {
+  if (result.growth_refused > 0) return "budget";
+  return result.stopped_early ? "plateau" : "iterations";
+}
+
 ReconstructResult reconstruct(const Capture& capture, const ReconstructOptions& options,
                               const ReconstructCallback& callback) {
   const auto start = std::chrono::steady_clock::now();
@@ -332,6 +337,7 @@ ReconstructResult reconstruct(const Capture& capture, const ReconstructOptions& 
         // Outside density rounds no statistics are passed: pruning only, no growth.
         const DensityChange change = densify_and_prune(model, density_step ? stats : DensityStats{},
                                                        d, extent, options.seed + step, floaters);
+        result.growth_refused += change.refused;
         adam.remap(change.source);
         if (density_step)
           stats.clear();

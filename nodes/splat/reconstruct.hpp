@@ -122,7 +122,8 @@ struct ReconstructResult {
   size_t pseudo_views = 0;       // pseudo-views trained on (pseudo_weight > 0)
   int iterations_run = 0;
   bool stopped_early = false;
-  double seconds = 0;  // wall time of initialisation and optimisation
+  size_t growth_refused = 0;  // densification candidates the Gaussian budget left out, all rounds
+  double seconds = 0;         // wall time of initialisation and optimisation
   PhaseSeconds phases;
   double scene_extent = 0;  // the extent position rates and density thresholds were scaled by
   LossSummary final_loss;
@@ -136,6 +137,11 @@ struct ReconstructResult {
   // floaters, holes and uncovered surfaces painted (view_geometry).
   std::vector<cv::Mat3b> test_pictures;
 };
+
+// Why the model ended at its size (issue 15: "no more model than a scene needs"): "budget" when
+// max_gaussians cut densification short, else "plateau" when the loss stopped falling and the run
+// ended early, else "iterations" (the schedule ran out with the budget never reached).
+const char* model_size_reason(const ReconstructResult& result);
 
 // Called after every step with (step index, total steps, current total loss, Gaussian count). It
 // may throw (e.g. gslift::Cancelled) to abort the reconstruction.

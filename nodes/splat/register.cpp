@@ -39,6 +39,8 @@ void run_reconstruct(NodeContext& ctx, ReconstructOptions o) {
                                   r.model.opacity_logits.size() + r.model.features.size())));
   ctx.record("iterations_run", r.iterations_run);
   ctx.record("stopped_early", r.stopped_early ? "true" : "false");
+  ctx.record("size_reason", model_size_reason(r));
+  ctx.record("growth_refused", static_cast<double>(r.growth_refused));
   ctx.record("seconds", r.seconds);
   ctx.record("scene_extent", r.scene_extent);
   ctx.record("loss_total", r.final_loss.total);

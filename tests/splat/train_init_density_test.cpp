@@ -149,6 +149,7 @@ TEST_CASE("density control clones small, splits large, prunes transparent and hu
   DensityControlOptions options;
   GaussianModel grown = m;
   const DensityChange change = densify_and_prune(grown, stats, options, extent, 7);
+  CHECK(change.refused == 0);
   CHECK(change.pruned == 2);
   CHECK(change.cloned == 1);
   CHECK(change.split == 1);
@@ -170,6 +171,7 @@ TEST_CASE("density control clones small, splits large, prunes transparent and hu
   const DensityChange limited = densify_and_prune(capped, stats, options, extent, 7);
   CHECK(limited.split == 1);
   CHECK(limited.cloned == 0);
+  CHECK(limited.refused == 1);  // the clone candidate
   CHECK(capped.size() == 4);
 
   // Pruning only (no statistics, as between rounds): the marked Gaussian 0 goes with the two

@@ -50,6 +50,8 @@ TEST_CASE("a tiny reconstruction reaches a PSNR floor and lowers its loss") {
   CHECK(r.test_psnr > 26.5);
   CHECK(r.final_loss.depth > 0);
   CHECK(r.final_loss.normal > 0);
+  CHECK(r.growth_refused == 0);
+  CHECK(std::string(model_size_reason(r)) == "iterations");
 }
 
 TEST_CASE("reconstruction is identical at 1 and 2 threads, and loss terms switch off") {
@@ -88,6 +90,22 @@ TEST_CASE("early stop ends a run whose loss has plateaued") {
   CHECK(r.stopped_early);
   CHECK(r.iterations_run < 2000);
   CHECK(r.iterations_run % 50 == 0);
+  CHECK(std::string(model_size_reason(r)) == "plateau");
+}
+
+TEST_CASE("a reconstruction capped by its Gaussian budget says so") {
+  const Capture capture = rendered_capture();
+  ReconstructOptions o = tiny_options();
+  o.iterations = 200;  // densification rounds at steps 100 and 120 (stop at 60%)
+  o.density.interval = 20;
+  const ReconstructResult free = reconstruct(capture, o);
+  CHECK(free.growth_refused == 0);
+  o.density.max_gaussians = free.initial_gaussians / 2;  // below what the start already holds
+  const ReconstructResult capped = reconstruct(capture, o);
+  INFO("free " << free.model.size() << " from " << free.initial_gaussians);
+  CHECK(capped.growth_refused > 0);
+  CHECK(std::string(model_size_reason(capped)) == "budget");
+  CHECK(std::string(model_size_reason(free)) == "iterations");
 }
 
 TEST_CASE("coarse-to-fine trains the first steps at half resolution and still reaches the floor") {
