@@ -103,6 +103,13 @@ TEST_CASE("unreadable image files give InputError naming the file") {
   CHECK_THROWS_WITH(read_depth(dir / "junk.png", 1000), Contains("junk.png"));
   cv::imwrite((dir / "d8.png").string(), cv::Mat1b(2, 2, uchar(3)));
   CHECK_THROWS_WITH(read_depth(dir / "d8.png", 1000), Contains("d8.png") && Contains("8-bit"));
+  // A broken PNG signature with "DICM" at offset 128 is a DICOM file to OpenCV's sniffing (GDCM
+  // aborted on it): refused by its first bytes before any decoder sees it.
+  std::string dicm = "\x89PNG\r\n" + std::string(122, '\xff') + "DICM";
+  std::ofstream(dir / "dicm.png", std::ios::binary) << dicm;
+  CHECK_THROWS_WITH(
+      read_label_map(dir / "dicm.png"),
+      Contains("dicm.png") && Contains("not a PNG, JPEG, TIFF, BMP, WebP or OpenEXR"));
 }
 
 TEST_CASE("float TIFF files hold channels in memory order and exact values") {
