@@ -63,7 +63,8 @@ int run_segment_session(const GaussianModel& model, const Capture& capture,
       } catch (const nlohmann::json::exception& e) {
         throw InputError(std::string("not JSON: ") + e.what());
       }
-      const Prompt p = prompt_from_json(j, ".", "prompt", static_cast<size_t>(line));
+      const Prompt p = prompt_from_json(j, ".", "prompt", static_cast<size_t>(line),
+                                        {"output", "ply", "views", "filter"});
       const std::vector<int> views = requested_views(j, capture, p);
       const int pv = capture.find_view(p.view);
       if (pv >= 0) segmenter.feature_map(pv);  // once per view, not part of a prompt's latency
