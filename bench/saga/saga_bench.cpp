@@ -260,7 +260,7 @@ std::string svg_chart(const nlohmann::json& entries) {
 int main(int argc, char** argv) {
   keep_freed_memory_in_process();
   std::vector<std::string> variants = {"saga", "saga_no_filter_3d", "saga_mask_prompt",
-                                       "saga_auto_masks"};
+                                       "saga_auto_masks", "saga_scale_gated"};
   bool dtu = true;
   int threads = 2;
   fs::path feature_model;  // the latency's model: --features, else the saga run's
