@@ -30,6 +30,8 @@
 #include "bench/common/svg.hpp"
 #include "nodes/builtin.hpp"
 #include "nodes/eval/binary_segmentation.hpp"
+#include "nodes/features/correspondence_loss.hpp"
+#include "nodes/features/scale_gated_loss.hpp"
 #include "nodes/inference/prompt_segmentation.hpp"
 #include "nodes/inference/selection_mask.hpp"
 #include "nodes/inference/selection_output.hpp"
@@ -195,6 +197,49 @@ nlohmann::json prompt_latency(const fs::path& feature_ply, int threads, bool til
   return r;
 }
 
+// One training step's loss and gradient at SAGA's sizes (1000 pixels, 32 channels; scale-gated:
+// 10 scales), on random features and masks: what separates the two variants' training time
+// (the rendering and the scatter through the blend weights are the same for both). Median of 5.
+nlohmann::json loss_step_ms() {
+  const int n = 1000, d = 32, scales = 10;
+  RandomStream rng(stream_seed(0, "bench.saga.loss"));
+  Eigen::MatrixXf f(n, d);
+  for (int i = 0; i < n; ++i)
+    for (int c = 0; c < d; ++c) f(i, c) = static_cast<float>(rng.normal(0, 1));
+  std::vector<int> part(n);
+  for (int& p : part) p = static_cast<int>(rng.below(20));
+  Eigen::MatrixXf kernel(n, n);
+  std::vector<Eigen::MatrixXf> gt(scales, Eigen::MatrixXf(n, n));
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) {
+      kernel(i, j) = part[i] == part[j] ? 1.f : -1.f;
+      for (int k = 0; k < scales; ++k) gt[k](i, j) = part[i] / (k + 1) == part[j] / (k + 1);
+    }
+  std::vector<float> area(n), gate(2 * d), s(scales);
+  for (float& a : area) a = static_cast<float>(rng.uniform(100, 10000));
+  for (float& g : gate) g = static_cast<float>(rng.uniform(-1, 1));
+  for (int k = 0; k < scales; ++k) s[k] = k / float(scales - 1);
+  auto median_ms = [](auto&& run) {
+    std::vector<double> t;
+    for (int r = 0; r < 5; ++r) {
+      const auto t0 = std::chrono::steady_clock::now();
+      run();
+      t.push_back(
+          std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+    }
+    std::sort(t.begin(), t.end());
+    return t[t.size() / 2];
+  };
+  Eigen::MatrixXf grad;
+  return {{"pixels", n},
+          {"dim", d},
+          {"correspondence_ms", median_ms([&] { correspondence_loss(f, kernel, &grad); })},
+          {"scale_gated_ms", median_ms([&] {
+             scale_gated_loss(f, gt, s, scale_gated_pair_weights(area), gate, 1.0, 1);
+           })},
+          {"scale_gated_scales", scales}};
+}
+
 // How well a set of automatic masks covers the ground-truth instances of the training views: per
 // instance the best IoU of any mask (any granularity), averaged; and the masks per view.
 nlohmann::json mask_coverage(const Capture& capture, const MaskSet& masks) {
@@ -322,6 +367,8 @@ int main(int argc, char** argv) {
     latency = {{"tile_grouped", prompt_latency(feature_model, threads, true)},
                {"sparse_product", prompt_latency(feature_model, threads, false)}};
   std::cerr << "[saga] latency " << (latency.is_null() ? "-" : latency.dump()) << "\n";
+  const nlohmann::json loss_step = loss_step_ms();
+  std::cerr << "[saga] loss step " << loss_step.dump() << "\n";
   const nlohmann::json masks = auto_vs_sam();
   std::cerr << "[saga] masks " << masks.dump() << "\n";
   const nlohmann::json doc = {{"benchmark", "saga"},
@@ -329,6 +376,7 @@ int main(int argc, char** argv) {
                               {"note", "wall clock on a shared 2-core machine; seed 0"},
                               {"variants", entries},
                               {"prompt_latency", latency},
+                              {"loss_step_ms", loss_step},
                               {"automatic_masks_vs_ground_truth", masks}};
   fs::create_directories(out);
   write_file_atomically(out / "saga.json", doc.dump(2) + "\n");

@@ -64,8 +64,9 @@ ScaleGatedLoss scale_gated_loss(const Eigen::MatrixXf& f, const std::vector<Eige
   RandomStream rng(pair_seed);
   // coef(p, q) = dL/dcorr_k(p, q) / (the mean's count), filled after the counts are known.
   std::vector<std::pair<Eigen::Index, Eigen::Index>> pos, neg;
-  for (Eigen::Index p = 0; p < n; ++p)
-    for (Eigen::Index q = p + 1; q < n; ++q) {
+  // Column by column (q), rows p < q: the matrices are column-major, so every read is sequential.
+  for (Eigen::Index q = 1; q < n; ++q)
+    for (Eigen::Index p = 0; p < q; ++p) {
       const double r = rng.uniform();
       const bool incons = sum0(p, q) != 0 && sum0(p, q) != ns;
       bool hard_pos = false, hard_neg = false;
@@ -109,9 +110,10 @@ ScaleGatedLoss scale_gated_loss(const Eigen::MatrixXf& f, const std::vector<Eige
   out.grad_features = Eigen::MatrixXf::Zero(n, d);
   out.grad_gate = Eigen::VectorXf::Zero(2 * d);
   for (int k = 0; k < ns; ++k) {
-    // corr(p, q) = <u_p, u_q> for p < q: dL/du = (C + C^T) u.
-    const Eigen::MatrixXf sym = coef[k] + coef[k].transpose();
-    const Eigen::MatrixXf du = sym * u[k];
+    // corr(p, q) = <u_p, u_q> for p < q: dL/du = (C + C^T) u, as two products (no transposed
+    // copy of C).
+    Eigen::MatrixXf du = coef[k] * u[k];
+    du.noalias() += coef[k].transpose() * u[k];
     Eigen::RowVectorXf dg = Eigen::RowVectorXf::Zero(d);
     for (Eigen::Index p = 0; p < n; ++p) {
       if (gated_norm[k](p) <= 1e-12f) continue;
