@@ -12,8 +12,9 @@
 // Latency: the OR run's feature model (affinity/model.ply), padded to 100k Gaussians by
 // repeating Gaussians, answers 200 click prompts at random pixels of the first training view:
 // selection (the per-Gaussian scores and threshold) plus the mask in the held-out 640x480 view
-// (QueryView::selection_mask; its render cache is built once before, as gslift segment does);
-// median, min and max. Writes saga.json, saga.csv and saga.svg into --out (bench/results).
+// (SelectionMasker, built once before, as gslift segment does; and the full sparse product for
+// comparison); median, p90, min and max. Writes saga.json, saga.csv and saga.svg into --out
+// (bench/results).
 #include <algorithm>
 #include <chrono>
 #include <fstream>
@@ -29,7 +30,10 @@
 #include "bench/common/svg.hpp"
 #include "nodes/builtin.hpp"
 #include "nodes/eval/binary_segmentation.hpp"
+#include "nodes/features/correspondence_loss.hpp"
+#include "nodes/features/scale_gated_loss.hpp"
 #include "nodes/inference/prompt_segmentation.hpp"
+#include "nodes/inference/selection_mask.hpp"
 #include "nodes/inference/selection_output.hpp"
 #include "nodes/inference/text_query.hpp"
 #include "nodes/ingest/capture_annotations.hpp"
@@ -122,12 +126,16 @@ nlohmann::json dtu_pose_only(const Run& r) {
   return {{"views", s.views.size()}, {"mIoU", s.miou}, {"mAcc", s.macc}};
 }
 
-nlohmann::json prompt_latency(const fs::path& feature_ply, int threads, bool early_exit) {
+// Selection + one mask per prompt: the mask from the tile-grouped pairs (SelectionMasker, what
+// gslift segment uses) or, for comparison, from the render cache's full sparse product
+// (QueryView::mask). Each view structure is built once before the prompts, as gslift segment
+// does. Also counts the pixels where the two masks disagree (outside the timing).
+nlohmann::json prompt_latency(const fs::path& feature_ply, int threads, bool tile_grouped) {
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
   GaussianModel model = read_ply(feature_ply);
   const size_t original = model.size();
   // Pad to 100k Gaussians (the target size) by repeating the first ones: the selection
-  // scans every Gaussian, the mask walks the view's blend lists.
+  // scans every Gaussian, the mask the view's pairs.
   std::vector<size_t> rows;
   for (size_t g = 0; g < 100000; ++g) rows.push_back(g % original);
   model = model.subset(rows);
@@ -137,10 +145,15 @@ nlohmann::json prompt_latency(const fs::path& feature_ply, int threads, bool ear
   PromptSegmenter segmenter(model, capture, {});
   segmenter.feature_map(prompt_view);
   const QueryView qv(model, target.camera, target.pose);
+  auto t_build = std::chrono::steady_clock::now();
+  const SelectionMasker masker(model, target.camera, target.pose);
+  const double build_ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t_build).count();
   RandomStream rng(stream_seed(0, "bench.saga.clicks"));
   const Camera& cam = capture.views[prompt_view].camera;
   std::vector<double> ms, select_ms;
-  size_t pixels = 0;
+  std::vector<int64_t> selected;
+  size_t pixels = 0, differing = 0;
   for (int k = -20; k < 200; ++k) {  // 20 untimed warm-up prompts
     Prompt p;
     p.view = capture.views[prompt_view].name;
@@ -150,27 +163,81 @@ nlohmann::json prompt_latency(const fs::path& feature_ply, int threads, bool ear
     const PromptSelection s = segmenter.select(p);
     const double t_select =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-    const cv::Mat1b mask =
-        early_exit ? qv.selection_mask(s.selected, 0.5f)
-                   : qv.mask(std::vector<float>(s.selected.begin(), s.selected.end()), 0.5f);
+    const std::vector<float> indicator(s.selected.begin(), s.selected.end());
+    const cv::Mat1b mask = tile_grouped ? masker.mask(s.selected, 0.5f) : qv.mask(indicator, 0.5f);
     const double t =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     pixels += static_cast<size_t>(cv::countNonZero(mask));
-    if (k >= 0) ms.push_back(t), select_ms.push_back(t_select);
+    if (tile_grouped)
+      differing += static_cast<size_t>(cv::countNonZero(mask != qv.mask(indicator, 0.5f)));
+    if (k >= 0) ms.push_back(t), select_ms.push_back(t_select), selected.push_back(s.count);
   }
   std::sort(ms.begin(), ms.end());
   std::sort(select_ms.begin(), select_ms.end());
-  return {{"gaussians", model.size()},
-          {"gaussians_trained", original},
-          {"threads", threads},
-          {"mask_width", target.camera.width},
-          {"mask_height", target.camera.height},
-          {"prompts_timed", ms.size()},
-          {"median_ms", ms[ms.size() / 2]},
-          {"min_ms", ms.front()},
-          {"max_ms", ms.back()},
-          {"select_median_ms", select_ms[select_ms.size() / 2]},
-          {"mask_pixels", pixels}};
+  std::sort(selected.begin(), selected.end());
+  nlohmann::json r = {{"gaussians", model.size()},
+                      {"gaussians_trained", original},
+                      {"threads", threads},
+                      {"mask_width", target.camera.width},
+                      {"mask_height", target.camera.height},
+                      {"prompts_timed", ms.size()},
+                      {"median_ms", ms[ms.size() / 2]},
+                      {"p90_ms", ms[ms.size() * 9 / 10]},
+                      {"min_ms", ms.front()},
+                      {"max_ms", ms.back()},
+                      {"select_median_ms", select_ms[select_ms.size() / 2]},
+                      {"selected_median", selected[selected.size() / 2]},
+                      {"selected_max", selected.back()},
+                      {"mask_pixels", pixels}};
+  if (tile_grouped) {
+    r["pixels_differing_from_full_render"] = differing;
+    r["build_ms"] = build_ms;
+    r["masker_mb"] = masker.bytes() / 1048576.0;
+  }
+  return r;
+}
+
+// One training step's loss and gradient at SAGA's sizes (1000 pixels, 32 channels; scale-gated:
+// 10 scales), on random features and masks: what separates the two variants' training time
+// (the rendering and the scatter through the blend weights are the same for both). Median of 5.
+nlohmann::json loss_step_ms() {
+  const int n = 1000, d = 32, scales = 10;
+  RandomStream rng(stream_seed(0, "bench.saga.loss"));
+  Eigen::MatrixXf f(n, d);
+  for (int i = 0; i < n; ++i)
+    for (int c = 0; c < d; ++c) f(i, c) = static_cast<float>(rng.normal(0, 1));
+  std::vector<int> part(n);
+  for (int& p : part) p = static_cast<int>(rng.below(20));
+  Eigen::MatrixXf kernel(n, n);
+  std::vector<Eigen::MatrixXf> gt(scales, Eigen::MatrixXf(n, n));
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) {
+      kernel(i, j) = part[i] == part[j] ? 1.f : -1.f;
+      for (int k = 0; k < scales; ++k) gt[k](i, j) = part[i] / (k + 1) == part[j] / (k + 1);
+    }
+  std::vector<float> area(n), gate(2 * d), s(scales);
+  for (float& a : area) a = static_cast<float>(rng.uniform(100, 10000));
+  for (float& g : gate) g = static_cast<float>(rng.uniform(-1, 1));
+  for (int k = 0; k < scales; ++k) s[k] = k / float(scales - 1);
+  auto median_ms = [](auto&& run) {
+    std::vector<double> t;
+    for (int r = 0; r < 5; ++r) {
+      const auto t0 = std::chrono::steady_clock::now();
+      run();
+      t.push_back(
+          std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+    }
+    std::sort(t.begin(), t.end());
+    return t[t.size() / 2];
+  };
+  Eigen::MatrixXf grad;
+  return {{"pixels", n},
+          {"dim", d},
+          {"correspondence_ms", median_ms([&] { correspondence_loss(f, kernel, &grad); })},
+          {"scale_gated_ms", median_ms([&] {
+             scale_gated_loss(f, gt, s, scale_gated_pair_weights(area), gate, 1.0, 1);
+           })},
+          {"scale_gated_scales", scales}};
 }
 
 // How well a set of automatic masks covers the ground-truth instances of the training views: per
@@ -238,7 +305,7 @@ std::string svg_chart(const nlohmann::json& entries) {
 int main(int argc, char** argv) {
   keep_freed_memory_in_process();
   std::vector<std::string> variants = {"saga", "saga_no_filter_3d", "saga_mask_prompt",
-                                       "saga_auto_masks"};
+                                       "saga_auto_masks", "saga_scale_gated"};
   bool dtu = true;
   int threads = 2;
   fs::path feature_model;  // the latency's model: --features, else the saga run's
@@ -297,9 +364,11 @@ int main(int argc, char** argv) {
   }
   nlohmann::json latency = nullptr;
   if (!feature_model.empty())
-    latency = {{"early_exit_walk", prompt_latency(feature_model, threads, true)},
+    latency = {{"tile_grouped", prompt_latency(feature_model, threads, true)},
                {"sparse_product", prompt_latency(feature_model, threads, false)}};
   std::cerr << "[saga] latency " << (latency.is_null() ? "-" : latency.dump()) << "\n";
+  const nlohmann::json loss_step = loss_step_ms();
+  std::cerr << "[saga] loss step " << loss_step.dump() << "\n";
   const nlohmann::json masks = auto_vs_sam();
   std::cerr << "[saga] masks " << masks.dump() << "\n";
   const nlohmann::json doc = {{"benchmark", "saga"},
@@ -307,6 +376,7 @@ int main(int argc, char** argv) {
                               {"note", "wall clock on a shared 2-core machine; seed 0"},
                               {"variants", entries},
                               {"prompt_latency", latency},
+                              {"loss_step_ms", loss_step},
                               {"automatic_masks_vs_ground_truth", masks}};
   fs::create_directories(out);
   write_file_atomically(out / "saga.json", doc.dump(2) + "\n");

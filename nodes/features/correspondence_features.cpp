@@ -11,36 +11,9 @@
 #include "base/random.hpp"
 #include "nodes/features/correspondence_loss.hpp"
 #include "nodes/features/pixel_feature_training.hpp"
+#include "nodes/features/scale_gated_features.hpp"
 
 namespace gslift {
-namespace {
-
-// One training view: its masks as per-pixel bitsets and the pixels covered by some mask.
-struct MaskedView {
-  MaskMembership membership;
-  std::vector<uint32_t> covered;
-};
-
-MaskedView masked_view(const ViewMasks& vm, size_t pixels) {
-  MaskedView v;
-  v.membership.words = static_cast<int>((vm.masks.size() + 63) / 64);
-  v.membership.bits.assign(pixels * v.membership.words, 0);
-  for (size_t m = 0; m < vm.masks.size(); ++m) {
-    const cv::Mat1b px =
-        vm.masks[m].pixels.isContinuous() ? vm.masks[m].pixels : vm.masks[m].pixels.clone();
-    for (size_t p = 0; p < pixels; ++p)
-      if (px.data[p]) v.membership.bits[p * v.membership.words + m / 64] |= uint64_t(1) << (m % 64);
-  }
-  for (size_t p = 0; p < pixels; ++p)
-    for (int w = 0; w < v.membership.words; ++w)
-      if (v.membership.pixel(p)[w]) {
-        v.covered.push_back(static_cast<uint32_t>(p));
-        break;
-      }
-  return v;
-}
-
-}  // namespace
 
 CorrespondenceResult train_correspondence_features(const GaussianModel& model,
                                                    const Capture& capture, const MaskSet& masks,
@@ -48,14 +21,16 @@ CorrespondenceResult train_correspondence_features(const GaussianModel& model,
                                                    const std::function<void(int, int)>& progress) {
   const auto t0 = std::chrono::steady_clock::now();
   correspondence_param_table().validate(o, "features.correspondence");
+  if (o.variant == AffinityVariant::ScaleGated)
+    return train_scale_gated_features(model, capture, masks, o, progress);
   if (model.size() == 0) throw InputError("features.correspondence: the model has no Gaussians");
   CorrespondenceResult result;
   std::vector<PixelRows> rows;
-  std::vector<MaskedView> views;
+  std::vector<MaskedPixels> views;
   for (const MaskView& mv : training_mask_views(capture, masks)) {
     const ViewMasks& vm = masks.views[mv.mask_view];
     const View& view = capture.views[mv.capture_view];
-    MaskedView m = masked_view(vm, size_t(view.camera.width) * view.camera.height);
+    MaskedPixels m = masked_pixels(vm, size_t(view.camera.width) * view.camera.height);
     if (m.covered.size() < 2) continue;
     result.masks += static_cast<int>(vm.masks.size());
     result.cache_bytes += m.membership.bits.size() * sizeof(uint64_t);
@@ -111,7 +86,7 @@ CorrespondenceResult train_correspondence_features(const GaussianModel& model,
     const float* current = rendered_attributes(it, raw);
     RandomStream rng(stream_seed(o.seed, "correspondence.pixels", it * batches + b));
     batch.view = static_cast<int>(rng.below(views.size()));
-    const MaskedView& v = views[batch.view];
+    const MaskedPixels& v = views[batch.view];
     batch.pixels.resize(o.pixels_per_iteration);
     for (uint32_t& p : batch.pixels) p = v.covered[rng.below(v.covered.size())];
     Eigen::MatrixXf rendered(dim, batch.pixels.size());  // column-major: one column per pixel
@@ -141,6 +116,8 @@ const ParamTable<CorrespondenceOptions>& correspondence_param_table() {
   using O = CorrespondenceOptions;
   static const ParamTable<O> table =
       ParamTable<O>()
+          .add("variant", &O::variant, affinity_variant_names(),
+               "correspondence (paper) or scale_gated (the public v2 code's loss)")
           .add("iterations", &O::iterations, "Adam steps", 1, 1e7)
           .add("dim", &O::dim, "feature channels per Gaussian (SAGA: 32)", 1, 512)
           .add("lr", &O::lr, "Adam learning rate of the features (SAGA: 2.5e-3)", 1e-9, 10)
@@ -152,8 +129,27 @@ const ParamTable<CorrespondenceOptions>& correspondence_param_table() {
           .add("normalize_gaussians", &O::normalize_gaussians,
                "render L2-normalised per-Gaussian features (SAGA code: norm_point_features)")
           .add("min_weight", &O::min_weight,
-               "blend weights below this are dropped from the stored rows (memory)", 0, 1);
+               "blend weights below this are dropped from the stored rows (memory)", 0, 1)
+          .add("smooth_k", &O::smooth_k,
+               "scale_gated: nearest Gaussians averaged by the feature smoothing (1 = none)", 1,
+               256)
+          .add("norm_weight", &O::norm_weight,
+               "scale_gated: weight of the rendered-feature-norm regulariser (SAGA rfn)", 0, 1e3)
+          .add("sampled_scales", &O::sampled_scales,
+               "scale_gated: mask scales drawn per step besides the largest and smallest", 1, 64)
+          .add("gate_scale", &O::gate_scale,
+               "scale_gated: the quantile-space scale (0..1) the output features are gated at", 0,
+               1)
+          .add("scale_swap_axes", &O::scale_swap_axes,
+               "scale_gated: back-project mask scales with SAGA get_scale.py's row/column swap");
   return table;
+}
+
+const EnumNames<AffinityVariant>& affinity_variant_names() {
+  static const EnumNames<AffinityVariant> names = {
+      {AffinityVariant::Correspondence, "correspondence"},
+      {AffinityVariant::ScaleGated, "scale_gated"}};
+  return names;
 }
 
 }  // namespace gslift

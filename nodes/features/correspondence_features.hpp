@@ -21,7 +21,15 @@
 
 namespace gslift {
 
+// correspondence: the paper's loss (correspondence_loss.hpp). scale_gated: the public v2 code's
+// scale-gated contrastive loss (scale_gated_loss.hpp) with K-neighbour smoothing
+// (feature_smoothing.hpp) and per-mask 3D scales from rendered depth (mask_scales.hpp); the
+// output features are the smoothed ones gated at gate_scale (scale_gated_features.hpp).
+enum class AffinityVariant { Correspondence, ScaleGated };
+const EnumNames<AffinityVariant>& affinity_variant_names();  // correspondence, scale_gated
+
 struct CorrespondenceOptions {
+  AffinityVariant variant = AffinityVariant::Correspondence;
   int iterations = 1000;            // SAGA: 10000 on a GPU; measured in docs/saga.md
   int dim = 32;                     // SAGA feature_dim
   double lr = 2.5e-3;               // SAGA feature_lr
@@ -35,6 +43,16 @@ struct CorrespondenceOptions {
   bool normalize_gaussians = false;
   // Blend weights below this are left out of the stored rows (as features.contrastive).
   double min_weight = 1e-2;
+  // scale_gated only (SAGA v2 code's values): neighbours averaged by the smoothing (smooth_K = 16;
+  // half of them per step), weight of the rendered-norm regulariser (rfn = 1), scales sampled per
+  // step besides the largest and the smallest (8), the quantile-space scale the output features
+  // are gated at (the GUI slider's default 0.5), and the code's row/column swap in the
+  // back-projection of the mask scales (kept by default: mask_scales.hpp).
+  int smooth_k = 16;
+  double norm_weight = 1.0;
+  int sampled_scales = 8;
+  double gate_scale = 0.5;
+  bool scale_swap_axes = true;
   uint64_t seed = 0;  // not a param: the node's seed
 };
 

@@ -4,6 +4,25 @@
 
 namespace gslift {
 
+MaskedPixels masked_pixels(const ViewMasks& vm, size_t pixels) {
+  MaskedPixels v;
+  v.membership.words = static_cast<int>((vm.masks.size() + 63) / 64);
+  v.membership.bits.assign(pixels * v.membership.words, 0);
+  for (size_t m = 0; m < vm.masks.size(); ++m) {
+    const cv::Mat1b px =
+        vm.masks[m].pixels.isContinuous() ? vm.masks[m].pixels : vm.masks[m].pixels.clone();
+    for (size_t p = 0; p < pixels; ++p)
+      if (px.data[p]) v.membership.bits[p * v.membership.words + m / 64] |= uint64_t(1) << (m % 64);
+  }
+  for (size_t p = 0; p < pixels; ++p)
+    for (int w = 0; w < v.membership.words; ++w)
+      if (v.membership.pixel(p)[w]) {
+        v.covered.push_back(static_cast<uint32_t>(p));
+        break;
+      }
+  return v;
+}
+
 float mask_set_affinity(const uint64_t* a, const uint64_t* b, int words) {
   int both = 0, either = 0;
   for (int w = 0; w < words; ++w) {

@@ -11,6 +11,8 @@
 
 #include <Eigen/Core>
 
+#include "nodes/scene/masks.hpp"
+
 namespace gslift {
 
 // Mask membership of pixels as bitsets: `words` 64-bit words per pixel, bit m of pixel p set when
@@ -20,6 +22,13 @@ struct MaskMembership {
   std::vector<uint64_t> bits;  // pixels x words
   const uint64_t* pixel(size_t p) const { return bits.data() + p * words; }
 };
+
+// One view's masks as membership bitsets, and the pixels covered by some mask (row-major).
+struct MaskedPixels {
+  MaskMembership membership;
+  std::vector<uint32_t> covered;
+};
+MaskedPixels masked_pixels(const ViewMasks& masks, size_t pixels);
 
 // K(p, q) of two membership bitsets: IoU of the mask sets, -1 when they share no mask (or when
 // both are empty).

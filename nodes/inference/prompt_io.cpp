@@ -1,9 +1,12 @@
 #include "nodes/inference/prompt_io.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <fstream>
 #include <sstream>
 
+#include <yaml-cpp/yaml.h>
 #include <opencv2/imgcodecs.hpp>
 
 #include "base/errors.hpp"
@@ -27,17 +30,64 @@ std::vector<cv::Point> pixel_list(const nlohmann::json& j, const char* key,
   return out;
 }
 
+std::string string_field(const nlohmann::json& j, const char* key, const std::string& fallback,
+                         const std::string& where) {
+  if (!j.contains(key)) return fallback;
+  if (!j[key].is_string())
+    throw InputError(where + ": '" + key + "' must be a string, not " + j[key].dump());
+  return j[key].get<std::string>();
+}
+
+// YAML as JSON: maps, sequences, and scalars as numbers or booleans where they read as such
+// (a leading zero keeps a scalar a string: view names like 000000).
+nlohmann::json yaml_to_json(const YAML::Node& n) {
+  switch (n.Type()) {
+    case YAML::NodeType::Map: {
+      nlohmann::json j = nlohmann::json::object();
+      for (const auto& kv : n) j[kv.first.as<std::string>()] = yaml_to_json(kv.second);
+      return j;
+    }
+    case YAML::NodeType::Sequence: {
+      nlohmann::json j = nlohmann::json::array();
+      for (const auto& v : n) j.push_back(yaml_to_json(v));
+      return j;
+    }
+    case YAML::NodeType::Scalar: {
+      const std::string t = n.Scalar();
+      if (n.Tag() == "!") return t;  // quoted
+      if (t == "true" || t == "false") return t == "true";
+      const bool leading_zero = t.size() > 1 && t[0] == '0' && t[1] != '.';
+      if (!leading_zero && !t.empty()) {
+        char* end = nullptr;
+        const double v = std::strtod(t.c_str(), &end);
+        if (end == t.c_str() + t.size()) return v;
+      }
+      return t;
+    }
+    default:
+      return nullptr;
+  }
+}
+
 }  // namespace
 
 Prompt prompt_from_json(const nlohmann::json& j, const std::filesystem::path& base,
-                        const std::string& where, size_t index) {
+                        const std::string& where, size_t index,
+                        const std::vector<std::string>& extra_fields) {
   if (!j.is_object()) throw InputError(where + ": a prompt is a JSON object, not " + j.dump());
+  static const std::vector<std::string> fields = {"name",     "kind",     "view",
+                                                  "positive", "negative", "mask"};
+  for (const auto& item : j.items())
+    if (std::find(fields.begin(), fields.end(), item.key()) == fields.end() &&
+        std::find(extra_fields.begin(), extra_fields.end(), item.key()) == extra_fields.end())
+      throw InputError(where + ": unknown field '" + item.key() +
+                       "' (a prompt has name, kind, view, positive, negative, mask)");
   Prompt p;
-  p.name = j.value("name", "prompt_" + std::to_string(index));
-  if (!j.contains("view") || !j["view"].is_string())
+  p.name = string_field(j, "name", "prompt_" + std::to_string(index), where);
+  if (!j.contains("view"))
     throw InputError(where + ": the prompt names no view (\"view\": \"<view name>\")");
-  p.view = j["view"].get<std::string>();
-  const std::string kind = j.value("kind", j.contains("mask") ? "mask" : "point");
+  p.view = string_field(j, "view", "", where);
+  const std::string kind = string_field(j, "kind", j.contains("mask") ? "mask" : "point", where);
   try {
     p.kind = parse_enum(kind, prompt_kind_names(), "kind");
   } catch (const std::invalid_argument& e) {
@@ -66,14 +116,24 @@ PromptSet read_prompt_file(const std::filesystem::path& path) {
   if (!in) throw InputError("cannot open the prompt file " + path.string());
   std::stringstream text;
   text << in.rdbuf();
+  const std::string ext = path.extension().string();
   nlohmann::json j;
-  try {
-    j = nlohmann::json::parse(text.str());
-  } catch (const nlohmann::json::exception& e) {
-    throw InputError(path.string() + ": not JSON (" + e.what() + ")");
+  if (ext == ".yaml" || ext == ".yml") {
+    try {
+      j = yaml_to_json(YAML::Load(text.str()));
+    } catch (const YAML::Exception& e) {
+      throw InputError(path.string() + ": not YAML (" + e.what() + ")");
+    }
+  } else {
+    try {
+      j = nlohmann::json::parse(text.str());
+    } catch (const nlohmann::json::exception& e) {
+      throw InputError(path.string() + ": not JSON (" + e.what() + ")");
+    }
   }
   if (j.is_object() && j.contains("prompts")) j = j["prompts"];
-  if (!j.is_array()) throw InputError(path.string() + ": expected a list of prompts");
+  if (!j.is_array())
+    throw InputError(path.string() + ": expected a list of prompts (or \"prompts\": [...])");
   PromptSet set;
   for (size_t k = 0; k < j.size(); ++k)
     set.prompts.push_back(prompt_from_json(j[k], path.parent_path(),

@@ -187,13 +187,33 @@ PromptSelection PromptSegmenter::select(const Prompt& p) {
         r.count += r.selected[g];
       }
       r.pooled = true;
+      if (options_.mask_validate) validate_by_mask(r, p.mask, capture_.views[v]);
       return r;
     }
   }
   const std::vector<float> neg = options_.mask_negatives
                                      ? kmeans_queries(v, mask_pixels(p.mask, false))
                                      : std::vector<float>{};
-  return select_by_queries(kmeans_queries(v, inside), neg);
+  PromptSelection r = select_by_queries(kmeans_queries(v, inside), neg);
+  if (options_.mask_validate) validate_by_mask(r, p.mask, capture_.views[v]);
+  return r;
+}
+
+void PromptSegmenter::validate_by_mask(PromptSelection& r, const cv::Mat1b& mask,
+                                       const View& view) const {
+  const Camera& cam = view.camera;
+  for (size_t g = 0; g < r.selected.size(); ++g) {
+    if (!r.selected[g]) continue;
+    const Eigen::Vector3d x = view.pose.to_camera(
+        Eigen::Vector3d(model_.means[3 * g], model_.means[3 * g + 1], model_.means[3 * g + 2]));
+    if (x.z() <= 1e-6) continue;
+    const double u = cam.fx * x.x() / x.z() + cam.cx, w = cam.fy * x.y() / x.z() + cam.cy;
+    if (u < 0 || w < 0 || u >= cam.width || w >= cam.height) continue;
+    if (!mask(static_cast<int>(w), static_cast<int>(u))) {
+      r.selected[g] = 0;
+      --r.count;
+    }
+  }
 }
 
 std::vector<int32_t> selection_instance_ids(const std::vector<PromptSelection>& selections) {
@@ -265,7 +285,10 @@ const ParamTable<PromptOptions>& prompt_param_table() {
                "sam prompts: share of the reference mask the pooled query must cover (SAGA: 0.9)",
                0, 1)
           .add("mask_negatives", &O::mask_negatives,
-               "mask / sam prompts: K-means negatives from the pixels outside the mask");
+               "mask / sam prompts: K-means negatives from the pixels outside the mask")
+          .add("mask_validate", &O::mask_validate,
+               "mask / sam prompts: drop selected Gaussians whose centre projects outside the mask "
+               "in the prompt view");
   return table;
 }
 

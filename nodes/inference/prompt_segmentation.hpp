@@ -45,6 +45,11 @@ struct PromptOptions {
   // in SAGA; the object's rendered fringe just outside a tight mask becomes a negative query of
   // the object itself].
   bool mask_negatives = false;
+  // Mask / sam prompts: keep only selected Gaussians whose centre projects into the mask in the
+  // prompt's view (those projecting outside the view or behind the camera cannot be checked and
+  // stay): SAGA §4.5 grows its region from "Gaussians validated by the 2D mask" [off by default,
+  // measured on DTU in docs/saga.md].
+  bool mask_validate = false;
   uint64_t seed = 0;  // not a param: the node's seed (K-means seeding)
 };
 
@@ -79,6 +84,7 @@ class PromptSegmenter {
   PromptSelection select_by_queries(const std::vector<float>& positive,
                                     const std::vector<float>& negative) const;
   std::vector<float> kmeans_queries(int v, const std::vector<uint32_t>& pixels);
+  void validate_by_mask(PromptSelection& r, const cv::Mat1b& mask, const View& view) const;
 
   const GaussianModel& model_;
   const Capture& capture_;

@@ -125,7 +125,8 @@ const ParamTable<PromptNodeOptions>& prompt_node_table() {
   using O = PromptNodeOptions;
   static const ParamTable<O> table =
       ParamTable<O>()
-          .add("file", &O::file, "prompt file (JSON); empty = one prompt per reference mask")
+          .add("file", &O::file,
+               "prompt file (JSON or YAML); empty = one prompt per reference mask")
           .add("view", &O::view,
                "reference masks: the view the prompts are given in (empty = first training view)")
           .add("kind", &O::kind, prompt_kind_names(),

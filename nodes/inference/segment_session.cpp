@@ -12,8 +12,8 @@
 #include "nodes/inference/filter_3d.hpp"
 #include "nodes/inference/prompt_io.hpp"
 #include "nodes/inference/query_files.hpp"
+#include "nodes/inference/selection_mask.hpp"
 #include "nodes/inference/selection_output.hpp"
-#include "nodes/inference/text_query.hpp"
 #include "nodes/ingest/capture_loader.hpp"
 #include "nodes/ingest/capture_provider.hpp"
 #include "nodes/splat/ply_io.hpp"
@@ -50,7 +50,7 @@ std::vector<int> requested_views(const nlohmann::json& j, const Capture& capture
 int run_segment_session(const GaussianModel& model, const Capture& capture,
                         const PromptOptions& options, std::istream& in, std::ostream& out) {
   PromptSegmenter segmenter(model, capture, options);
-  std::map<int, std::unique_ptr<QueryView>> mask_views;  // render caches, built on first use
+  std::map<int, std::unique_ptr<SelectionMasker>> mask_views;  // built on first use
   int answered = 0;
   std::string text;
   for (int line = 1; std::getline(in, text); ++line) {
@@ -63,14 +63,15 @@ int run_segment_session(const GaussianModel& model, const Capture& capture,
       } catch (const nlohmann::json::exception& e) {
         throw InputError(std::string("not JSON: ") + e.what());
       }
-      const Prompt p = prompt_from_json(j, ".", "prompt", static_cast<size_t>(line));
+      const Prompt p = prompt_from_json(j, ".", "prompt", static_cast<size_t>(line),
+                                        {"output", "ply", "views", "filter"});
       const std::vector<int> views = requested_views(j, capture, p);
       const int pv = capture.find_view(p.view);
       if (pv >= 0) segmenter.feature_map(pv);  // once per view, not part of a prompt's latency
       for (int v : views)
         if (!mask_views.count(v))
-          mask_views[v] =
-              std::make_unique<QueryView>(model, capture.views[v].camera, capture.views[v].pose);
+          mask_views[v] = std::make_unique<SelectionMasker>(model, capture.views[v].camera,
+                                                            capture.views[v].pose);
       const auto t0 = Clock::now();
       const PromptSelection s = segmenter.select(p);
       std::vector<uint8_t> indicator = s.selected;
@@ -85,7 +86,7 @@ int run_segment_session(const GaussianModel& model, const Capture& capture,
       MaskSet masks;
       for (int v : views) {
         Mask m;
-        m.pixels = mask_views[v]->selection_mask(indicator, 0.5f);
+        m.pixels = mask_views[v]->mask(indicator, 0.5f);
         m.label = p.name;
         masks.views.push_back({capture.views[v].name, {std::move(m)}});
       }

@@ -61,36 +61,6 @@ cv::Mat1b QueryView::mask(const std::vector<float>& indicator, float threshold) 
   return m;
 }
 
-cv::Mat1b QueryView::selection_mask(const std::vector<uint8_t>& selected, float threshold) const {
-  if (selected.size() != cache_.gaussian_count())
-    throw InputError("selection mask: " + std::to_string(selected.size()) +
-                     " flags for a model of " + std::to_string(cache_.gaussian_count()) +
-                     " Gaussians");
-  cv::Mat1b out(cache_.height(), cache_.width());
-  const auto& off = cache_.pixel_offsets();
-  const auto& ids = cache_.ids();
-  const auto& w = cache_.weights();
-  uint8_t* px = out.ptr<uint8_t>();
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, off.size() - 1, 4096),
-                    [&](const tbb::blocked_range<size_t>& range) {
-                      for (size_t p = range.begin(); p != range.end(); ++p) {
-                        float in = 0.f, seen = 0.f;
-                        uint8_t answer = 0;
-                        for (uint32_t e = off[p]; e < off[p + 1]; ++e) {
-                          seen += w[e];
-                          if (selected[ids[e]]) in += w[e];
-                          if (in >= threshold) {
-                            answer = 255;
-                            break;
-                          }
-                          if (in + (1.f - seen) < threshold) break;
-                        }
-                        px[p] = answer;
-                      }
-                    });
-  return out;
-}
-
 cv::Mat1f QueryView::render_instances(const Eigen::VectorXf& per_instance) const {
   cv::Mat1f out = cv::Mat1f::zeros(cache_.height(), cache_.width());
   const Eigen::Index n = std::min<Eigen::Index>(per_instance.size(), instance_alpha_.size());

@@ -45,13 +45,6 @@ class QueryView {
   cv::Mat1f render(const std::vector<float>& per_gaussian) const;
   // Pixels where the selected Gaussians' accumulated alpha reaches `threshold`: 255 inside.
   cv::Mat1b mask(const std::vector<float>& indicator, float threshold) const;
-  // The same for a 0/1 selection (one flag per Gaussian), faster: each pixel's blend list is
-  // walked front to back and left as soon as its answer is known, i.e. when the selected weight
-  // reaches `threshold` (in) or cannot reach it any more (out: the weights still to come sum to at
-  // most the transmittance left, 1 - the weight so far). Opaque surfaces settle a pixel within its
-  // first few entries (interactive prompts, bench/saga).
-  cv::Mat1b selection_mask(const std::vector<uint8_t>& selected, float threshold) const;
-
   // The same through the instance planes: sum_k per_instance[k] A_k(p), i.e. render() of
   // gaussian_values(instance_ids, per_instance). Instances beyond the model's largest id
   // contribute nothing.

@@ -119,6 +119,18 @@ TEST_CASE("scribble, mask and SAM-style prompts") {
   s = with_negatives.select(half);
   CHECK(selected(s) == std::vector<int>{0, 2});
   CHECK(s.negative_queries > 0);
+  // Validation by the mask: at tau -0.5 the disc selects every Gaussian; mask_validate drops the
+  // right blob (its centre projects to column 47, outside the disc) and keeps the off-screen
+  // ones, which the view cannot check.
+  o.tau = -0.5;
+  o.mask_negatives = false;
+  PromptSegmenter loose(model, capture, o);
+  CHECK(selected(loose.select(mask)).size() == 12);
+  o.mask_validate = true;
+  PromptSegmenter validated(model, capture, o);
+  s = validated.select(mask);
+  CHECK(selected(s) == std::vector<int>{0, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11});
+  CHECK(s.count == 11);
   // SAM-style: the pooled query (e1) covers the whole disc in 2D, so it is accepted; tau_SAM =
   // mean + std of <f_g, q> over the 12 Gaussians = 0.2078 + 0.3786 = 0.586: Gaussian 3 (0.5)
   // stays out even at tau 0.4.
