@@ -79,8 +79,14 @@ std::vector<std::vector<std::vector<std::pair<int, int>>>> sampled_pixels(
 
 }  // namespace
 
+const EnumNames<MaskVote>& mask_vote_names() {
+  static const EnumNames<MaskVote> names = {{MaskVote::Count, "count"}, {MaskVote::Iou, "iou"}};
+  return names;
+}
+
 std::vector<std::vector<int>> match_masks(const std::vector<FeatureMap>& maps, const MaskSet& masks,
-                                          const LiftedInstances& lifted) {
+                                          const LiftedInstances& lifted, MaskVote vote,
+                                          float min_similarity) {
   if (maps.size() != masks.views.size())
     throw InputError(std::to_string(maps.size()) + " feature maps but " +
                      std::to_string(masks.views.size()) + " views of masks");
@@ -98,6 +104,24 @@ std::vector<std::vector<int>> match_masks(const std::vector<FeatureMap>& maps, c
   const Eigen::MatrixXf unit = unit_rows(lifted.prototypes);
   const int instances = static_cast<int>(unit.rows());
 
+  // MaskVote::Iou: each view's instance map (-1 = none) and the size of each region.
+  std::vector<std::vector<int>> region(vote == MaskVote::Iou ? maps.size() : 0);
+  std::vector<std::vector<int64_t>> region_size(region.size(), std::vector<int64_t>(instances, 0));
+  tbb::parallel_for(size_t{0}, region.size(), [&](size_t v) {
+    const FeatureMap& map = maps[v];
+    region[v].resize(static_cast<size_t>(map.width) * map.height);
+    for (int y = 0; y < map.height; ++y)
+      for (int x = 0; x < map.width; ++x) {
+        const Nearest n = nearest_prototype(map.at(x, y), unit);
+        region[v][static_cast<size_t>(y) * map.width + x] =
+            n.cosine >= min_similarity ? n.instance : -1;
+      }
+    for (const auto& mask : sampled[v])
+      for (const auto& [index, label] : mask) region[v][index] = label;
+    for (const int k : region[v])
+      if (k >= 0) ++region_size[v][k];
+  });
+
   std::vector<std::pair<int, int>> jobs;  // (view, mask)
   std::vector<std::vector<int>> out(masks.views.size());
   for (size_t v = 0; v < masks.views.size(); ++v) {
@@ -110,6 +134,25 @@ std::vector<std::vector<int>> match_masks(const std::vector<FeatureMap>& maps, c
     const cv::Mat1b& pixels = masks.views[v].masks[m].pixels;
     const auto& samples = sampled[v][m];
     std::vector<int64_t> votes(instances, 0);
+    if (vote == MaskVote::Iou) {
+      int64_t area = 0;
+      for (int y = 0; y < pixels.rows; ++y)
+        for (int x = 0; x < pixels.cols; ++x)
+          if (pixels(y, x)) {
+            ++area;
+            const int k = region[v][static_cast<size_t>(y) * maps[v].width + x];
+            if (k >= 0) ++votes[k];
+          }
+      int best = -1;
+      double best_iou = 0;
+      for (int k = 0; k < instances; ++k) {
+        const double iou = static_cast<double>(votes[k]) /
+                           static_cast<double>(area + region_size[v][k] - votes[k]);
+        if (votes[k] > 0 && iou > best_iou) best = k, best_iou = iou;
+      }
+      out[v][m] = best;
+      return;
+    }
     for (int y = 0; y < pixels.rows; ++y)
       for (int x = 0; x < pixels.cols; ++x) {
         if (!pixels(y, x)) continue;
@@ -165,7 +208,8 @@ InstanceAssociation associate_instances(const TrainingFeatureMaps& views, const 
   InstanceAssociation out;
   InstanceSet& set = out.instances;
   set.prototypes = lifted.prototypes;
-  const std::vector<std::vector<int>> matched = match_masks(views.maps, views.masks, lifted);
+  const std::vector<std::vector<int>> matched =
+      match_masks(views.maps, views.masks, lifted, params.mask_vote, params.min_similarity);
   set.mask_instance.resize(masks.views.size());
   for (size_t v = 0; v < masks.views.size(); ++v)
     set.mask_instance[v].assign(masks.views[v].masks.size(), -1);
@@ -200,6 +244,9 @@ const ParamTable<AssociationParams>& association_param_table() {
                "a Gaussian joins its most similar instance only at this cosine or above (0.5: "
                "midway between Eq. 3's hinge targets 1 and 0); -1 = always",
                -1, 1)
+          .add("mask_vote", &O::mask_vote, mask_vote_names(),
+               "how a mask picks its instance: count (the paper: most frequent among its pixels) "
+               "or iou (the instance whose region in the view fits the mask best)")
           .add("min_contribution", &O::min_contribution,
                "Gaussians whose blend weight summed over the training pixels is below this stay "
                "unassigned (their features were never trained)",

@@ -29,6 +29,9 @@
 
 namespace gslift {
 
+enum class MaskVote { Count, Iou };
+const EnumNames<MaskVote>& mask_vote_names();  // count, iou
+
 struct AssociationParams {
   // [decision] A Gaussian whose blend weights summed over all training pixels stay below this
   // (in pixels) is left -1: its feature received (almost) no gradient in feature training, so its
@@ -39,6 +42,15 @@ struct AssociationParams {
   // in-mask features to cos 1 with their mask's centroid and pushes the rest to cos <= 0, so 0.5
   // is the midpoint between the two hinge targets. -1 assigns every Gaussian with a feature.
   float min_similarity = 0.5f;
+  // How a mask picks its instance (step 2).
+  //  count: the paper's most frequent instance among its pixels.
+  //  iou [decision, issue 11]: the instance whose region in the view fits the mask best, by IoU;
+  //    the region of instance k is every pixel of the view whose instance (step 1's rule, with
+  //    the unsampled pixels below min_similarity to every prototype left out) is k. A box mask
+  //    that swallows a person standing at a table holds more person pixels than table pixels
+  //    when the person is larger in the view, but covers the table's region better than the
+  //    person's, whose pixels are mostly outside it.
+  MaskVote mask_vote = MaskVote::Count;
 };
 
 // The params of association.instance_mask_gaussian: one entry per field above.
@@ -47,8 +59,12 @@ const ParamTable<AssociationParams>& association_param_table();
 // For each view of `masks`, for each of its masks: the instance it matches (steps 1-2), -1 when
 // none of its pixels votes. maps[i] goes with masks.views[i]; `lifted` must come from these maps
 // and masks (its samples index them). Throws InputError when sizes or indices disagree.
+// With MaskVote::Iou, steps 1-2 by the IoU rule of AssociationParams::mask_vote (min_similarity
+// leaves unsampled pixels out of every region).
 std::vector<std::vector<int>> match_masks(const std::vector<FeatureMap>& maps, const MaskSet& masks,
-                                          const LiftedInstances& lifted);
+                                          const LiftedInstances& lifted,
+                                          MaskVote vote = MaskVote::Count,
+                                          float min_similarity = -1.f);
 
 // Step 3. contribution: per Gaussian summed blend weight over the training views (empty = every
 // Gaussian counts as seen). Gaussians with a zero feature stay -1 (cosine undefined). Throws

@@ -346,6 +346,13 @@ ReconstructResult reconstruct(const Capture& capture, const ReconstructOptions& 
       }
       clock.charge(phases.density);
     }
+    const DensityControlOptions& d = options.density;
+    if (options.extent_clamp.active() && d.interval > 0 && step >= d.start &&
+        (step - d.start) % d.interval == 0) {
+      result.extent_clamped +=
+          clamp_extent_to_free_space(model, observations, options.extent_clamp);
+      clock.charge(phases.density);
+    }
     result.iterations_run = step + 1;
     if (callback) callback(step, options.iterations, loss.total, model.size());
 
@@ -371,6 +378,7 @@ ReconstructResult reconstruct(const Capture& capture, const ReconstructOptions& 
     result.final_loss.opacity_entropy += history[i].opacity_entropy / tail;
     result.final_loss.pseudo += history[i].pseudo / tail;
   }
+  result.extent_clamped += clamp_extent_to_free_space(model, observations, options.extent_clamp);
   result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   result.train_psnr = mean_psnr(model, capture, train, background);
   const std::vector<int> test = capture.test_views();
@@ -434,6 +442,15 @@ const ParamTable<ReconstructOptions>& reconstruct_param_table() {
                          0, 255)
                     .add("free_space_tolerance", &F::tolerance,
                          "relative depth margin of the free-space and seen tests", 0, 1))
+          .nest(&O::extent_clamp,
+                ParamTable<ExtentClampOptions>()
+                    .add("extent_clamp_sigmas", &ExtentClampOptions::sigmas,
+                         "shrink each Gaussian axis until the points this many standard "
+                         "deviations along it leave the training depth priors' free space "
+                         "(silhouette rims); 0 = off",
+                         0, 10)
+                    .add("extent_clamp_tolerance", &ExtentClampOptions::tolerance,
+                         "relative depth margin of the extent clamp's free-space test", 0, 1))
           .add("feature_dim", &O::feature_dim,
                "feature channels allocated (zero) for later stages, not trained here", 0, 512)
           .nest(&O::init,

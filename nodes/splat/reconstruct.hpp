@@ -17,6 +17,7 @@
 #include "nodes/splat/adam.hpp"
 #include "nodes/splat/density_control.hpp"
 #include "nodes/splat/free_space.hpp"
+#include "nodes/splat/free_space_extent.hpp"
 #include "nodes/splat/initialise.hpp"
 #include "nodes/splat/pseudo_views.hpp"
 #include "nodes/splat/view_geometry.hpp"
@@ -84,6 +85,10 @@ struct ReconstructOptions {
   // (free_space.hpp), at each densification round and every density.interval steps after growth
   // stops; off by default.
   FreeSpacePruneOptions floaters;
+  // Axes of Gaussians shrunk until their extent leaves the training views' observed free space
+  // (free_space_extent.hpp), on the free-space rounds' schedule and once after the last step;
+  // off by default.
+  ExtentClampOptions extent_clamp;
   // Early stop when the mean loss of the last `plateau_window` steps improves on the previous
   // window by less than plateau_tolerance (relative). 0 = off.
   int plateau_window = 0;
@@ -119,6 +124,7 @@ struct ReconstructResult {
   GaussianModel model;
   size_t initial_gaussians = 0;
   size_t free_space_pruned = 0;  // Gaussians the free-space rules pruned, over all rounds
+  size_t extent_clamped = 0;     // Gaussian axes the extent clamp shrank, over all rounds
   size_t pseudo_views = 0;       // pseudo-views trained on (pseudo_weight > 0)
   int iterations_run = 0;
   bool stopped_early = false;

@@ -120,6 +120,31 @@ TEST_CASE("masks take the majority instance of their pixels; sampled pixels keep
   CHECK(match_masks(unsampled.maps, unsampled.masks, unsampled.lifted)[0][2] == 2);
 }
 
+TEST_CASE("the IoU vote picks the instance whose region fits the mask, not the most pixels") {
+  // Columns 0..3 look like instance 0 (region 32 px), 4..11 like instance 1 (64 px). A "table"
+  // mask over columns 0..8 (72 px) holds 32 pixels of instance 0 and 40 of instance 1: the count
+  // takes 1; by IoU instance 0 fits better, 32 / (72 + 32 - 32) = 0.444 against
+  // 40 / (72 + 64 - 40) = 0.417.
+  FeatureMap f{kW, kH, 3, std::vector<float>(kW * kH * 3, 0.f)};
+  for (int y = 0; y < kH; ++y)
+    for (int x = 0; x < kW; ++x) f.values[(y * kW + x) * 3 + (x < 4 ? 0 : 1)] = 1;
+  Scene s;
+  s.maps = {f};
+  s.masks.views = {ViewMasks{"v0", {box(0, 9, 0, kH, "table")}}};
+  CHECK(match_masks(s.maps, s.masks, s.lifted)[0][0] == 1);
+  CHECK(match_masks(s.maps, s.masks, s.lifted, MaskVote::Iou, 0.5f)[0][0] == 0);
+
+  // Columns 10..11 with a feature of cos 0.28 to instance 1 (below min_similarity 0.5): out of
+  // its region, which shrinks to 48 px, and its IoU rises to 40 / (72 + 48 - 40) = 0.5 > 0.444.
+  // With min_similarity -1 they count again and instance 0 wins as before.
+  for (int y = 0; y < kH; ++y)
+    for (int x = 10; x < kW; ++x) f.values[(y * kW + x) * 3 + 2] = 3.4f;  // (0, 1, 3.4)
+  s.maps = {f};
+  s.lifted.prototypes = Eigen::Matrix3f::Identity().topRows(2);
+  CHECK(match_masks(s.maps, s.masks, s.lifted, MaskVote::Iou, 0.5f)[0][0] == 1);
+  CHECK(match_masks(s.maps, s.masks, s.lifted, MaskVote::Iou, -1.f)[0][0] == 0);
+}
+
 TEST_CASE("Gaussians take their most similar prototype unless unseen or dissimilar") {
   const GaussianModel model = six_gaussians();
   const std::vector<float> contribution = {5, 5, 5, 5, 5, 0.001f};

@@ -1,0 +1,122 @@
+// floater_origins: where the held-out view's floaters come from (issue 11). For every floater
+// pixel (view_geometry.hpp: drawn, median depth more than 10% in front of the ground truth) it
+// takes the Gaussian at which the pixel's accumulated opacity reaches 0.5 (the one that sets the
+// median depth) and asks each training view's depth prior about its centre (the pixel it projects
+// to, relative margin --margin, default 0.1 as free_space.hpp): in observed free space, on the
+// observed surface, hidden behind it, or outside the view. A floater that some view sees in free
+// space could be carved with the priors; one that only sits on or behind observed surfaces cannot.
+//
+//   floater_origins GRAPH [--input CAPTURE] [--set NODE.P=V]... [--margin M]
+//
+// GRAPH has a node `capture` (ingest.capture) and a node `model` whose output `model` is the
+// reconstruction (splat.load of a run's recon/model.ply, or splat.reconstruct).
+#include <cstdio>
+#include <iostream>
+#include <map>
+#include <string>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "graph/loader.hpp"
+#include "nodes/builtin.hpp"
+#include "nodes/scene/capture.hpp"
+#include "nodes/scene/gaussian_model.hpp"
+#include "nodes/splat/rasterizer.hpp"
+#include "nodes/splat/render_cache.hpp"
+#include "runtime/executor.hpp"
+
+using namespace gslift;
+
+int main(int argc, char** argv) {
+  if (argc < 2) {
+    std::cerr
+        << "usage: floater_origins GRAPH [--input CAPTURE] [--set NODE.P=V]... [--margin M]\n";
+    return 2;
+  }
+  Registry registry;
+  register_builtin_nodes(registry);
+  LoadOptions load;
+  load.vars["input"] = "embedded:or";
+  double margin = 0.1;
+  for (int i = 2; i + 1 < argc; i += 2) {
+    const std::string a = argv[i];
+    if (a == "--set") load.sets.push_back(argv[i + 1]);
+    if (a == "--input") load.vars["input"] = argv[i + 1];
+    if (a == "--margin") margin = std::stod(argv[i + 1]);
+  }
+  const LoadResult g = load_graph(argv[1], registry, load);
+  if (!g.ok()) {
+    for (const auto& d : g.diagnostics) std::cerr << d.message << "\n";
+    return 3;
+  }
+  const RunResult run = execute(*g.graph, registry, {});
+  if (!run.ok()) {
+    std::cerr << run.error->str() << "\n";
+    return 1;
+  }
+  const auto capture = run.values.at("capture.capture").get<Capture>();
+  const auto model = run.values.at("model.model").get<GaussianModel>();
+  std::vector<const View*> train;
+  std::vector<cv::Mat1f> prior;
+  for (const View& v : capture->views)
+    if (!v.held_out) train.push_back(&v), prior.push_back(v.depth.load());
+
+  for (const View& view : capture->views) {
+    if (!view.held_out) continue;
+    const cv::Mat1f gt = view.gt_depth.load();
+    RenderSettings weights_only;
+    weights_only.rgb = false;
+    const RenderCache cache(render(*model, view.camera, view.pose, weights_only));
+    const auto& off = cache.pixel_offsets();
+    std::map<std::string, int> origin;
+    std::map<int, int> gaussians;  // floater Gaussian -> pixels it sets
+    int surface = 0, floaters = 0;
+    for (int y = 0; y < gt.rows; ++y)
+      for (int x = 0; x < gt.cols; ++x) {
+        const float truth = gt(y, x);
+        if (!(truth > 0)) continue;
+        ++surface;
+        const size_t p = static_cast<size_t>(y) * gt.cols + x;
+        float sum = 0;
+        int median = -1;
+        for (uint32_t e = off[p]; e < off[p + 1]; ++e)
+          if ((sum += cache.weights()[e]) >= 0.5f) {
+            median = cache.ids()[e];
+            break;
+          }
+        if (median < 0) continue;
+        const Eigen::Vector3d c(model->means[median * 3], model->means[median * 3 + 1],
+                                model->means[median * 3 + 2]);
+        if (!(view.pose.to_camera(c).z() < 0.9 * truth)) continue;
+        ++floaters;
+        ++gaussians[median];
+        bool free = false, on = false, hidden = false;
+        for (size_t t = 0; t < train.size(); ++t) {
+          const Eigen::Vector3d q = train[t]->pose.to_camera(c);
+          const Camera& cam = train[t]->camera;
+          if (!(q.z() > 0)) continue;
+          const double u = cam.fx * q.x() / q.z() + cam.cx, w = cam.fy * q.y() / q.z() + cam.cy;
+          if (!(u >= 0 && w >= 0 && u < prior[t].cols && w < prior[t].rows)) continue;
+          const float d = prior[t](static_cast<int>(w), static_cast<int>(u));
+          if (!(d > 0)) continue;
+          if (q.z() < (1 - margin) * d)
+            free = true;
+          else if (q.z() <= (1 + margin) * d)
+            on = true;
+          else
+            hidden = true;
+        }
+        ++origin[free     ? "in free space of some training view"
+                 : on     ? "on an observed surface (none sees it free)"
+                 : hidden ? "hidden behind observed surfaces only"
+                          : "outside every training view"];
+      }
+    std::printf("%s: %d floater pixels (%.2f%% of %d surface pixels), set by %zu Gaussians\n",
+                view.name.c_str(), floaters, 100.0 * floaters / std::max(surface, 1), surface,
+                gaussians.size());
+    for (const auto& [what, n] : origin)
+      std::printf("  %-45s %6d px  %5.1f%%\n", what.c_str(), n, 100.0 * n / std::max(floaters, 1));
+  }
+  return 0;
+}
