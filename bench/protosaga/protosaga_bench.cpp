@@ -1,7 +1,8 @@
 // protosaga_bench: accuracy, stability and speed of Proto-SaGa and Gaga on the embedded OR.
 //
 //   protosaga_bench [--seeds N] [--views V] [--models DIR] [--out DIR] [--no-timing]
-//                   [--view-iterations N] [--lift-iterations N]
+//                   [--view-iterations N] [--lift-iterations N] [--background black|mean]
+//                   [--joint] [--kl LAMBDA] [--min-areas A,B,...] [--no-cls] [--stem NAME]
 //
 // For each capture seed S = 0..N-1 (default 5) of embedded:or?seed=S&views=V (default 5 views,
 // one held out; 8 views hold out two) it reconstructs the scene once (or reads DIR/or_vV_sS.ply
@@ -14,6 +15,11 @@
 //   end to end, on the held-out views (Table 1 / Table 4): Proto-SaGa (both + prototypes),
 //   Proto-SaGa with K-means or a trained classifier (Cls) instead of the prototypes, Proto-SaGa's
 //   depth-only association with prototypes, and Gaga (depth gaga_compat + lift + classifier).
+// Options add variants: --joint Proto-SaGa with the view classifiers trained jointly with a
+// reconstruction of its own (Eq. 8; same reconstruction params and seed), --kl Gaga with its 3D
+// KL neighbour regulariser at that lambda, --min-areas Proto-SaGa and Gaga (and joint) with each
+// minimum label area at inference (label_argmax.hpp); --background sets the reconstruction's
+// (graphs' recon.background), --no-cls leaves out the Cls baseline (a lift per seed).
 // Association time per view is recorded for every association. Timing (unless --no-timing): the
 // two graphs (graphs/protosaga.yaml, graphs/gaga.yaml) as child `gslift run` processes at seed 0
 // on 2 threads, wall time and peak memory. Writes protosaga[_vV].json and .svg into --out
@@ -25,6 +31,7 @@
 #include <fstream>
 #include <iostream>
 #include <map>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -65,16 +72,18 @@ struct Base {
   GaussianModel model;
 };
 
-Base base_run(const Registry& registry, int seed, int views, const fs::path& models) {
+Base base_run(const Registry& registry, int seed, int views, const fs::path& models,
+              const std::string& background) {
   const std::string input =
       "embedded:or?seed=" + std::to_string(seed) + "&views=" + std::to_string(views);
-  const fs::path cached =
-      models / ("or_v" + std::to_string(views) + "_s" + std::to_string(seed) + ".ply");
+  const fs::path cached = models / ("or_v" + std::to_string(views) + "_s" + std::to_string(seed) +
+                                    (background == "black" ? "" : "_" + background) + ".ply");
   const bool have = !models.empty() && fs::exists(cached);
   const std::string recon =
       have ? "  recon: {type: splat.load, params: {path: \"" + cached.string() + "\"}}\n"
            : "  recon: {type: splat.reconstruct, in: {capture: capture.capture}, params: "
-             "{iterations: 500}}\n";
+             "{iterations: 500, background: " +
+                 background + "}}\n";
   const std::string yaml =
       "graph: protosaga_base\n"
       "nodes:\n"
@@ -169,7 +178,10 @@ int main(int argc, char** argv) {
   keep_freed_memory_in_process();
   int seeds = 5, views = 5, view_iterations = ViewClassifierOptions{}.iterations,
       lift_iterations = LabelClassifierOptions{}.iterations;
-  bool timing = true;
+  bool timing = true, joint = false, cls = true;
+  double kl = 0;
+  std::vector<double> min_areas;
+  std::string background = "black", stem_name;
   fs::path out = fs::path(GSLIFT_SOURCE_DIR) / "bench/results", models;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
@@ -191,9 +203,24 @@ int main(int argc, char** argv) {
       lift_iterations = std::stoi(next());
     else if (a == "--no-timing")
       timing = false;
+    else if (a == "--background")
+      background = next();
+    else if (a == "--joint")
+      joint = true;
+    else if (a == "--kl")
+      kl = std::stod(next());
+    else if (a == "--min-areas") {
+      std::stringstream list(next());
+      for (std::string v; std::getline(list, v, ',');) min_areas.push_back(std::stod(v));
+    } else if (a == "--no-cls")
+      cls = false;
+    else if (a == "--stem")
+      stem_name = next();
     else {
       std::cerr << "usage: protosaga_bench [--seeds N] [--views V] [--models DIR] [--out DIR] "
-                   "[--no-timing] [--view-iterations N] [--lift-iterations N]\n";
+                   "[--no-timing] [--view-iterations N] [--lift-iterations N] [--background "
+                   "black|mean] [--joint] [--kl LAMBDA] [--min-areas A,B,...] [--no-cls] "
+                   "[--stem NAME]\n";
       return 2;
     }
   }
@@ -204,7 +231,7 @@ int main(int argc, char** argv) {
   std::map<std::string, std::vector<double>> ms_per_view, seconds;
   for (int seed = 0; seed < seeds; ++seed) {
     std::fprintf(stderr, "[protosaga] seed %d: capture and reconstruction\n", seed);
-    const Base b = base_run(registry, seed, views, models);
+    const Base b = base_run(registry, seed, views, models, background);
     const Capture& capture = *b.capture;
     const std::vector<int> test = capture.test_views();
 
@@ -230,17 +257,29 @@ int main(int argc, char** argv) {
       for (const double ms : r.view_ms) ms_per_view[name].push_back(ms);
     }
 
-    auto lifted = [&](const LabelMapSet& labels) {
+    auto lift = [&](const LabelMapSet& labels, double kl_lambda) {
       LabelClassifierOptions lo;
       lo.seed = stream_seed(seed, "bench.label_classifier");
       lo.iterations = lift_iterations;
+      lo.kl.lambda = kl_lambda;
       LabelClassifierResult r = train_label_classifier(b.model, capture, labels, lo);
-      seconds["label_classifier"].push_back(r.seconds);
+      seconds[kl_lambda > 0 ? "label_classifier_kl" : "label_classifier"].push_back(r.seconds);
+      return r;
+    };
+    auto lifted = [&](const LabelMapSet& labels) {
+      const LabelClassifierResult r = lift(labels, 0);
       return infer_labels_by_classifier(r.model, capture, r.classifier, test);
     };
     auto scored = [&](const LabelMapSet& labels) {
       return percent(score_label_maps(labels, capture));
     };
+    auto area_name = [](const std::string& v, double a) {
+      char buf[64];
+      std::snprintf(buf, sizeof buf, "%s_area%g", v.c_str(), a);
+      return std::string(buf);
+    };
+    std::vector<std::string> printed = {"protosaga", "kmeans", "depth_proto", "gaga"};
+    if (cls) printed.push_back("cls");
     add(e2e, "protosaga",
         scored(infer_labels_by_prototypes(vc.model, capture, a["both"].consistent, test,
                                           PrototypeClassifier::Averaged, seed)));
@@ -250,11 +289,58 @@ int main(int argc, char** argv) {
     add(e2e, "depth_proto",
         scored(infer_labels_by_prototypes(vc.model, capture, a["depth"].consistent, test,
                                           PrototypeClassifier::Averaged, seed)));
-    add(e2e, "cls", scored(lifted(a["both"].consistent)));
-    add(e2e, "gaga", scored(lifted(a["gaga"].consistent)));
-    for (const char* v : {"protosaga", "kmeans", "depth_proto", "cls", "gaga"})
-      std::fprintf(stderr, "[protosaga] seed %d %-12s mIoU %.1f precision %.1f recall %.1f\n", seed,
-                   v, e2e[v]["mIoU"].back(), e2e[v]["precision"].back(), e2e[v]["recall"].back());
+    if (cls) add(e2e, "cls", scored(lifted(a["both"].consistent)));
+    const LabelClassifierResult gaga = lift(a["gaga"].consistent, 0);
+    add(e2e, "gaga",
+        scored(infer_labels_by_classifier(gaga.model, capture, gaga.classifier, test)));
+    for (const double area : min_areas) {
+      add(e2e, area_name("protosaga", area),
+          scored(infer_labels_by_prototypes(vc.model, capture, a["both"].consistent, test,
+                                            PrototypeClassifier::Averaged, seed, area)));
+      add(e2e, area_name("gaga", area),
+          scored(infer_labels_by_classifier(gaga.model, capture, gaga.classifier, test, area)));
+      printed.push_back(area_name("protosaga", area));
+      printed.push_back(area_name("gaga", area));
+    }
+    if (kl > 0) {
+      const LabelClassifierResult r = lift(a["gaga"].consistent, kl);
+      add(e2e, "gaga_kl", scored(infer_labels_by_classifier(r.model, capture, r.classifier, test)));
+      printed.push_back("gaga_kl");
+    }
+    if (joint) {
+      ViewClassifierOptions jo = vo;
+      jo.training = FeatureTraining::Joint;
+      jo.recon.iterations = 500;
+      jo.recon.background = parse_enum(background, background_names(), "--background");
+      const ViewClassifierResult jc =
+          train_view_classifiers_jointly(capture, *b.partitions, jo, [&](int step, int total) {
+            if ((step + 1) % 100 == 0)
+              std::fprintf(stderr, "[protosaga] seed %d joint step %d / %d\n", seed, step + 1,
+                           total);
+          });
+      seconds["joint_reconstruction"].push_back(jc.seconds);
+      MemoryBankOptions o;
+      o.criteria = AssociationCriteria::Both;
+      const AssociationResult ja =
+          associate_masks(jc.model, capture, *b.partitions, &jc.classifiers, o);
+      add(assoc, "both_joint", percent(score_label_maps(ja.consistent, capture)));
+      add(e2e, "protosaga_joint",
+          scored(infer_labels_by_prototypes(jc.model, capture, ja.consistent, test,
+                                            PrototypeClassifier::Averaged, seed)));
+      printed.push_back("protosaga_joint");
+      for (const double area : min_areas) {
+        add(e2e, area_name("protosaga_joint", area),
+            scored(infer_labels_by_prototypes(jc.model, capture, ja.consistent, test,
+                                              PrototypeClassifier::Averaged, seed, area)));
+        printed.push_back(area_name("protosaga_joint", area));
+      }
+      std::fprintf(stderr, "[protosaga] seed %d joint: train PSNR %.2f test PSNR %.2f\n", seed,
+                   jc.recon->train_psnr, jc.recon->test_psnr);
+    }
+    for (const std::string& v : printed)
+      std::fprintf(stderr, "[protosaga] seed %d %-22s mIoU %.1f precision %.1f recall %.1f\n", seed,
+                   v.c_str(), e2e[v]["mIoU"].back(), e2e[v]["precision"].back(),
+                   e2e[v]["recall"].back());
   }
 
   nlohmann::json doc;
@@ -262,8 +348,17 @@ int main(int argc, char** argv) {
   doc["seeds"] = seeds;
   doc["view_iterations"] = view_iterations;
   doc["lift_iterations"] = lift_iterations;
-  doc["association"] = summary(assoc, {"depth", "probability", "both", "gaga"});
-  doc["end_to_end"] = summary(e2e, {"protosaga", "kmeans", "cls", "depth_proto", "gaga"});
+  doc["background"] = background;
+  std::vector<std::string> assoc_order = {"depth", "probability", "both", "gaga"};
+  if (joint) assoc_order.push_back("both_joint");
+  std::vector<std::string> e2e_order;
+  for (const char* v : {"protosaga", "kmeans", "cls", "depth_proto", "gaga"})
+    if (e2e.count(v)) e2e_order.push_back(v);
+  for (const auto& [name, values] : e2e)
+    if (std::find(e2e_order.begin(), e2e_order.end(), name) == e2e_order.end())
+      e2e_order.push_back(name);
+  doc["association"] = summary(assoc, assoc_order);
+  doc["end_to_end"] = summary(e2e, e2e_order);
   for (const auto& [name, v] : ms_per_view) {
     const auto [m, sd] = mean_std(v);
     doc["association_ms_per_view"][name] = {{"mean", m}, {"std", sd}};
@@ -288,7 +383,9 @@ int main(int argc, char** argv) {
           {"peak_mb", r.peak_mb}};
     }
   }
-  const std::string stem = views == 5 ? "protosaga" : "protosaga_v" + std::to_string(views);
+  const std::string stem = !stem_name.empty() ? stem_name
+                           : views == 5       ? "protosaga"
+                                              : "protosaga_v" + std::to_string(views);
   fs::create_directories(out);
   write_file_atomically(out / (stem + ".json"), doc.dump(2) + "\n");
   write_file_atomically(

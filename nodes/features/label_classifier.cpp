@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <numeric>
+#include <optional>
 
 #include "base/errors.hpp"
 #include "base/random.hpp"
@@ -52,13 +54,33 @@ LabelClassifierResult train_label_classifier(const GaussianModel& model, const C
                                     labels.data(), w, w + nw, classes, b.grad.data(),
                                     b.extra_grad.data(), b.extra_grad.data() + nw);
   };
+  // Gaga's L_3d every kl.interval steps (its iterations count from 1): kl.samples distinct
+  // Gaussians (a partial Fisher-Yates shuffle, torch.randperm's draw) and their k nearest centres.
+  PixelTrainingExtraTerm neighbour_term;
+  std::optional<GaussianNeighbours> tree;
+  std::vector<int> order;
+  if (o.kl.lambda > 0) {
+    tree.emplace(model.means);
+    order.resize(model.size());
+    std::iota(order.begin(), order.end(), 0);
+    neighbour_term = [&](int it, const float* f, const float* w, float* gf, float* gw) {
+      if ((it + 1) % o.kl.interval != 0) return 0.0;
+      RandomStream rng(stream_seed(o.seed, "label_classifier.kl", size_t(it)));
+      const size_t n = order.size(), s = std::min<size_t>(o.kl.samples, n);
+      for (size_t i = 0; i < s; ++i) std::swap(order[i], order[i + rng.below(n - i)]);
+      const std::vector<int> samples(order.begin(), order.begin() + s);
+      const int k = static_cast<int>(std::min<size_t>(o.kl.k, n));
+      return neighbour_kl_loss(f, dim, w, w + nw, classes, samples, tree->nearest(samples, k), k,
+                               o.kl.lambda, gf, gw, gw + nw);
+    };
+  }
   PixelTrainingSettings settings;
   settings.iterations = o.iterations;
   settings.dim = dim;
   settings.lr = o.lr;
   settings.extra_lr = o.classifier_lr;
-  const PixelTrainingLoss loss =
-      train_pixel_features(views.rows, nv, settings, step, features, params, {}, progress);
+  const PixelTrainingLoss loss = train_pixel_features(views.rows, nv, settings, step, features,
+                                                      params, neighbour_term, progress);
 
   LabelClassifierResult r;
   r.loss_start = loss.start;
@@ -82,7 +104,17 @@ const ParamTable<LabelClassifierOptions>& label_classifier_param_table() {
           .add("classifier_lr", &O::classifier_lr, "Adam learning rate of the classifier (5e-4)",
                1e-9, 10)
           .add("pixels_per_view", &O::pixels_per_view, "pixels sampled per view and step", 1, 1e7)
-          .add("min_weight", &O::min_weight, "blend weights below this are dropped (memory)", 0, 1);
+          .add("min_weight", &O::min_weight, "blend weights below this are dropped (memory)", 0, 1)
+          .nest(&O::kl,
+                ParamTable<NeighbourKlOptions>()
+                    .add("kl_lambda", &NeighbourKlOptions::lambda,
+                         "weight of Gaga's 3D KL neighbour regulariser (its code: 2); 0 = off", 0)
+                    .add("kl_k", &NeighbourKlOptions::k,
+                         "nearest Gaussians per sample, itself included (Gaga: 5)", 1, 1000)
+                    .add("kl_interval", &NeighbourKlOptions::interval,
+                         "the regulariser joins every this many steps (Gaga: 5)", 1, 1e6)
+                    .add("kl_samples", &NeighbourKlOptions::samples,
+                         "Gaussians sampled per regularised step (Gaga: 1000)", 1, 1e7));
   return table;
 }
 

@@ -2,7 +2,8 @@
 // lifted to the Gaussians with the geometry frozen. D features per Gaussian (zero-initialised, as
 // Gaga when it loads a vanilla 3DGS model) and a 1x1 linear classifier over the rendered features,
 // logits W F + b over the labels 0..L, trained together with the cross-entropy divided by ln(L+1)
-// at sampled pixels (train_pixel_features). Gaga renders whole images for 10k steps; we sample.
+// at sampled pixels (train_pixel_features), optionally with Gaga's 3D KL neighbour regulariser on
+// the Gaussians' own class distributions. Gaga renders whole images for 10k steps; we sample.
 // Proto-SaGa's "Cls" inference baseline (Table 4) trains the same classifier.
 #pragma once
 
@@ -10,6 +11,7 @@
 #include <functional>
 
 #include "graph/param_table.hpp"
+#include "nodes/features/neighbour_kl.hpp"
 #include "nodes/scene/capture.hpp"
 #include "nodes/scene/gaussian_model.hpp"
 #include "nodes/scene/label_maps.hpp"
@@ -23,6 +25,7 @@ struct LabelClassifierOptions {
   double classifier_lr = 5e-4;  // Gaga
   int pixels_per_view = 2048;   // sampled pixels per view and step [decision]
   double min_weight = 1e-2;     // blend weights dropped from the stored rows
+  NeighbourKlOptions kl;        // Gaga's optional 3D neighbour regulariser (neighbour_kl.hpp)
   uint64_t seed = 0;            // not a param: the node's seed
 };
 

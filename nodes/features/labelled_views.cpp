@@ -10,9 +10,8 @@ size_t LabelledViews::bytes() const {
   return b;
 }
 
-LabelledViews render_labelled_views(const GaussianModel& model, const Capture& capture,
-                                    const LabelMapSet& maps, double min_weight,
-                                    const std::string& node) {
+LabelledViews labelled_training_views(const Capture& capture, const LabelMapSet& maps,
+                                      const std::string& node) {
   LabelledViews out;
   for (size_t k = 0; k < maps.views.size(); ++k) {
     const LabelMap& m = maps.views[k];
@@ -30,11 +29,21 @@ LabelledViews render_labelled_views(const GaussianModel& model, const Capture& c
     out.capture_views.push_back(v);
     out.label_views.push_back(static_cast<int>(k));
     out.labels.push_back(m.labels.isContinuous() ? m.labels : m.labels.clone());
+  }
+  if (out.labels.empty())
+    throw InputError(node + ": no training view of capture '" + capture.name + "' has a label map");
+  return out;
+}
+
+LabelledViews render_labelled_views(const GaussianModel& model, const Capture& capture,
+                                    const LabelMapSet& maps, double min_weight,
+                                    const std::string& node) {
+  LabelledViews out = labelled_training_views(capture, maps, node);
+  for (const int v : out.capture_views) {
+    const View& view = capture.views[v];
     out.rows.push_back(
         render_pixel_rows(model, view.camera, view.pose, static_cast<float>(min_weight)));
   }
-  if (out.rows.empty())
-    throw InputError(node + ": no training view of capture '" + capture.name + "' has a label map");
   return out;
 }
 

@@ -24,8 +24,13 @@ struct LabelledViews {
 };
 
 // The maps of `maps` that name training views of `capture` (held-out maps are test data and
-// skipped), in LabelMapSet order. Throws InputError (prefixed by `node`) when a map names a view
-// the capture lacks or differs from its camera in size, or when no training view is left.
+// skipped), in LabelMapSet order, without rows. Throws InputError (prefixed by `node`) when a map
+// names a view the capture lacks or differs from its camera in size, or when no training view is
+// left.
+LabelledViews labelled_training_views(const Capture& capture, const LabelMapSet& maps,
+                                      const std::string& node);
+
+// labelled_training_views with the PixelRows of `model` at each view (weights >= min_weight).
 LabelledViews render_labelled_views(const GaussianModel& model, const Capture& capture,
                                     const LabelMapSet& maps, double min_weight,
                                     const std::string& node);

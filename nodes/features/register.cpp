@@ -1,5 +1,8 @@
 #include "nodes/features/register.hpp"
 
+#include <cmath>
+
+#include "base/errors.hpp"
 #include "nodes/features/contrastive_features.hpp"
 #include "nodes/features/correspondence_features.hpp"
 #include "nodes/features/label_classifier.hpp"
@@ -78,12 +81,27 @@ void add_correspondence(Registry& registry) {
 
 void run_view_classifiers(NodeContext& ctx, ViewClassifierOptions o) {
   o.seed = ctx.seed();
-  ViewClassifierResult r = train_view_classifiers(
-      *ctx.input<GaussianModel>("model"), *ctx.input<Capture>("capture"),
-      *ctx.input<LabelMapSet>("partitions"), o, [&](int it, int total) {
-        ctx.check_cancelled();
-        ctx.progress(static_cast<double>(it + 1) / total, "view classifiers");
-      });
+  const bool joint = o.training == FeatureTraining::Joint;
+  if (joint == ctx.has_input("model"))
+    throw InputError(joint ? "training: joint reconstructs the capture itself (the recon_* "
+                             "params): leave the model input unconnected"
+                           : "training: frozen needs the model input (the reconstruction)");
+  const auto progress = [&](int it, int total) {
+    ctx.check_cancelled();
+    ctx.progress(static_cast<double>(it + 1) / total,
+                 joint ? "joint reconstruction and view classifiers" : "view classifiers");
+  };
+  const Capture& capture = *ctx.input<Capture>("capture");
+  const LabelMapSet& partitions = *ctx.input<LabelMapSet>("partitions");
+  ViewClassifierResult r = joint ? train_view_classifiers_jointly(capture, partitions, o, progress)
+                                 : train_view_classifiers(*ctx.input<GaussianModel>("model"),
+                                                          capture, partitions, o, progress);
+  if (r.recon) {
+    ctx.record("gaussians", static_cast<double>(r.model.size()));
+    ctx.record("train_psnr", r.recon->train_psnr);
+    if (!std::isnan(r.recon->test_psnr)) ctx.record("test_psnr", r.recon->test_psnr);
+    ctx.record("loss_photometric", r.recon->final_loss.photometric);
+  }
   ctx.record("views", static_cast<double>(r.classifiers.views.size()));
   ctx.record("loss_start", r.loss_start);
   ctx.record("loss_end", r.loss_end);
@@ -112,14 +130,16 @@ void run_label_classifier(NodeContext& ctx, LabelClassifierOptions o) {
 void add_classifiers(Registry& registry) {
   registry.add(
       NodeSpec{"features.view_classifiers",
-               "Proto-SaGa Eq. 6-8 on frozen geometry: per-Gaussian features and one cosine "
-               "classifier per training view over its raw SAM ids",
-               {{"model", PortTypeName<GaussianModel>::value, "reconstructed Gaussians (kept)"},
+               "Proto-SaGa Eq. 6-8, frozen geometry or joint with the reconstruction: "
+               "per-Gaussian features and one cosine classifier per training view over its raw "
+               "SAM ids",
+               {{"model", PortTypeName<GaussianModel>::value,
+                 "reconstructed Gaussians, kept (frozen); unconnected for joint", true},
                 {"capture", PortTypeName<Capture>::value, "posed views; training views are used"},
                 {"partitions", PortTypeName<LabelMapSet>::value,
                  "raw SAM id maps (association.sam_partition)"}},
                {{"model", PortTypeName<GaussianModel>::value,
-                 "the same Gaussians with dim trained feature channels"},
+                 "the Gaussians with dim trained feature channels (joint: reconstructed here)"},
                 {"classifiers", PortTypeName<ViewClassifiers>::value,
                  "one cosine classifier per training view"}}},
       view_classifier_param_table(), run_view_classifiers);

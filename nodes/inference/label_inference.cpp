@@ -3,6 +3,7 @@
 #include <tbb/parallel_for.h>
 
 #include "base/errors.hpp"
+#include "nodes/inference/label_argmax.hpp"
 #include "nodes/inference/prototype_kmeans.hpp"
 #include "nodes/inference/prototypes.hpp"
 #include "nodes/splat/rasterizer.hpp"
@@ -24,7 +25,7 @@ FeatureMap render_feature_map(const GaussianModel& model, const View& view) {
 
 LabelMapSet infer_labels_by_prototypes(const GaussianModel& model, const Capture& capture,
                                        const LabelMapSet& consistent, const std::vector<int>& views,
-                                       PrototypeClassifier kind, uint64_t seed) {
+                                       PrototypeClassifier kind, uint64_t seed, double min_area) {
   if (model.feature_dim < 1) throw InputError("inference: the model has no feature channels");
   std::vector<FeatureMap> maps;
   std::vector<cv::Mat1i> labels;
@@ -49,32 +50,35 @@ LabelMapSet infer_labels_by_prototypes(const GaussianModel& model, const Capture
   LabelMapSet out;
   out.labels = ids.empty() ? 0 : *std::max_element(ids.begin(), ids.end());
   for (const int v : views)
-    out.views.push_back(
-        {capture.views[v].name,
-         nearest_prototype_labels(render_feature_map(model, capture.views[v]), classifier, ids)});
+    out.views.push_back({capture.views[v].name,
+                         nearest_prototype_labels(render_feature_map(model, capture.views[v]),
+                                                  classifier, ids, min_area)});
   return out;
 }
 
 LabelMapSet infer_labels_by_classifier(const GaussianModel& model, const Capture& capture,
-                                       const LabelClassifier& c, const std::vector<int>& views) {
+                                       const LabelClassifier& c, const std::vector<int>& views,
+                                       double min_area) {
   if (model.feature_dim != c.dim)
     throw InputError("inference.classifier: the classifier expects " + std::to_string(c.dim) +
                      " feature channels, the model has " + std::to_string(model.feature_dim));
   const Eigen::Map<const Eigen::MatrixXf> w(c.weights.data(), c.dim, c.classes);  // column = class
   const Eigen::Map<const Eigen::VectorXf> b(c.bias.data(), c.classes);
+  std::vector<int> ids(c.classes);
+  for (int k = 0; k < c.classes; ++k) ids[k] = k;
   LabelMapSet out;
   out.labels = c.classes - 1;
   for (const int v : views) {
     const FeatureMap f = render_feature_map(model, capture.views[v]);
-    cv::Mat1i labels(f.height, f.width);
+    std::vector<float> scores(size_t(f.width) * f.height * c.classes);
     tbb::parallel_for(0, f.height, [&](int y) {
-      for (int x = 0; x < f.width; ++x) {
-        Eigen::Index best = 0;
-        (w.transpose() * Eigen::Map<const Eigen::VectorXf>(f.at(x, y), f.dim) + b).maxCoeff(&best);
-        labels(y, x) = static_cast<int>(best);
-      }
+      for (int x = 0; x < f.width; ++x)
+        Eigen::Map<Eigen::VectorXf>(scores.data() + (size_t(y) * f.width + x) * c.classes,
+                                    c.classes) =
+            w.transpose() * Eigen::Map<const Eigen::VectorXf>(f.at(x, y), f.dim) + b;
     });
-    out.views.push_back({capture.views[v].name, labels});
+    out.views.push_back(
+        {capture.views[v].name, argmax_labels(scores, f.width, f.height, ids, min_area)});
   }
   return out;
 }

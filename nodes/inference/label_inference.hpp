@@ -22,15 +22,17 @@ FeatureMap render_feature_map(const GaussianModel& model, const View& view);
 
 enum class PrototypeClassifier { Averaged, KMeans };
 
-// Prototypes from the training views of `consistent`, answered in capture views `views`. Throws
-// InputError when the model has no features or no training view has a consistent map.
+// Prototypes from the training views of `consistent`, answered in capture views `views`; labels
+// below min_area of a view dropped there (label_argmax.hpp). Throws InputError when the model has
+// no features or no training view has a consistent map.
 LabelMapSet infer_labels_by_prototypes(const GaussianModel& model, const Capture& capture,
                                        const LabelMapSet& consistent, const std::vector<int>& views,
-                                       PrototypeClassifier kind, uint64_t seed);
+                                       PrototypeClassifier kind, uint64_t seed,
+                                       double min_area = 0);
 
-// argmax_c (W F(p) + b)_c in capture views `views`.
+// argmax_c (W F(p) + b)_c in capture views `views`, min_area as above.
 LabelMapSet infer_labels_by_classifier(const GaussianModel& model, const Capture& capture,
                                        const LabelClassifier& classifier,
-                                       const std::vector<int>& views);
+                                       const std::vector<int>& views, double min_area = 0);
 
 }  // namespace gslift

@@ -5,6 +5,7 @@
 #include <tbb/parallel_for.h>
 
 #include "base/errors.hpp"
+#include "nodes/inference/label_argmax.hpp"
 
 namespace gslift {
 
@@ -51,7 +52,7 @@ LabelPrototypes label_prototypes(const std::vector<FeatureMap>& maps,
 }
 
 cv::Mat1i nearest_prototype_labels(const FeatureMap& map, const Eigen::MatrixXf& prototypes,
-                                   const std::vector<int>& ids) {
+                                   const std::vector<int>& ids, double min_area) {
   if (prototypes.rows() == 0 || prototypes.cols() != map.dim ||
       size_t(prototypes.rows()) != ids.size())
     throw InputError("inference: prototypes do not match the rendered features");
@@ -60,18 +61,15 @@ cv::Mat1i nearest_prototype_labels(const FeatureMap& map, const Eigen::MatrixXf&
     const float n = unit.row(r).norm();
     if (n > 0) unit.row(r) /= n;
   }
-  cv::Mat1i out(map.height, map.width);
   // cos(v, F) ranks like v_unit . F: |F| is the same for every prototype.
+  const size_t rows = ids.size();
+  std::vector<float> scores(size_t(map.width) * map.height * rows);
   tbb::parallel_for(0, map.height, [&](int y) {
-    for (int x = 0; x < map.width; ++x) {
-      const Eigen::VectorXf s = unit * Eigen::Map<const Eigen::VectorXf>(map.at(x, y), map.dim);
-      Eigen::Index best = 0;
-      for (Eigen::Index r = 1; r < s.size(); ++r)
-        if (s[r] > s[best]) best = r;
-      out(y, x) = ids[best];
-    }
+    for (int x = 0; x < map.width; ++x)
+      Eigen::Map<Eigen::VectorXf>(scores.data() + (size_t(y) * map.width + x) * rows, rows) =
+          unit * Eigen::Map<const Eigen::VectorXf>(map.at(x, y), map.dim);
   });
-  return out;
+  return argmax_labels(scores, map.width, map.height, ids, min_area);
 }
 
 }  // namespace gslift

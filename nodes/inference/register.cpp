@@ -235,11 +235,17 @@ void add_render_selection(Registry& registry) {
 // The views the label-inference nodes answer in.
 struct LabelInferenceOptions {
   ViewSet views = ViewSet::Test;
+  double min_area = 0;  // label_argmax.hpp
 };
 
 const ParamTable<LabelInferenceOptions>& label_inference_param_table() {
-  static const ParamTable<LabelInferenceOptions> table = ParamTable<LabelInferenceOptions>().add(
-      "views", &LabelInferenceOptions::views, view_set_names(), "views to label");
+  static const ParamTable<LabelInferenceOptions> table =
+      ParamTable<LabelInferenceOptions>()
+          .add("views", &LabelInferenceOptions::views, view_set_names(), "views to label")
+          .add("min_area", &LabelInferenceOptions::min_area,
+               "labels covering less than this fraction of a view are dropped there, their "
+               "pixels taking the next best label (speckle labels); 0 = off",
+               0, 1);
   return table;
 }
 
@@ -275,10 +281,11 @@ void add_label_inference(Registry& registry) {
             {out}},
         label_inference_param_table(), [kind](NodeContext& ctx, const LabelInferenceOptions& o) {
           const auto c = ctx.input<Capture>("capture");
-          output_labels(ctx, *c,
-                        infer_labels_by_prototypes(*ctx.input<GaussianModel>("model"), *c,
-                                                   *ctx.input<LabelMapSet>("labels"),
-                                                   c->views_named(o.views), kind, ctx.seed()));
+          output_labels(
+              ctx, *c,
+              infer_labels_by_prototypes(*ctx.input<GaussianModel>("model"), *c,
+                                         *ctx.input<LabelMapSet>("labels"), c->views_named(o.views),
+                                         kind, ctx.seed(), o.min_area));
         });
   registry.add(
       NodeSpec{"inference.classifier",
@@ -292,7 +299,7 @@ void add_label_inference(Registry& registry) {
         output_labels(ctx, *c,
                       infer_labels_by_classifier(*ctx.input<GaussianModel>("model"), *c,
                                                  *ctx.input<LabelClassifier>("classifier"),
-                                                 c->views_named(o.views)));
+                                                 c->views_named(o.views), o.min_area));
       });
 }
 

@@ -82,11 +82,16 @@ TrainTarget make_target(const View& view, bool need_normals, bool need_half) {
 
 // One Adam group per parameter array of the model.
 struct ModelOptimiser {
-  AdamGroup means, log_scales, quats, opacity, sh;
-  ModelOptimiser(int sh_width, const AdamSettings& s)
-      : means(3, s), log_scales(3, s), quats(4, s), opacity(1, s), sh(sh_width, s) {}
+  AdamGroup means, log_scales, quats, opacity, sh, features;
+  ModelOptimiser(int sh_width, int feature_width, const AdamSettings& s)
+      : means(3, s),
+        log_scales(3, s),
+        quats(4, s),
+        opacity(1, s),
+        sh(sh_width, s),
+        features(feature_width, s) {}
   void remap(const std::vector<int>& source) {
-    for (AdamGroup* g : {&means, &log_scales, &quats, &opacity, &sh}) g->remap(source);
+    for (AdamGroup* g : {&means, &log_scales, &quats, &opacity, &sh, &features}) g->remap(source);
   }
 };
 
@@ -165,7 +170,8 @@ const char* model_size_reason(const ReconstructResult& result) {
 }
 
 ReconstructResult reconstruct(const Capture& capture, const ReconstructOptions& options,
-                              const ReconstructCallback& callback) {
+                              const ReconstructCallback& callback,
+                              const FeatureObjective* objective) {
   const auto start = std::chrono::steady_clock::now();
   const std::vector<int> train = capture.train_views();
   if (train.empty()) throw InputError("capture '" + capture.name + "' has no training view");
@@ -177,9 +183,10 @@ ReconstructResult reconstruct(const Capture& capture, const ReconstructOptions& 
   Eigen::Vector3f background = Eigen::Vector3f::Zero();
   InitialiseOptions init = options.init;
   init.sh_degree = options.sh_degree;
-  init.feature_dim = options.feature_dim;
+  init.feature_dim = objective ? objective->dim : options.feature_dim;
   init.seed = options.seed;
   GaussianModel model = initialise_gaussians(capture, init);
+  if (objective && objective->initialise) objective->initialise(model.size(), model.features);
   result.initial_gaussians = model.size();
   const double extent = scene_extent(capture);
   result.scene_extent = extent;
@@ -193,7 +200,7 @@ ReconstructResult reconstruct(const Capture& capture, const ReconstructOptions& 
   if (options.background == Background::Mean) background = mean_colour(targets);
 
   const int K = GaussianModel::sh_coeffs(options.sh_degree);
-  ModelOptimiser adam(K * 3, options.adam);
+  ModelOptimiser adam(K * 3, objective ? objective->dim : 0, options.adam);
   const LearningRates& lr = options.rates;
   std::vector<float> sh_lr(K * 3, static_cast<float>(lr.sh_rest));
   std::fill_n(sh_lr.begin(), 3, static_cast<float>(lr.sh_dc));
@@ -246,6 +253,7 @@ ReconstructResult reconstruct(const Capture& capture, const ReconstructOptions& 
     const bool use_normal = options.normal_weight > 0 && !target.normals.empty();
     settings.depth = use_depth;
     settings.normal = use_normal;
+    settings.features = objective != nullptr;
     RenderOutput out = render(model, target.camera, view.pose, settings);
     const int H = out.height, W = out.width;
     clock.charge(phases.render);
@@ -265,6 +273,9 @@ ReconstructResult reconstruct(const Capture& capture, const ReconstructOptions& 
       loss.normal = normal_cosine_loss(wrap(out.normal, H, W, CV_32FC3), target.normals, &grad);
       rgrads.normal = scaled_vector(grad, options.normal_weight);
     }
+    if (objective)
+      loss.features = feature_objective_grads(
+          *objective, step, static_cast<int>(&view - capture.views.data()), out, rgrads);
     clock.charge(phases.losses);
     grads.reset(model);
     render_backward(model, target.camera, view.pose, settings, out, rgrads, grads);
@@ -273,6 +284,7 @@ ReconstructResult reconstruct(const Capture& capture, const ReconstructOptions& 
       RenderSettings ps = settings;
       ps.depth = options.depth_weight > 0;
       ps.normal = false;
+      ps.features = false;
       RenderOutput po = render(model, p.camera, p.pose, ps);
       clock.charge(phases.render);
       RenderGrads pg;
@@ -304,6 +316,7 @@ ReconstructResult reconstruct(const Capture& capture, const ReconstructOptions& 
                  options.normal_weight * loss.normal + options.scale_weight * loss.flatness +
                  options.opacity_entropy_weight * loss.opacity_entropy +
                  options.pseudo_weight * loss.pseudo;
+    if (objective) loss.total += objective->weight * loss.features;
     clock.charge(phases.losses);
     history.push_back(loss);
     result.loss_history.push_back(loss.total);
@@ -318,6 +331,11 @@ ReconstructResult reconstruct(const Capture& capture, const ReconstructOptions& 
     adam.opacity.step(model.opacity_logits.data(), grads.opacity_logits.data(), n,
                       static_cast<float>(lr.opacity));
     adam.sh.step(model.sh.data(), grads.sh.data(), n, sh_lr.data());
+    if (objective) {
+      adam.features.step(model.features.data(), grads.features.data(), n,
+                         static_cast<float>(objective->lr));
+      if (objective->update) objective->update(step);
+    }
     clock.charge(phases.adam);
 
     if (options.densify) {
@@ -377,6 +395,7 @@ ReconstructResult reconstruct(const Capture& capture, const ReconstructOptions& 
     result.final_loss.flatness += history[i].flatness / tail;
     result.final_loss.opacity_entropy += history[i].opacity_entropy / tail;
     result.final_loss.pseudo += history[i].pseudo / tail;
+    result.final_loss.features += history[i].features / tail;
   }
   result.extent_clamped += clamp_extent_to_free_space(model, observations, options.extent_clamp);
   result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -16,6 +16,7 @@
 #include "nodes/scene/gaussian_model.hpp"
 #include "nodes/splat/adam.hpp"
 #include "nodes/splat/density_control.hpp"
+#include "nodes/splat/feature_objective.hpp"
 #include "nodes/splat/free_space.hpp"
 #include "nodes/splat/free_space_extent.hpp"
 #include "nodes/splat/initialise.hpp"
@@ -48,7 +49,9 @@ struct ReconstructOptions {
   // does so every 1000 of 30000 steps; compressed here).
   int sh_degree = 1;
   int sh_interval = 100;
-  int feature_dim = 0;       // feature channels allocated (zero) for later stages; not trained here
+  // Feature channels allocated (zero) for later stages; not trained here. With a FeatureObjective
+  // the objective's dim is used instead and the features train with the geometry.
+  int feature_dim = 0;
   double ssim_lambda = 0.2;  // photometric (1 - lambda) L1 + lambda D-SSIM
   // What the model is rendered over, in training and in the PSNR records.
   //  black: 3DGS's default.
@@ -107,6 +110,7 @@ const ParamTable<ReconstructOptions>& reconstruct_param_table();
 struct LossSummary {
   double total = 0, photometric = 0, depth = 0, normal = 0, flatness = 0, opacity_entropy = 0,
          pseudo = 0;
+  double features = 0;  // the FeatureObjective's loss (unweighted); 0 without one
 };
 
 // Wall seconds spent in each phase of the optimisation loop, summed over the steps (profiling;
@@ -163,9 +167,11 @@ double mean_psnr(const GaussianModel& model, const Capture& capture, const std::
 
 // Runs the reconstruction on the capture's training views. Deterministic for a fixed seed at any
 // thread count. The targets of the training views (float RGB, depth, normals) are decoded once
-// and kept for the run. Throws InputError when the capture has no training view or an image does
-// not match its camera.
+// and kept for the run. With an `objective` its features train jointly with the geometry (the
+// total loss adds objective->weight x L_feat) and come back in the model's feature channels.
+// Throws InputError when the capture has no training view or an image does not match its camera.
 ReconstructResult reconstruct(const Capture& capture, const ReconstructOptions& options,
-                              const ReconstructCallback& callback = {});
+                              const ReconstructCallback& callback = {},
+                              const FeatureObjective* objective = nullptr);
 
 }  // namespace gslift

@@ -2,6 +2,7 @@
 
 #include <catch2/catch.hpp>
 
+#include "nodes/inference/label_argmax.hpp"
 #include "nodes/inference/prototype_kmeans.hpp"
 #include "nodes/inference/prototypes.hpp"
 
@@ -41,6 +42,22 @@ TEST_CASE("label_prototypes and nearest_prototype_labels: Eq. 17-19 by hand") {
   // (1, 1.2): cos with (2,1) = 3.2/(sqrt5 sqrt2.44) = 0.916, with (0.5,1) = 1.7/(sqrt1.25
   // sqrt2.44) = 0.973 -> label 2.
   CHECK(out(0, 2) == 2);
+}
+
+// Six pixels (3 x 2), candidates ids 1, 2, 3, argmax areas 2, 3, 1 pixels. min_area 0.2 (1.2
+// pixels) drops label 3: its pixel (0.2, 0.6, 0.9) takes 2, the better of the rest. min_area 0.5
+// (3 pixels) also drops label 1 (2 pixels): every pixel becomes 2.
+TEST_CASE("argmax_labels: labels below the minimum area give their pixels to the next best") {
+  const std::vector<float> scores = {1, 0, 0,    1,    0,    0,    0, 1, 0,
+                                     0, 1, 0.5f, 0.2f, 0.6f, 0.9f, 0, 1, 0};
+  const std::vector<int> ids = {1, 2, 3};
+  auto flat = [](const cv::Mat1i& m) { return std::vector<int>(m.begin(), m.end()); };
+  const cv::Mat1i plain = argmax_labels(scores, 3, 2, ids, 0);
+  CHECK(plain.cols == 3);
+  CHECK(flat(plain) == std::vector<int>{1, 1, 2, 2, 3, 2});
+  CHECK(flat(argmax_labels(scores, 3, 2, ids, 0.2)) == std::vector<int>{1, 1, 2, 2, 2, 2});
+  CHECK(flat(argmax_labels(scores, 3, 2, ids, 0.5)) == std::vector<int>{2, 2, 2, 2, 2, 2});
+  CHECK(flat(argmax_labels(scores, 3, 2, ids, 1.0)) == std::vector<int>{2, 2, 2, 2, 2, 2});
 }
 
 // Two tight bundles of directions: K-means with k = 2 finds one centre in each, whatever the
