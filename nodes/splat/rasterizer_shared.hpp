@@ -63,6 +63,9 @@ inline Eigen::Vector3f sh_colour(const float* sh, int degree, const float* basis
 inline void gather_values(const RasterState& s, const TileGaussian* list, uint32_t count,
                           std::vector<float>& out) {
   out.resize(size_t(count) * s.channels);
+  // A weights-only pass has no channels: s.values is empty and indexing it is undefined
+  // (UBSan: reference binding to a null pointer, tests/sanitize_suite.sh).
+  if (s.channels == 0) return;
   for (uint32_t j = 0; j < count; ++j)
     std::copy_n(&s.values[size_t(list[j].id) * s.channels], s.channels,
                 &out[size_t(j) * s.channels]);
