@@ -32,8 +32,7 @@ void run_reconstruct(NodeContext& ctx, ReconstructOptions o) {
   ctx.record("initial_gaussians", static_cast<double>(r.initial_gaussians));
   if (o.floaters.active())
     ctx.record("free_space_pruned", static_cast<double>(r.free_space_pruned));
-  if (o.extent_clamp.active())
-    ctx.record("extent_clamped", static_cast<double>(r.extent_clamped));
+  if (o.extent_clamp.active()) ctx.record("extent_clamped", static_cast<double>(r.extent_clamped));
   ctx.record("model_bytes",
              static_cast<double>(sizeof(float) *
                                  (r.model.means.size() + r.model.log_scales.size() +

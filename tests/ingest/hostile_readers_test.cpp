@@ -234,7 +234,7 @@ TEST_CASE("names that leave the capture folder are refused unless allowed", "[ho
   const fs::path outside = test::scratch_dir("hostile_escape_outside");
   fs::copy_file(capture / "images/cam_00.png", outside / "cam_00.png");
   for (const std::string& name : {std::string("../../hostile_escape_outside/cam_00.png"),
-                                 (outside / "cam_00.png").string(), std::string("link.png")}) {
+                                  (outside / "cam_00.png").string(), std::string("link.png")}) {
     write_bytes(images, original);
     patch(images, "cam_00.png", name);
     if (name == "link.png") fs::create_symlink(outside / "cam_00.png", capture / "images/link.png");
