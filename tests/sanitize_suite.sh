@@ -21,6 +21,7 @@ command -v ccache >/dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
 start=$(date +%s)
 cmake -S "$src" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=None -DGSLIFT_BUILD_BENCH=OFF \
       -DCMAKE_CXX_FLAGS="$flags" -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=address,undefined" \
+      -DGSLIFT_KILL_LOOP_KILLS=6 -DGSLIFT_TEST_TIMEOUT_SCALE=4 \
       ${launcher[@]+"${launcher[@]}"} >/dev/null
 cmake --build "$build" -j "$jobs"
 built=$(date +%s)
