@@ -180,7 +180,9 @@ void RenderCache::render_tiles(const float* attributes, int channels, float* out
     for (int y = ty * kTileSize; y < std::min(height_, (ty + 1) * kTileSize); ++y)
       for (int x = 0; x < width_; ++x) {
         const size_t p = size_t(y) * width_ + x;
-        const float* tile = &gathered[size_t(tile_first[x / kTileSize] - first) * C];
+        // data() + offset, not &gathered[offset]: a tile row with no Gaussians leaves the buffer
+        // empty, and indexing an empty vector is undefined even when nothing is read (UBSan).
+        const float* tile = gathered.data() + size_t(tile_first[x / kTileSize] - first) * C;
         float* o = out + p * C;
         if constexpr (kChannels > 0) {
           // Eigen's fixed-size packets vectorise along the channels (GCC alone vectorises across
