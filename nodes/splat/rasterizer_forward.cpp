@@ -171,7 +171,9 @@ void bin_gaussians(const GaussianModel& model, const ViewTransform& view,
   tbb::parallel_for(tbb::blocked_range<int>(0, tiles, 4), [&](const tbb::blocked_range<int>& r) {
     for (int t = r.begin(); t != r.end(); ++t) {
       const int tx = t % s.tiles_x, ty = t / s.tiles_x;
-      std::sort(&keys[s.tile_offsets[t]], &keys[s.tile_offsets[t + 1]]);
+      // Pointers from data(): a view with no Gaussian-tile pairs leaves keys empty, where
+      // &keys[0] is undefined (UBSan) even though the range is empty.
+      std::sort(keys.data() + s.tile_offsets[t], keys.data() + s.tile_offsets[t + 1]);
       for (uint32_t k = s.tile_offsets[t]; k < s.tile_offsets[t + 1]; ++k) {
         const uint32_t g = uint32_t(keys[k]);
         const BlendRect& rect = rects[g];
