@@ -69,7 +69,10 @@ DuplicateRepairCount repair_duplicate_masks(const cv::Mat& rgb, const cv::Mat& d
   }
   size_t kept = 0;
   for (size_t i = 0; i < masks.size(); ++i)
-    if (!drop[i]) masks[kept++] = std::move(masks[i]);
+    if (!drop[i]) {
+      if (kept != i) masks[kept] = std::move(masks[i]);  // a self-move would empty the label
+      ++kept;
+    }
   count.dropped = static_cast<int>(masks.size() - kept);
   masks.resize(kept);
   return count;
