@@ -20,14 +20,15 @@ double box_fit(const Box& box, const cv::Mat1b& mask) {
 }
 
 std::vector<int> find_duplicate_masks(const std::vector<Box>& boxes,
-                                      const std::vector<cv::Mat1b>& masks, float iou) {
+                                      const std::vector<cv::Mat1b>& masks, float iou,
+                                      float fit_ratio) {
   const size_t n = masks.size();
   std::vector<double> fit(n);
   for (size_t i = 0; i < n; ++i) fit[i] = box_fit(boxes[i], masks[i]);
   std::vector<int> owner(n, -1);
   for (size_t i = 0; i < n; ++i)
     for (size_t j = 0; j < n; ++j) {
-      if (i == j || boxes[i].label == boxes[j].label || fit[j] <= fit[i]) continue;
+      if (i == j || boxes[i].label == boxes[j].label || fit_ratio * fit[j] <= fit[i]) continue;
       if (owner[i] >= 0 && fit[j] <= fit[owner[i]]) continue;
       if (mask_iou(masks[i], masks[j]) >= iou) owner[i] = static_cast<int>(j);
     }
@@ -46,7 +47,8 @@ DuplicateRepairCount repair_duplicate_masks(const cv::Mat& rgb, const cv::Mat& d
     mask_boxes.push_back(boxes.at(static_cast<size_t>(m.box_index)));
     pixels.push_back(m.pixels);
   }
-  const std::vector<int> owner = find_duplicate_masks(mask_boxes, pixels, options.iou);
+  const std::vector<int> owner =
+      find_duplicate_masks(mask_boxes, pixels, options.iou, options.fit_ratio);
   std::vector<bool> drop(masks.size(), false);
   for (size_t i = 0; i < masks.size(); ++i) {
     if (owner[i] < 0) continue;
@@ -95,6 +97,10 @@ const ParamTable<DuplicateMaskOptions>& duplicate_mask_param_table() {
                "GrabCut of its box with the view's other masks as background")
           .add("duplicate_iou", &O::iou,
                "mask IoU at which two differently labelled masks are one object", 0, 1)
+          .add("duplicate_fit_ratio", &O::fit_ratio,
+               "the mask is another box's only when the mask's own box fits it less than this "
+               "times as well (IoU of box and mask's bounding rectangle)",
+               0, 1)
           .add("duplicate_min_pixels", &O::min_pixels,
                "a regrown mask smaller than this (pixels) is dropped", 0, 1000000);
   return table;

@@ -82,6 +82,18 @@ TEST_CASE("find_duplicate_masks: the box that fits the shared mask worse is the 
   std::vector<Box> same = s.boxes;
   same[1].label = "patient";
   CHECK(find_duplicate_masks(same, masks, 0.8f) == std::vector<int>{-1, -1});
+  // The table's box fits the patient's mask 0.392 / 0.694 = 0.56 times as well as the
+  // patient's box: a duplicate at fit ratio 0.85 and 0.6, not at 0.5.
+  CHECK(find_duplicate_masks(s.boxes, masks, 0.8f, 0.85f) == std::vector<int>{-1, 0});
+  CHECK(find_duplicate_masks(s.boxes, masks, 0.8f, 0.6f) == std::vector<int>{-1, 0});
+  CHECK(find_duplicate_masks(s.boxes, masks, 0.8f, 0.5f) == std::vector<int>{-1, -1});
+  // A second box about the patient, 3 pixels tighter on each side (fit 2025 / 2500 = 0.81), is
+  // the patient named twice: the patient's box fits 0.694 / 0.81 = 0.86 times as well, not a
+  // duplicate at 0.85, a duplicate of the tighter box at 1.
+  const std::vector<Box> twice = {s.boxes[0], make_box(35, 25, 85, 75, "nurse")};
+  CHECK(box_fit(twice[1], disc()) == Approx(2025.0 / 2500.0));
+  CHECK(find_duplicate_masks(twice, masks, 0.8f, 0.85f) == std::vector<int>{-1, -1});
+  CHECK(find_duplicate_masks(twice, masks, 0.8f, 1.f) == std::vector<int>{1, -1});
   // Equal fits keep both.
   CHECK(find_duplicate_masks({s.boxes[0], make_box(33, 23, 87, 77, "x")}, masks, 0.8f) ==
         std::vector<int>{-1, -1});
