@@ -62,6 +62,13 @@ cv::Rect context_crop(const cv::Rect& rect, const cv::Size& size, const GrabCutO
          cv::Rect(0, 0, size.width, size.height);
 }
 
+// GrabCut fits 5-component colour models to both sides of an initialisation: it needs samples of
+// each.
+bool has_both_sides(const cv::Mat1b& init) {
+  const int background = cv::countNonZero(init == cv::GC_BGD);
+  return background >= 10 && static_cast<int>(init.total()) - background >= 10;
+}
+
 // GrabCut on the RGB crop and, with use_depth, on the depth crop, OR-ed (paper 002 Algorithm 1
 // lines 6-8); `init` as in grabcut_foreground, in crop coordinates. An empty foreground keeps
 // `result` (the prior) as it is.
@@ -82,17 +89,27 @@ void refine_in_crop(const cv::Mat& rgb, const cv::Mat& depth, const cv::Rect& cr
 }  // namespace
 
 GrabCutMask grabcut_box_mask(const cv::Mat& rgb, const cv::Mat& depth, const Box& box,
-                             const GrabCutOptions& options) {
+                             const GrabCutOptions& options, const cv::Mat1b& background) {
   const cv::Size size = rgb.size();
   const cv::Rect rect = box_pixels(box, size);
   GrabCutMask result;
   result.pixels = cv::Mat1b::zeros(size);
   result.pixels(rect).setTo(255);
+  if (!background.empty()) result.pixels.setTo(0, background);
   // GrabCut needs background samples outside the rectangle and a rectangle to segment.
   const cv::Rect crop = context_crop(rect, size, options);
   if (rect.width < 2 || rect.height < 2 || crop == rect) return result;
   const cv::Rect inner(rect.x - crop.x, rect.y - crop.y, rect.width, rect.height);
-  refine_in_crop(rgb, depth, crop, inner, {}, options, result);
+  if (background.empty()) {
+    refine_in_crop(rgb, depth, crop, inner, {}, options, result);
+    return result;
+  }
+  // The rectangle's initialisation, with the background pixels inside it made definite.
+  cv::Mat1b init(crop.size(), static_cast<uchar>(cv::GC_BGD));
+  init(inner).setTo(cv::GC_PR_FGD);
+  init.setTo(cv::GC_BGD, background(crop));
+  if (!has_both_sides(init)) return result;
+  refine_in_crop(rgb, depth, crop, {}, init, options, result);
   return result;
 }
 
@@ -115,9 +132,7 @@ GrabCutMask grabcut_mask_prior(const cv::Mat& rgb, const cv::Mat& depth, const c
   cv::Mat1b init(crop.size(), static_cast<uchar>(cv::GC_BGD));
   init.setTo(cv::GC_PR_FGD, grown);
   init.setTo(cv::GC_FGD, shrunk);
-  // GrabCut fits 5-component colour models to both sides: it needs samples of each.
-  const int background = cv::countNonZero(init == cv::GC_BGD);
-  if (background < 10 || static_cast<int>(init.total()) - background < 10) return result;
+  if (!has_both_sides(init)) return result;
   refine_in_crop(rgb, depth, crop, {}, init, options, result);
   return result;
 }
@@ -152,6 +167,7 @@ BoxMaskResult box_masks(const BoxSet& clusters, const Capture& capture, const Ma
   BoxMaskResult result;
   result.masks.views.resize(clusters.views.size());
   std::atomic<int> from_sam{0}, from_grabcut{0}, from_box{0};
+  std::atomic<int> duplicates{0}, regrown{0}, dropped{0};
   tbb::parallel_for(size_t(0), clusters.views.size(), [&](size_t v) {
     const ViewBoxes& vb = clusters.views[v];
     const View& view = capture.views[capture.find_view(vb.view)];
@@ -192,7 +208,17 @@ BoxMaskResult box_masks(const BoxSet& clusters, const Capture& capture, const Ma
       mask.label = box.label;
       mask.box_index = static_cast<int>(b);
     });
+    if (options.duplicates.repair == DuplicateRepair::Regrow && rgb.empty()) {
+      rgb = view.rgb.load();
+      if (options.grabcut.use_depth) depth = view.depth.load();
+    }
+    const DuplicateRepairCount c = repair_duplicate_masks(rgb, depth, vb.boxes, out.masks,
+                                                          options.duplicates, options.grabcut);
+    duplicates += c.duplicates;
+    regrown += c.regrown;
+    dropped += c.dropped;
   });
+  result.duplicates = {duplicates, regrown, dropped};
   result.from_sam = from_sam;
   result.from_grabcut = from_grabcut;
   result.from_box = from_box;
@@ -224,7 +250,8 @@ const ParamTable<BoxMaskOptions>& box_mask_param_table() {
           .add("source", &O::source, box_mask_source_names(),
                "sam: the capture's SAM mask of the box (missing = bad input); grabcut: GrabCut on "
                "RGB and depth; auto: sam where present, else grabcut")
-          .nest(&O::grabcut, grabcut_param_table());
+          .nest(&O::grabcut, grabcut_param_table())
+          .nest(&O::duplicates, duplicate_mask_param_table());
   return table;
 }
 

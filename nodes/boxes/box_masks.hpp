@@ -20,6 +20,7 @@
 #include <opencv2/core.hpp>
 
 #include "graph/param_table.hpp"
+#include "nodes/boxes/duplicate_masks.hpp"
 #include "nodes/scene/boxes.hpp"
 #include "nodes/scene/capture.hpp"
 #include "nodes/scene/masks.hpp"
@@ -46,9 +47,10 @@ const ParamTable<GrabCutOptions>& grabcut_param_table();
 struct BoxMaskOptions {
   BoxMaskSource source = BoxMaskSource::Auto;
   GrabCutOptions grabcut;
+  DuplicateMaskOptions duplicates;  // what becomes of a mask that is another box's object
 };
 
-// The params of boxes.to_masks: source, then grabcut_param_table().
+// The params of boxes.to_masks: source, grabcut_param_table(), duplicate_mask_param_table().
 const ParamTable<BoxMaskOptions>& box_mask_param_table();
 
 struct GrabCutMask {
@@ -57,12 +59,14 @@ struct GrabCutMask {
 };
 
 // GrabCut of one box, initialised with its rectangle. rgb: CV_8UC3; depth: CV_32FC1 metres
-// (0 = invalid) of the same size, or empty. The depth crop is mapped linearly from its valid range
-// to 1..255 (invalid pixels 0) and replicated to three channels; the RGB and depth foregrounds are
-// OR-ed. OpenCV's RNG is reseeded before each call, so the result does not depend on which thread
-// runs it or what it ran before.
+// (0 = invalid) of the same size, or empty. background: image-size pixels (nonzero) that are
+// definitely not the object (other objects' masks), or empty; with it the box minus background
+// is probable foreground, and it is the prior kept when GrabCut finds nothing. The depth crop is
+// mapped linearly from its valid range to 1..255 (invalid pixels 0) and replicated to three
+// channels; the RGB and depth foregrounds are OR-ed. OpenCV's RNG is reseeded before each call, so
+// the result does not depend on which thread runs it or what it ran before.
 GrabCutMask grabcut_box_mask(const cv::Mat& rgb, const cv::Mat& depth, const Box& box,
-                             const GrabCutOptions& options);
+                             const GrabCutOptions& options, const cv::Mat1b& background = {});
 
 // GrabCut of one mask prior (paper 002 §3.4): a band of thickness t = f (w + h) / pi around the
 // mask's border (w, h: its bounding box; f = border_fraction, paper 0.1) is probable foreground,
@@ -75,11 +79,13 @@ GrabCutMask grabcut_mask_prior(const cv::Mat& rgb, const cv::Mat& depth, const c
                                float border_fraction, const GrabCutOptions& options);
 
 struct BoxMaskResult {
-  // One ViewMasks per ViewBoxes of the clusters (same order), one Mask per box in box order:
+  // One ViewMasks per ViewBoxes of the clusters (same order), one Mask per box in box order (less
+  // the duplicates options.duplicates drops):
   // label = the box's label, box_index = its index in the ViewBoxes, score = the SAM score or the
   // box's score.
   MaskSet masks;
   int from_sam = 0, from_grabcut = 0, from_box = 0;  // how each mask was made
+  DuplicateRepairCount duplicates;                   // summed over views
 };
 
 // Masks for every clustered box of every view, training and held-out. `sam`: SAM masks of the

@@ -63,6 +63,11 @@ void run_to_masks(NodeContext& ctx, const BoxMaskOptions& o) {
   ctx.record("from_sam", r.from_sam);
   ctx.record("from_grabcut", r.from_grabcut);
   ctx.record("from_box", r.from_box);
+  if (o.duplicates.repair != DuplicateRepair::Keep) {  // keep looks for none
+    ctx.record("duplicates", r.duplicates.duplicates);
+    ctx.record("regrown", r.duplicates.regrown);
+    ctx.record("dropped", r.duplicates.dropped);
+  }
   ctx.output("masks", std::move(r.masks));
 }
 
