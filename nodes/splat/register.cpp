@@ -56,6 +56,7 @@ void run_reconstruct(NodeContext& ctx, ReconstructOptions o) {
   if (o.opacity_entropy_weight > 0)
     ctx.record("loss_opacity_entropy", r.final_loss.opacity_entropy);
   if (o.anisotropy_weight > 0) ctx.record("loss_anisotropy", r.final_loss.anisotropy);
+  if (o.edge_extent_weight > 0) ctx.record("loss_edge_extent", r.final_loss.edge_extent);
   ctx.record("train_psnr", r.train_psnr);
   if (!std::isnan(r.test_psnr)) ctx.record("test_psnr", r.test_psnr);
   if (r.test_geometry) {
