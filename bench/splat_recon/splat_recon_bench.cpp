@@ -113,15 +113,18 @@ nlohmann::json run_case(const Case& c, int repeat) {
   if (r.test_geometry) {  // held-out geometry against ground-truth depth (view_geometry.hpp)
     const ViewGeometry& g = *r.test_geometry;
     auto number = [](double v) { return std::isnan(v) ? nlohmann::json() : nlohmann::json(v); };
-    j["test_geometry"] = {{"psnr_covered", number(g.psnr_covered)},
-                          {"coverage", number(g.coverage)},
-                          {"depth_abs_rel_median", number(g.depth_abs_rel_median)},
-                          {"depth_within_5pct", number(g.depth_within_5pct)},
-                          {"floaters", number(g.floaters)},
-                          {"floaters_covered", number(g.floaters_covered)},
-                          {"floaters_expected_depth", number(g.floaters_expected_depth)},
-                          {"holes", number(g.holes)},
-                          {"holes_covered", number(g.holes_covered)}};
+    j["test_geometry"] = {
+        {"psnr_covered", number(g.psnr_covered)},
+        {"coverage", number(g.coverage)},
+        {"depth_abs_rel_median", number(g.depth_abs_rel_median)},
+        {"depth_within_5pct", number(g.depth_within_5pct)},
+        {"floaters", number(g.floaters)},
+        {"floaters_covered", number(g.floaters_covered)},
+        {"floaters_expected_depth", number(g.floaters_expected_depth)},
+        {"floaters_at_discontinuity", number(g.floaters_at_discontinuity)},
+        {"floaters_away_from_discontinuity", number(g.floaters_away_from_discontinuity)},
+        {"holes", number(g.holes)},
+        {"holes_covered", number(g.holes_covered)}};
   }
   j["final_loss"] = {{"total", r.final_loss.total},
                      {"photometric", r.final_loss.photometric},

@@ -167,6 +167,27 @@ double flatness_loss(const std::vector<float>& log_scales, std::vector<float>* g
   return sum / static_cast<double>(n);
 }
 
+double anisotropy_loss(const std::vector<float>& log_scales, double ratio,
+                       std::vector<float>* grad) {
+  const size_t n = log_scales.size() / 3;
+  if (grad) grad->assign(log_scales.size(), 0.f);
+  if (n == 0) return 0;
+  double sum = 0;
+  for (size_t i = 0; i < n; ++i) {
+    const float* s = &log_scales[i * 3];
+    int order[3] = {0, 1, 2};
+    std::sort(order, order + 3, [&](int a, int b) { return s[a] > s[b]; });
+    const double e = std::exp(static_cast<double>(s[order[0]]) - s[order[1]]);
+    if (e <= ratio) continue;
+    sum += e - ratio;
+    if (grad) {
+      (*grad)[i * 3 + order[0]] = static_cast<float>(e / static_cast<double>(n));
+      (*grad)[i * 3 + order[1]] = static_cast<float>(-e / static_cast<double>(n));
+    }
+  }
+  return sum / static_cast<double>(n);
+}
+
 double masked_l1_loss(const cv::Mat& rendered, const cv::Mat& target, const cv::Mat1b& mask,
                       cv::Mat* grad) {
   if (rendered.type() != target.type() || rendered.size() != target.size() ||

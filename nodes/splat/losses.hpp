@@ -46,6 +46,18 @@ double normal_cosine_loss(const cv::Mat& rendered, const cv::Mat& target, cv::Ma
 // surface. log_scales is N x 3; grad (resized to N x 3) receives dL/d(log_scales).
 double flatness_loss(const std::vector<float>& log_scales, std::vector<float>* grad = nullptr);
 
+// Anisotropy regulariser (PhysGaussian, Xie et al. 2024, Eq. 17: mean of max(S_max / S_min, r)
+// - r), here on the ratio of the largest scale to the second largest: flatness already drives
+// the smallest scale of every Gaussian to ~0, so S_max / S_min is always huge, while an
+// in-plane ratio above r is a needle or an elongated disc. Such a disc at a silhouette, seen
+// edge-on from the training views, may stretch along their rays for free and shows up from a
+// new angle as a rim past the object (issue 11). Mean over Gaussians of
+// max(exp(s_max - s_mid) - ratio, 0) with s the log-scales (N x 3); grad (resized to N x 3)
+// receives dL/d(log_scales): +e/N on the largest axis and -e/N on the second, e = exp(s_max -
+// s_mid), where the ratio exceeds `ratio`.
+double anisotropy_loss(const std::vector<float>& log_scales, double ratio,
+                       std::vector<float>* grad = nullptr);
+
 // Opacity entropy (issue 11 lever: push each Gaussian towards opaque or gone, so that no
 // half-transparent haze can explain the training views): mean over Gaussians of the binary
 // entropy H(o) = -o ln o - (1 - o) ln(1 - o) of o = sigmoid(logit). grad (resized to N) receives

@@ -210,6 +210,10 @@ ReconstructResult reconstruct(const Capture& capture, const ReconstructOptions& 
   for (const TrainTarget& t : targets)
     if (!t.full.depth.empty())
       observations.push_back({&t.view->camera, &t.view->pose, t.full.depth});
+  // Where the depth priors jump (the training views' silhouettes), for the edge-extent term.
+  std::vector<cv::Mat1b> depth_edges;
+  if (options.edge_extent_weight > 0)
+    depth_edges = depth_edge_masks(observations, 0.1, kDiscontinuityRadius);
 
   // Pseudo-views between the training cameras, warped from their images through the depth prior.
   std::vector<PseudoView> pseudo;
@@ -224,7 +228,7 @@ ReconstructResult reconstruct(const Capture& capture, const ReconstructOptions& 
 
   DensityStats stats;
   ModelGrads grads;
-  std::vector<float> flatness_grad, opacity_grad;
+  std::vector<float> flatness_grad, opacity_grad, anisotropy_grad, edge_grad;
   RandomStream background_rng(stream_seed(options.seed, "reconstruct.background"));
   std::vector<int> order;
   RandomStream view_rng(stream_seed(options.seed, "reconstruct.views"));
@@ -306,6 +310,18 @@ ReconstructResult reconstruct(const Capture& capture, const ReconstructOptions& 
       for (size_t i = 0; i < flatness_grad.size(); ++i)
         grads.log_scales[i] += static_cast<float>(options.scale_weight * flatness_grad[i]);
     }
+    if (options.anisotropy_weight > 0) {
+      loss.anisotropy =
+          anisotropy_loss(model.log_scales, options.anisotropy_ratio, &anisotropy_grad);
+      for (size_t i = 0; i < anisotropy_grad.size(); ++i)
+        grads.log_scales[i] += static_cast<float>(options.anisotropy_weight * anisotropy_grad[i]);
+    }
+    if (options.edge_extent_weight > 0) {
+      loss.edge_extent = depth_edge_extent_loss(model, observations, depth_edges,
+                                                options.floaters.tolerance, &edge_grad);
+      for (size_t i = 0; i < edge_grad.size(); ++i)
+        grads.log_scales[i] += static_cast<float>(options.edge_extent_weight * edge_grad[i]);
+    }
     if (options.opacity_entropy_weight > 0) {
       loss.opacity_entropy = opacity_entropy_loss(model.opacity_logits, &opacity_grad);
       for (size_t i = 0; i < opacity_grad.size(); ++i)
@@ -315,6 +331,8 @@ ReconstructResult reconstruct(const Capture& capture, const ReconstructOptions& 
     loss.total = loss.photometric + options.depth_weight * loss.depth +
                  options.normal_weight * loss.normal + options.scale_weight * loss.flatness +
                  options.opacity_entropy_weight * loss.opacity_entropy +
+                 options.anisotropy_weight * loss.anisotropy +
+                 options.edge_extent_weight * loss.edge_extent +
                  options.pseudo_weight * loss.pseudo;
     if (objective) loss.total += objective->weight * loss.features;
     clock.charge(phases.losses);
@@ -394,6 +412,8 @@ ReconstructResult reconstruct(const Capture& capture, const ReconstructOptions& 
     result.final_loss.normal += history[i].normal / tail;
     result.final_loss.flatness += history[i].flatness / tail;
     result.final_loss.opacity_entropy += history[i].opacity_entropy / tail;
+    result.final_loss.anisotropy += history[i].anisotropy / tail;
+    result.final_loss.edge_extent += history[i].edge_extent / tail;
     result.final_loss.pseudo += history[i].pseudo / tail;
     result.final_loss.features += history[i].features / tail;
   }
@@ -437,6 +457,16 @@ const ParamTable<ReconstructOptions>& reconstruct_param_table() {
                "training images' mean colour, the best guess for what no view saw)")
           .add("opacity_entropy_weight", &O::opacity_entropy_weight,
                "binary entropy of the opacities, pushing each towards 0 or 1; 0 = off", 0)
+          .add("anisotropy_weight", &O::anisotropy_weight,
+               "penalty on a largest / second-largest scale ratio above anisotropy_ratio "
+               "(needles and elongated discs); 0 = off",
+               0)
+          .add("anisotropy_ratio", &O::anisotropy_ratio,
+               "the scale ratio the anisotropy penalty starts at", 1)
+          .add("edge_extent_weight", &O::edge_extent_weight,
+               "penalty on the extent along a training view's ray of Gaussians on the near side "
+               "of its depth prior's discontinuities (silhouette overhangs); 0 = off",
+               0)
           .add("coarse_fraction", &O::coarse_fraction,
                "fraction of the steps trained at half resolution first; 0 = off", 0, 1)
           .add("densify", &O::densify, "clone/split/prune on the compressed schedule")

@@ -16,6 +16,7 @@
 #include "nodes/scene/gaussian_model.hpp"
 #include "nodes/splat/adam.hpp"
 #include "nodes/splat/density_control.hpp"
+#include "nodes/splat/depth_edge_extent.hpp"
 #include "nodes/splat/feature_objective.hpp"
 #include "nodes/splat/free_space.hpp"
 #include "nodes/splat/free_space_extent.hpp"
@@ -71,6 +72,12 @@ struct ReconstructOptions {
   double normal_weight = 0.1;         // 1 - cos(rendered normal, normal from the depth prior)
   double scale_weight = 0.01;         // flatness: mean smallest scale (metres)
   double opacity_entropy_weight = 0;  // binary entropy of the opacities (losses.hpp); 0 = off
+  // Largest over second-largest scale above anisotropy_ratio, penalised (losses.hpp); 0 = off.
+  double anisotropy_weight = 0;
+  double anisotropy_ratio = 3;
+  // Extent along the training rays of Gaussians on the near side of a depth-prior discontinuity
+  // (depth_edge_extent.hpp), in metres per Gaussian; 0 = off.
+  double edge_extent_weight = 0;
   // Depth-warped pseudo-views (pseudo_views.hpp): every pseudo_every-th step also renders one of
   // the half-resolution views between two training cameras (in turn) and adds pseudo_weight x
   // (masked L1 + depth_weight x depth log-L1) against the warped training images. 0 = off.
@@ -109,7 +116,7 @@ const ParamTable<ReconstructOptions>& reconstruct_param_table();
 // Mean of each loss term over the last 10% of the steps (at least one step).
 struct LossSummary {
   double total = 0, photometric = 0, depth = 0, normal = 0, flatness = 0, opacity_entropy = 0,
-         pseudo = 0;
+         anisotropy = 0, edge_extent = 0, pseudo = 0;
   double features = 0;  // the FeatureObjective's loss (unweighted); 0 without one
 };
 

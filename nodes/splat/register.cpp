@@ -55,6 +55,8 @@ void run_reconstruct(NodeContext& ctx, ReconstructOptions o) {
   }
   if (o.opacity_entropy_weight > 0)
     ctx.record("loss_opacity_entropy", r.final_loss.opacity_entropy);
+  if (o.anisotropy_weight > 0) ctx.record("loss_anisotropy", r.final_loss.anisotropy);
+  if (o.edge_extent_weight > 0) ctx.record("loss_edge_extent", r.final_loss.edge_extent);
   ctx.record("train_psnr", r.train_psnr);
   if (!std::isnan(r.test_psnr)) ctx.record("test_psnr", r.test_psnr);
   if (r.test_geometry) {
@@ -68,6 +70,8 @@ void run_reconstruct(NodeContext& ctx, ReconstructOptions o) {
         {"test_floaters", g.floaters},
         {"test_floaters_covered", g.floaters_covered},
         {"test_floaters_expected_depth", g.floaters_expected_depth},
+        {"test_floaters_at_discontinuity", g.floaters_at_discontinuity},
+        {"test_floaters_away_from_discontinuity", g.floaters_away_from_discontinuity},
         {"test_holes", g.holes},
         {"test_holes_covered", g.holes_covered}};
     for (const auto& [key, value] : geometry)

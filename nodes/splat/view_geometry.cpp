@@ -52,6 +52,31 @@ std::vector<float> median_depth(const GaussianModel& model, const Pose& pose,
   return depth;
 }
 
+cv::Mat1b depth_discontinuities(const cv::Mat1f& depth, double jump, int radius) {
+  cv::Mat1b edge(depth.size(), uchar(0));
+  const auto split = [&](float a, float b) {
+    if (!(a > 0) && !(b > 0)) return false;
+    if (!(a > 0) || !(b > 0)) return true;
+    return std::abs(a - b) > jump * std::min(a, b);
+  };
+  for (int y = 0; y < depth.rows; ++y)
+    for (int x = 0; x < depth.cols; ++x) {
+      if (x + 1 < depth.cols && split(depth(y, x), depth(y, x + 1)))
+        edge(y, x) = edge(y, x + 1) = 1;
+      if (y + 1 < depth.rows && split(depth(y, x), depth(y + 1, x)))
+        edge(y, x) = edge(y + 1, x) = 1;
+    }
+  cv::Mat1b near(depth.size(), uchar(0));
+  for (int y = 0; y < depth.rows; ++y)
+    for (int x = 0; x < depth.cols; ++x) {
+      if (!edge(y, x)) continue;
+      for (int v = std::max(0, y - radius); v <= std::min(depth.rows - 1, y + radius); ++v)
+        for (int u = std::max(0, x - radius); u <= std::min(depth.cols - 1, x + radius); ++u)
+          near(v, u) = 1;
+    }
+  return near;
+}
+
 cv::Mat1b covered_pixels(const Capture& capture, int view, const std::vector<int>& train,
                          double tolerance) {
   const View& ref = capture.views[view];
@@ -91,6 +116,7 @@ ViewGeometry view_geometry(const GaussianModel& model, const Capture& capture, i
   const View& v = capture.views[view];
   const cv::Mat1f truth = ground_truth_depth(v);
   const cv::Mat1b covered = covered_pixels(capture, view, train);
+  const cv::Mat1b discontinuity = depth_discontinuities(truth);
   RenderSettings settings;
   settings.depth = true;
   settings.alpha = true;
@@ -105,7 +131,7 @@ ViewGeometry view_geometry(const GaussianModel& model, const Capture& capture, i
   g.psnr = psnr(rgb, target);
   g.psnr_covered = psnr(rgb, target, covered);
   double surface = 0, n_covered = 0, within = 0, floaters = 0, floaters_covered = 0,
-         floaters_expected = 0, holes = 0, holes_covered = 0;
+         floaters_expected = 0, floaters_disc = 0, holes = 0, holes_covered = 0;
   std::vector<double> abs_rel;
   for (int y = 0; y < truth.rows; ++y)
     for (int x = 0; x < truth.cols; ++x) {
@@ -124,6 +150,7 @@ ViewGeometry view_geometry(const GaussianModel& model, const Capture& capture, i
       within += rel < 0.05;
       floaters += d < 0.9 * t;
       floaters_covered += d < 0.9 * t && covered(y, x);
+      floaters_disc += d < 0.9 * t && discontinuity(y, x);
       floaters_expected += out.depth[p] < 0.9 * t;
     }
   if (picture) {
@@ -153,6 +180,8 @@ ViewGeometry view_geometry(const GaussianModel& model, const Capture& capture, i
   g.holes_covered = ratio(holes_covered, n_covered);
   g.floaters_covered = ratio(floaters_covered, n_covered);
   g.floaters_expected_depth = ratio(floaters_expected, surface);
+  g.floaters_at_discontinuity = ratio(floaters_disc, surface);
+  g.floaters_away_from_discontinuity = ratio(floaters - floaters_disc, surface);
   if (!abs_rel.empty()) {
     auto mid = abs_rel.begin() + abs_rel.size() / 2;
     std::nth_element(abs_rel.begin(), mid, abs_rel.end());
@@ -173,6 +202,8 @@ ViewGeometry mean_view_geometry(const GaussianModel& model, const Capture& captu
                                     &ViewGeometry::floaters,
                                     &ViewGeometry::floaters_covered,
                                     &ViewGeometry::floaters_expected_depth,
+                                    &ViewGeometry::floaters_at_discontinuity,
+                                    &ViewGeometry::floaters_away_from_discontinuity,
                                     &ViewGeometry::holes,
                                     &ViewGeometry::holes_covered};
   ViewGeometry mean;

@@ -35,9 +35,22 @@ struct ViewGeometry {
   double floaters_covered = kNone;      // floaters among the covered surface pixels
   // Floaters by the expected depth (sum w_i z_i / alpha) instead: silhouette bands included.
   double floaters_expected_depth = kNone;
+  // The floaters split by where they lie (both over all surface pixels; they sum to `floaters`):
+  // within kDiscontinuityRadius pixels of a ground-truth depth discontinuity, where a pixel mixes
+  // two surfaces and its true depth is ambiguous (stereo benchmarks, e.g. Middlebury, score such
+  // "disc" pixels apart), and away from every discontinuity.
+  double floaters_at_discontinuity = kNone;
+  double floaters_away_from_discontinuity = kNone;
   double holes = kNone;          // alpha < 0.5
   double holes_covered = kNone;  // alpha < 0.5 among the covered surface pixels
 };
+
+// Pixels within `radius` pixels (Chebyshev distance) of a depth discontinuity of `depth`: a pair
+// of 4-neighbours whose depths differ by more than `jump` relative to the nearer one, or a
+// surface pixel next to one without depth (0). 0 elsewhere, 1 there.
+inline constexpr int kDiscontinuityRadius = 2;
+cv::Mat1b depth_discontinuities(const cv::Mat1f& depth, double jump = 0.1,
+                                int radius = kDiscontinuityRadius);
 
 // Pixels of view `view` whose ground-truth surface point is seen by one of `train` views: it
 // projects inside that view, in front of its camera, and its depth there agrees with that view's

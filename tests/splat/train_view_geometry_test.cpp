@@ -123,7 +123,36 @@ TEST_CASE("median depth: the surface where the accumulated opacity reaches one h
   CHECK(g.depth_abs_rel_median == Approx(0.0).margin(1e-6));
   const ViewGeometry front = view_geometry(layers(0.6f), capture, 0, {1});
   CHECK(front.floaters == 1.0);
+  // A plane fills the view: no discontinuity, every floater is away from one.
+  CHECK(front.floaters_at_discontinuity == 0.0);
+  CHECK(front.floaters_away_from_discontinuity == 1.0);
   CHECK(front.depth_abs_rel_median == Approx(0.5).epsilon(1e-4));
+}
+
+TEST_CASE("depth discontinuities: pixels within the radius of a depth jump or a missing depth",
+          "[splat][geometry]") {
+  // 12 x 8: depth 2 left of column 6, 2.1 (5% deeper: no jump at 10%) from 6, and a step to 3
+  // (50% deeper than 2.1) from column 10. One pixel without depth at (row 7, column 0).
+  cv::Mat1f depth(8, 12, 2.f);
+  depth.colRange(6, 12).setTo(2.1f);
+  depth.colRange(10, 12).setTo(3.f);
+  depth(7, 0) = 0.f;
+  const cv::Mat1b near = depth_discontinuities(depth, 0.1, 2);
+  // The 9 | 10 edge marks columns 9 and 10; radius 2 reaches columns 7-11 on every row.
+  for (int y = 0; y < 8; ++y) {
+    for (int x = 7; x < 12; ++x) CHECK(near(y, x) == 1);
+    CHECK(near(y, 6) == 0);
+  }
+  // The missing pixel (7,0) and its neighbours (6,0) and (7,1) are edge pixels: rows 4-7 x
+  // columns 0-2 around (6,0), rows 5-7 x columns 0-3 around (7,1): 12 + 3 pixels.
+  CHECK(near(4, 0) == 1);
+  CHECK(near(4, 3) == 0);
+  CHECK(near(5, 3) == 1);
+  CHECK(near(3, 0) == 0);
+  CHECK(near(7, 4) == 0);
+  CHECK(cv::countNonZero(near) == 8 * 5 + 15);
+  // Radius 0: only the edge pixels themselves (columns 9, 10 and the three around the hole).
+  CHECK(cv::countNonZero(depth_discontinuities(depth, 0.1, 0)) == 8 * 2 + 3);
 }
 
 TEST_CASE("view geometry picture: floaters red, holes blue, uncovered surfaces grey",

@@ -1,0 +1,72 @@
+#include "nodes/splat/depth_edge_extent.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include <tbb/parallel_for.h>
+#include <Eigen/Geometry>
+
+#include "nodes/splat/view_geometry.hpp"
+
+namespace gslift {
+
+std::vector<cv::Mat1b> depth_edge_masks(const std::vector<DepthObservation>& views, double jump,
+                                        int radius) {
+  std::vector<cv::Mat1b> edges;
+  for (const DepthObservation& v : views)
+    edges.push_back(depth_discontinuities(v.depth, jump, radius));
+  return edges;
+}
+
+double depth_edge_extent_loss(const GaussianModel& model,
+                              const std::vector<DepthObservation>& views,
+                              const std::vector<cv::Mat1b>& edges, double tolerance,
+                              std::vector<float>* grad) {
+  const size_t n = model.size();
+  if (grad) grad->assign(n * 3, 0.f);
+  if (n == 0) return 0;
+  std::vector<double> per(n, 0.0);
+  tbb::parallel_for(size_t(0), n, [&](size_t i) {
+    const Eigen::Vector3d mean(model.means[i * 3], model.means[i * 3 + 1], model.means[i * 3 + 2]);
+    const float* q = &model.quats[i * 4];
+    const Eigen::Matrix3d R =
+        Eigen::Quaterniond(q[0], q[1], q[2], q[3]).normalized().toRotationMatrix();
+    const float* s = &model.log_scales[i * 3];
+    for (size_t k = 0; k < views.size(); ++k) {
+      const DepthObservation& v = views[k];
+      const Eigen::Vector3d p = v.pose->to_camera(mean);
+      if (!(p.z() > 0)) continue;
+      const Camera& c = *v.camera;
+      const double u = c.fx * p.x() / p.z() + c.cx, w = c.fy * p.y() / p.z() + c.cy;
+      if (!(u >= 0 && w >= 0 && u < v.depth.cols && w < v.depth.rows)) continue;
+      const int iu = static_cast<int>(u), iw = static_cast<int>(w);
+      if (!edges[k](iw, iu)) continue;
+      float nearest = 0;
+      for (int y = std::max(0, iw - 1); y <= std::min(v.depth.rows - 1, iw + 1); ++y)
+        for (int x = std::max(0, iu - 1); x <= std::min(v.depth.cols - 1, iu + 1); ++x) {
+          const float d = v.depth(y, x);
+          if (d > 0 && std::isfinite(d) && (nearest == 0 || d < nearest)) nearest = d;
+        }
+      if (!(nearest > 0) || std::abs(p.z() - nearest) > tolerance * nearest) continue;
+      const Eigen::Vector3d ray = (mean - v.pose->centre()).normalized();
+      double part[3], var = 0;
+      for (int a = 0; a < 3; ++a) {
+        const double cosine = R.col(a).dot(ray);
+        part[a] = std::exp(2.0 * s[a]) * cosine * cosine;
+        var += part[a];
+      }
+      if (!(var > 0)) continue;
+      const double sigma = std::sqrt(var);
+      per[i] += sigma;
+      // d sigma / d s_a = exp(2 s_a) (a_a . d)^2 / sigma.
+      if (grad)
+        for (int a = 0; a < 3; ++a)
+          (*grad)[i * 3 + a] += static_cast<float>(part[a] / (sigma * static_cast<double>(n)));
+    }
+  });
+  double sum = 0;
+  for (const double x : per) sum += x;  // in Gaussian order: the same at any thread count
+  return sum / static_cast<double>(n);
+}
+
+}  // namespace gslift
