@@ -1,14 +1,15 @@
 // protosaga_bench: accuracy, stability and speed of Proto-SaGa and Gaga on the embedded OR.
 //
-//   protosaga_bench [--seeds N] [--views V] [--models DIR] [--out DIR] [--no-timing]
-//                   [--view-iterations N] [--lift-iterations N] [--background black|mean]
-//                   [--joint] [--kl LAMBDA] [--min-areas A,B,...] [--no-cls] [--stem NAME]
+//   protosaga_bench [--seeds N | --seed-list A,B,...] [--views V] [--models DIR] [--out DIR]
+//                   [--no-timing] [--view-iterations N] [--dim D] [--lift-iterations N]
+//                   [--background black|mean] [--joint] [--joint-only] [--kl LAMBDA]
+//                   [--min-areas A,B,...] [--no-cls] [--stem NAME]
 //
-// For each capture seed S = 0..N-1 (default 5) of embedded:or?seed=S&views=V (default 5 views,
-// one held out; 8 views hold out two) it reconstructs the scene once (or reads DIR/or_vV_sS.ply
-// written by an earlier run with the same --models), then runs every variant on that one
-// reconstruction in this process, through the same functions as the nodes and with the graphs'
-// defaults:
+// For each capture seed S = 0..N-1 (default 5; --seed-list: those seeds in that order) of
+// embedded:or?seed=S&views=V (default 5 views, one held out; 8 views hold out two) it reconstructs
+// the scene once (or reads DIR/or_vV_sS.ply written by an earlier run with the same --models), then
+// runs every variant on that one reconstruction in this process, through the same functions as the
+// nodes and with the graphs' defaults:
 //   association only, on the training views (Proto-SaGa Table 3): the consistent maps of the
 //   memory bank with criteria depth / probability / both (paper overlap score) and Gaga's code
 //   (depth, gaga_compat), scored by Gaga's eval.py protocol against the ground-truth instances;
@@ -16,14 +17,15 @@
 //   Proto-SaGa with K-means or a trained classifier (Cls) instead of the prototypes, Proto-SaGa's
 //   depth-only association with prototypes, and Gaga (depth gaga_compat + lift + classifier).
 // Options add variants: --joint Proto-SaGa with the view classifiers trained jointly with a
-// reconstruction of its own (Eq. 8; same reconstruction params and seed), --kl Gaga with its 3D
-// KL neighbour regulariser at that lambda, --min-areas Proto-SaGa and Gaga (and joint) with each
-// minimum label area at inference (label_argmax.hpp); --background sets the reconstruction's
-// (graphs' recon.background), --no-cls leaves out the Cls baseline (a lift per seed).
-// Association time per view is recorded for every association. Timing (unless --no-timing): the
-// two graphs (graphs/protosaga.yaml, graphs/gaga.yaml) as child `gslift run` processes at seed 0
-// on 2 threads, wall time and peak memory. Writes protosaga[_vV].json and .svg into --out
-// (default bench/results).
+// reconstruction of its own (Eq. 8; same reconstruction params and seed; --joint-only runs it
+// alone, no frozen variant and no timing), --kl Gaga with its 3D KL neighbour regulariser at that
+// lambda, --min-areas Proto-SaGa and Gaga (and joint) with each minimum label area at inference
+// (label_argmax.hpp); --background sets the reconstruction's (graphs' recon.background), --no-cls
+// leaves out the Cls baseline (a lift per seed), --dim the view classifiers' feature width D (also
+// of the joint ones). Association time per view is recorded for every association. Timing (unless
+// --no-timing): the two graphs (graphs/protosaga.yaml, graphs/gaga.yaml) as child `gslift run`
+// processes at seed 0 on 2 threads, wall time and peak memory. Writes protosaga[_vV].json and .svg
+// into --out (default bench/results).
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -177,10 +179,11 @@ std::string svg_chart(const nlohmann::json& association, const nlohmann::json& e
 int main(int argc, char** argv) {
   keep_freed_memory_in_process();
   int seeds = 5, views = 5, view_iterations = ViewClassifierOptions{}.iterations,
-      lift_iterations = LabelClassifierOptions{}.iterations;
-  bool timing = true, joint = false, cls = true;
+      dim = ViewClassifierOptions{}.dim, lift_iterations = LabelClassifierOptions{}.iterations;
+  bool timing = true, joint = false, cls = true, frozen = true;
   double kl = 0;
   std::vector<double> min_areas;
+  std::vector<int> seed_list;
   std::string background = "black", stem_name;
   fs::path out = fs::path(GSLIFT_SOURCE_DIR) / "bench/results", models;
   for (int i = 1; i < argc; ++i) {
@@ -191,7 +194,10 @@ int main(int argc, char** argv) {
     };
     if (a == "--seeds")
       seeds = std::stoi(next());
-    else if (a == "--views")
+    else if (a == "--seed-list") {
+      std::stringstream list(next());
+      for (std::string v; std::getline(list, v, ',');) seed_list.push_back(std::stoi(v));
+    } else if (a == "--views")
       views = std::stoi(next());
     else if (a == "--models")
       models = next();
@@ -199,6 +205,8 @@ int main(int argc, char** argv) {
       out = next();
     else if (a == "--view-iterations")
       view_iterations = std::stoi(next());
+    else if (a == "--dim")
+      dim = std::stoi(next());
     else if (a == "--lift-iterations")
       lift_iterations = std::stoi(next());
     else if (a == "--no-timing")
@@ -214,22 +222,28 @@ int main(int argc, char** argv) {
       for (std::string v; std::getline(list, v, ',');) min_areas.push_back(std::stod(v));
     } else if (a == "--no-cls")
       cls = false;
+    else if (a == "--joint-only")
+      joint = true, frozen = false, timing = false;
     else if (a == "--stem")
       stem_name = next();
     else {
-      std::cerr << "usage: protosaga_bench [--seeds N] [--views V] [--models DIR] [--out DIR] "
-                   "[--no-timing] [--view-iterations N] [--lift-iterations N] [--background "
-                   "black|mean] [--joint] [--kl LAMBDA] [--min-areas A,B,...] [--no-cls] "
-                   "[--stem NAME]\n";
+      std::cerr
+          << "usage: protosaga_bench [--seeds N | --seed-list A,B,...] [--views V] [--models DIR] "
+             "[--out DIR] "
+             "[--no-timing] [--view-iterations N] [--dim D] [--lift-iterations N] [--background "
+             "black|mean] [--joint] [--joint-only] [--kl LAMBDA] [--min-areas A,B,...] [--no-cls] "
+             "[--stem NAME]\n";
       return 2;
     }
   }
+  if (seed_list.empty())
+    for (int seed = 0; seed < seeds; ++seed) seed_list.push_back(seed);
   Registry registry;
   register_builtin_nodes(registry);
 
   Series assoc, e2e;
   std::map<std::string, std::vector<double>> ms_per_view, seconds;
-  for (int seed = 0; seed < seeds; ++seed) {
+  for (const int seed : seed_list) {
     std::fprintf(stderr, "[protosaga] seed %d: capture and reconstruction\n", seed);
     const Base b = base_run(registry, seed, views, models, background);
     const Capture& capture = *b.capture;
@@ -238,38 +252,7 @@ int main(int argc, char** argv) {
     ViewClassifierOptions vo;
     vo.seed = stream_seed(seed, "bench.view_classifiers");
     vo.iterations = view_iterations;
-    const ViewClassifierResult vc = train_view_classifiers(b.model, capture, *b.partitions, vo);
-    seconds["view_classifiers"].push_back(vc.seconds);
-
-    auto associate = [&](AssociationCriteria c, bool compat) {
-      MemoryBankOptions o;
-      o.criteria = c;
-      o.gaga_compat = compat;
-      return associate_masks(vc.model, capture, *b.partitions, &vc.classifiers, o);
-    };
-    std::map<std::string, AssociationResult> a;
-    a["depth"] = associate(AssociationCriteria::Depth, false);
-    a["probability"] = associate(AssociationCriteria::Probability, false);
-    a["both"] = associate(AssociationCriteria::Both, false);
-    a["gaga"] = associate(AssociationCriteria::Depth, true);
-    for (const auto& [name, r] : a) {
-      add(assoc, name, percent(score_label_maps(r.consistent, capture)));
-      for (const double ms : r.view_ms) ms_per_view[name].push_back(ms);
-    }
-
-    auto lift = [&](const LabelMapSet& labels, double kl_lambda) {
-      LabelClassifierOptions lo;
-      lo.seed = stream_seed(seed, "bench.label_classifier");
-      lo.iterations = lift_iterations;
-      lo.kl.lambda = kl_lambda;
-      LabelClassifierResult r = train_label_classifier(b.model, capture, labels, lo);
-      seconds[kl_lambda > 0 ? "label_classifier_kl" : "label_classifier"].push_back(r.seconds);
-      return r;
-    };
-    auto lifted = [&](const LabelMapSet& labels) {
-      const LabelClassifierResult r = lift(labels, 0);
-      return infer_labels_by_classifier(r.model, capture, r.classifier, test);
-    };
+    vo.dim = dim;
     auto scored = [&](const LabelMapSet& labels) {
       return percent(score_label_maps(labels, capture));
     };
@@ -278,34 +261,70 @@ int main(int argc, char** argv) {
       std::snprintf(buf, sizeof buf, "%s_area%g", v.c_str(), a);
       return std::string(buf);
     };
-    std::vector<std::string> printed = {"protosaga", "kmeans", "depth_proto", "gaga"};
-    if (cls) printed.push_back("cls");
-    add(e2e, "protosaga",
-        scored(infer_labels_by_prototypes(vc.model, capture, a["both"].consistent, test,
-                                          PrototypeClassifier::Averaged, seed)));
-    add(e2e, "kmeans",
-        scored(infer_labels_by_prototypes(vc.model, capture, a["both"].consistent, test,
-                                          PrototypeClassifier::KMeans, seed)));
-    add(e2e, "depth_proto",
-        scored(infer_labels_by_prototypes(vc.model, capture, a["depth"].consistent, test,
-                                          PrototypeClassifier::Averaged, seed)));
-    if (cls) add(e2e, "cls", scored(lifted(a["both"].consistent)));
-    const LabelClassifierResult gaga = lift(a["gaga"].consistent, 0);
-    add(e2e, "gaga",
-        scored(infer_labels_by_classifier(gaga.model, capture, gaga.classifier, test)));
-    for (const double area : min_areas) {
-      add(e2e, area_name("protosaga", area),
+    std::vector<std::string> printed;
+    if (frozen) {  // --joint-only: the frozen variants are left out
+      const ViewClassifierResult vc = train_view_classifiers(b.model, capture, *b.partitions, vo);
+      seconds["view_classifiers"].push_back(vc.seconds);
+
+      auto associate = [&](AssociationCriteria c, bool compat) {
+        MemoryBankOptions o;
+        o.criteria = c;
+        o.gaga_compat = compat;
+        return associate_masks(vc.model, capture, *b.partitions, &vc.classifiers, o);
+      };
+      std::map<std::string, AssociationResult> a;
+      a["depth"] = associate(AssociationCriteria::Depth, false);
+      a["probability"] = associate(AssociationCriteria::Probability, false);
+      a["both"] = associate(AssociationCriteria::Both, false);
+      a["gaga"] = associate(AssociationCriteria::Depth, true);
+      for (const auto& [name, r] : a) {
+        add(assoc, name, percent(score_label_maps(r.consistent, capture)));
+        for (const double ms : r.view_ms) ms_per_view[name].push_back(ms);
+      }
+
+      auto lift = [&](const LabelMapSet& labels, double kl_lambda) {
+        LabelClassifierOptions lo;
+        lo.seed = stream_seed(seed, "bench.label_classifier");
+        lo.iterations = lift_iterations;
+        lo.kl.lambda = kl_lambda;
+        LabelClassifierResult r = train_label_classifier(b.model, capture, labels, lo);
+        seconds[kl_lambda > 0 ? "label_classifier_kl" : "label_classifier"].push_back(r.seconds);
+        return r;
+      };
+      auto lifted = [&](const LabelMapSet& labels) {
+        const LabelClassifierResult r = lift(labels, 0);
+        return infer_labels_by_classifier(r.model, capture, r.classifier, test);
+      };
+      printed = {"protosaga", "kmeans", "depth_proto", "gaga"};
+      if (cls) printed.push_back("cls");
+      add(e2e, "protosaga",
           scored(infer_labels_by_prototypes(vc.model, capture, a["both"].consistent, test,
-                                            PrototypeClassifier::Averaged, seed, area)));
-      add(e2e, area_name("gaga", area),
-          scored(infer_labels_by_classifier(gaga.model, capture, gaga.classifier, test, area)));
-      printed.push_back(area_name("protosaga", area));
-      printed.push_back(area_name("gaga", area));
-    }
-    if (kl > 0) {
-      const LabelClassifierResult r = lift(a["gaga"].consistent, kl);
-      add(e2e, "gaga_kl", scored(infer_labels_by_classifier(r.model, capture, r.classifier, test)));
-      printed.push_back("gaga_kl");
+                                            PrototypeClassifier::Averaged, seed)));
+      add(e2e, "kmeans",
+          scored(infer_labels_by_prototypes(vc.model, capture, a["both"].consistent, test,
+                                            PrototypeClassifier::KMeans, seed)));
+      add(e2e, "depth_proto",
+          scored(infer_labels_by_prototypes(vc.model, capture, a["depth"].consistent, test,
+                                            PrototypeClassifier::Averaged, seed)));
+      if (cls) add(e2e, "cls", scored(lifted(a["both"].consistent)));
+      const LabelClassifierResult gaga = lift(a["gaga"].consistent, 0);
+      add(e2e, "gaga",
+          scored(infer_labels_by_classifier(gaga.model, capture, gaga.classifier, test)));
+      for (const double area : min_areas) {
+        add(e2e, area_name("protosaga", area),
+            scored(infer_labels_by_prototypes(vc.model, capture, a["both"].consistent, test,
+                                              PrototypeClassifier::Averaged, seed, area)));
+        add(e2e, area_name("gaga", area),
+            scored(infer_labels_by_classifier(gaga.model, capture, gaga.classifier, test, area)));
+        printed.push_back(area_name("protosaga", area));
+        printed.push_back(area_name("gaga", area));
+      }
+      if (kl > 0) {
+        const LabelClassifierResult r = lift(a["gaga"].consistent, kl);
+        add(e2e, "gaga_kl",
+            scored(infer_labels_by_classifier(r.model, capture, r.classifier, test)));
+        printed.push_back("gaga_kl");
+      }
     }
     if (joint) {
       ViewClassifierOptions jo = vo;
@@ -324,6 +343,9 @@ int main(int argc, char** argv) {
       const AssociationResult ja =
           associate_masks(jc.model, capture, *b.partitions, &jc.classifiers, o);
       add(assoc, "both_joint", percent(score_label_maps(ja.consistent, capture)));
+      std::fprintf(stderr, "[protosaga] seed %d association both_joint mIoU %.1f precision %.1f\n",
+                   seed, assoc["both_joint"]["mIoU"].back(),
+                   assoc["both_joint"]["precision"].back());
       add(e2e, "protosaga_joint",
           scored(infer_labels_by_prototypes(jc.model, capture, ja.consistent, test,
                                             PrototypeClassifier::Averaged, seed)));
@@ -345,12 +367,14 @@ int main(int argc, char** argv) {
 
   nlohmann::json doc;
   doc["capture"] = "embedded:or?seed=S&views=" + std::to_string(views);
-  doc["seeds"] = seeds;
+  doc["seeds"] = seed_list;
   doc["view_iterations"] = view_iterations;
+  doc["dim"] = dim;
   doc["lift_iterations"] = lift_iterations;
   doc["background"] = background;
-  std::vector<std::string> assoc_order = {"depth", "probability", "both", "gaga"};
-  if (joint) assoc_order.push_back("both_joint");
+  std::vector<std::string> assoc_order;
+  for (const char* v : {"depth", "probability", "both", "gaga", "both_joint"})
+    if (assoc.count(v)) assoc_order.push_back(v);
   std::vector<std::string> e2e_order;
   for (const char* v : {"protosaga", "kmeans", "cls", "depth_proto", "gaga"})
     if (e2e.count(v)) e2e_order.push_back(v);
@@ -388,11 +412,11 @@ int main(int argc, char** argv) {
                                               : "protosaga_v" + std::to_string(views);
   fs::create_directories(out);
   write_file_atomically(out / (stem + ".json"), doc.dump(2) + "\n");
-  write_file_atomically(
-      out / (stem + ".svg"),
-      svg_chart(doc["association"], doc["end_to_end"],
-                "Proto-SaGa and Gaga on the embedded OR (" + std::to_string(views) +
-                    " views): mean +- std over " + std::to_string(seeds) + " seeds (percent)"));
+  write_file_atomically(out / (stem + ".svg"),
+                        svg_chart(doc["association"], doc["end_to_end"],
+                                  "Proto-SaGa and Gaga on the embedded OR (" +
+                                      std::to_string(views) + " views): mean +- std over " +
+                                      std::to_string(seed_list.size()) + " seeds (percent)"));
   std::printf("%s\n", doc.dump(2).c_str());
   return 0;
 }

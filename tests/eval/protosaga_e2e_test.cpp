@@ -1,7 +1,8 @@
 // graphs/protosaga.yaml and graphs/gaga.yaml end to end on a small embedded operating room
 // (320x240, shortened training), through the library as `gslift run` does, and every Proto-SaGa
-// / Gaga ablation validated against the node catalogue. Measured at seed 0 (2026-11-24):
-// Proto-SaGa association mIoU 70.4, held-out mIoU 47.6; Gaga 65.4 / 34.0; about 11 s of CPU.
+// / Gaga ablation validated against the node catalogue. Measured at seed 0 (2026-11-25, Proto-SaGa
+// with its default joint training, 200 reconstruction steps): Proto-SaGa association mIoU 68.3,
+// held-out mIoU 44.7; Gaga 65.4 / 34.0; about 15 s of CPU.
 // The floors keep a wide margin below them: they catch a broken stage, not a small regression.
 #include <filesystem>
 
@@ -35,8 +36,7 @@ double record(const RunResult& run, const std::string& node, const std::string& 
 TEST_CASE("protosaga and gaga graphs on a small embedded OR reach their accuracy floors") {
   Registry registry;
   register_builtin_nodes(registry);
-  const RunResult ps =
-      run_small(registry, "protosaga.yaml", {"recon.iterations=200", "instfeat.iterations=150"});
+  const RunResult ps = run_small(registry, "protosaga.yaml", {"instfeat.recon_iterations=200"});
   INFO((ps.error ? ps.error->str() : std::string("ok")));
   REQUIRE(ps.ok());
   WARN("protosaga: association mIoU " << record(ps, "assoc_eval", "mIoU") << ", held-out mIoU "
