@@ -29,7 +29,7 @@ sweep() {  # sweep NAME GRAPH PARAM VALUES
 }
 while IFS=$'\t' read -r name graph headline inputs settings; do
   [[ -z "$name" || "$name" == \#* ]] && continue
-  sweep "method_$name" "$graph" recon.iterations 500
+  sweep "method_$name" "$graph" input 'embedded:or?seed={seed}'  # the graph as it is
 done < bench/experiments/methods.tsv
 while IFS=$'\t' read -r method param values; do
   [[ -z "$method" || "$method" == \#* ]] && continue
@@ -38,6 +38,6 @@ while IFS=$'\t' read -r method param values; do
 done < bench/experiments/budgets.tsv
 while IFS=$'\t' read -r method name graph; do
   [[ -z "$method" || "$method" == \#* ]] && continue
-  sweep "variant_${method}_$name" "$graph" recon.iterations 500
+  sweep "variant_${method}_$name" "$graph" input 'embedded:or?seed={seed}'
 done < bench/experiments/variants.tsv
 ./build/bench/experiments/experiments_chart "$out" bench/experiments bench/results
