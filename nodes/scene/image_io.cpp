@@ -1,9 +1,6 @@
 #include "nodes/scene/image_io.hpp"
 
-#include <algorithm>
 #include <cmath>
-#include <fstream>
-#include <optional>
 #include <string>
 #include <vector>
 
@@ -14,61 +11,19 @@
 #include "base/errors.hpp"
 #include "base/input_file.hpp"
 #include "nodes/scene/camera.hpp"
+#include "nodes/scene/image_header.hpp"
 #include "runtime/atomic_file.hpp"
 
 namespace gslift {
-namespace {
-
-// A PNG's size from its IHDR chunk (bytes 16..23, big-endian), before anything is decoded; nullopt
-// for other formats. OpenCV refuses headers above 2^30 pixels itself (with a raw cv::Exception),
-// but below that it would allocate whatever a header claims.
-std::optional<std::pair<long long, long long>> png_header_size(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  unsigned char h[24];
-  if (!in.read(reinterpret_cast<char*>(h), sizeof h)) return std::nullopt;
-  static const unsigned char magic[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
-  if (!std::equal(magic, magic + 8, h) || std::string(h + 12, h + 16) != "IHDR")
-    return std::nullopt;
-  const auto be32 = [&](int i) {
-    return (static_cast<long long>(h[i]) << 24) | (h[i + 1] << 16) | (h[i + 2] << 8) | h[i + 3];
-  };
-  return std::make_pair(be32(16), be32(20));
-}
-
-// Whether the file starts like a PNG, JPEG, TIFF, BMP, WebP or OpenEXR image (the formats gslift
-// reads). cv::imread picks its decoder by sniffing the content, not the name, and some decoders it
-// would reach are not safe on hostile bytes: a ".png" with "DICM" at offset 128 went to GDCM, whose
-// assertion aborted the process (found by the mask_png fuzzer,
-// tests/data/fuzz_regressions/mask_png). Each of these signatures is claimed by its own decoder
-// before OpenCV tries any other.
-bool has_supported_signature(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  unsigned char h[12] = {};
-  in.read(reinterpret_cast<char*>(h), sizeof h);
-  const auto n = in.gcount();
-  const auto starts = [&](std::initializer_list<int> bytes, int at = 0) {
-    if (n < at + static_cast<long>(bytes.size())) return false;
-    int i = at;
-    for (int b : bytes)
-      if (h[i++] != b) return false;
-    return true;
-  };
-  return starts({0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'}) ||              // PNG
-         starts({0xff, 0xd8, 0xff}) ||                                         // JPEG
-         starts({'I', 'I', 42, 0}) || starts({'M', 'M', 0, 42}) ||             // TIFF
-         starts({'B', 'M'}) ||                                                 // BMP
-         (starts({'R', 'I', 'F', 'F'}) && starts({'W', 'E', 'B', 'P'}, 8)) ||  // WebP
-         starts({0x76, 0x2f, 0x31, 0x01});                                     // OpenEXR
-}
-
-}  // namespace
 
 cv::Mat read_image(const std::filesystem::path& path, int flags) {
   require_regular_file(path, "image");
-  if (!has_supported_signature(path))
-    throw InputError(path.string() + ": not a PNG, JPEG, TIFF, BMP, WebP or OpenEXR image");
-  if (const auto size = png_header_size(path))
-    check_image_size(size->first, size->second, path.string() + " (PNG header)");
+  // Only files that start like a format gslift reads reach OpenCV, whose sniffing would otherwise
+  // hand them to decoders that are not safe on hostile bytes: a ".png" with "DICM" at offset 128
+  // went to GDCM, whose assertion aborted the process (tests/data/fuzz_regressions/mask_png).
+  // The size its header declares is checked before OpenCV allocates for it.
+  const ImageHeader header = read_image_header(path);
+  check_image_header(header, path.string() + " (" + header.format + " header)");
   cv::Mat m;
   try {
     m = cv::imread(path.string(), flags);

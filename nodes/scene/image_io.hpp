@@ -11,8 +11,9 @@
 namespace gslift {
 
 // The image decoded with cv::imread `flags` (as stored by default). Refused with InputError naming
-// the file: a path that is not a regular file, a PNG whose header claims more than
-// kMaxImagePixels (camera.hpp; checked before decoding), and anything OpenCV cannot decode. Every
+// the file: a path that is not a regular file, a file that is not a PNG, JPEG, TIFF, BMP, WebP or
+// OpenEXR image, one whose header (image_header.hpp) declares more than kMaxImagePixels
+// (camera.hpp; checked before decoding), and anything OpenCV cannot decode. Every
 // reader below starts here, and so does every other image read of gslift.
 cv::Mat read_image(const std::filesystem::path& path, int flags = -1 /* IMREAD_UNCHANGED */);
 
