@@ -172,16 +172,22 @@ ViewClassifierResult train_view_classifiers_jointly(const Capture& capture,
     for (float& f : features) f = static_cast<float>(rng.normal(0.0, o.init_std));
   };
   double first_loss = -1;
-  // Eq. 6-7 at uniform pixels of the step's render; coarse steps render at a lower resolution
-  // than the partition, whose label is read at the pixel centre (nearest).
-  objective.loss = [&](int step, int view, int width, int height, const float* rendered,
-                       float* grad) {
+  // Eq. 6-7 at uniform pixels of the step's render, drawn before it so that only they get
+  // features; coarse steps render at a lower resolution than the partition, whose label is read at
+  // the pixel centre (nearest).
+  std::vector<uint32_t> pixels;
+  objective.pixels = [&](int step, int view, int width, int height, std::vector<uint32_t>& out) {
+    pixels.clear();
+    if (slot[view] >= 0) {
+      RandomStream rng(stream_seed(o.seed, "view_classifiers.joint_pixels", size_t(step)));
+      sample_uniform_pixels(o.pixels_per_view, size_t(width) * height, rng, pixels);
+    }
+    out = pixels;
+  };
+  objective.loss = [&](int, int view, int width, int height, const float* rendered, float* grad) {
     const int k = slot[view];
     if (k < 0) return 0.0;
     const cv::Mat1i& map = views.labels[k];
-    RandomStream rng(stream_seed(o.seed, "view_classifiers.joint_pixels", size_t(step)));
-    std::vector<uint32_t> pixels;
-    sample_uniform_pixels(o.pixels_per_view, size_t(width) * height, rng, pixels);
     const int n = static_cast<int>(pixels.size());
     std::vector<int> labels(n);
     std::vector<float> batch(size_t(n) * dim), batch_grad(batch.size());

@@ -7,6 +7,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <functional>
 #include <vector>
 
@@ -27,6 +28,11 @@ struct FeatureObjective {
   std::function<double(int step, int view, int width, int height, const float* rendered,
                        float* grad)>
       loss;
+  // Optional: the pixels (row-major, of the width x height render) that `loss` will read at this
+  // step, asked before the render. The forward pass then blends features only near them
+  // (RenderSettings::feature_pixels): `rendered` is exact there and may be 0 elsewhere.
+  std::function<void(int step, int view, int width, int height, std::vector<uint32_t>& pixels)>
+      pixels;
   // Optional: steps the caller's own parameters (e.g. classifiers) after the model's Adam step.
   std::function<void(int step)> update;
 };

@@ -25,6 +25,10 @@ struct RenderSettings {
   bool normal = false;    // sum_i w_i n_i, n_i the world-space shortest axis facing the camera
   bool alpha = false;     // accumulated opacity sum_i w_i = 1 - T_final
   bool features = false;  // sum_i w_i f_i over the model's feature_dim channels (LangOR Eq. 1)
+  // With features: null renders them at every pixel; otherwise they are exact at least at these
+  // pixels (row-major indices) and may be 0 elsewhere, which skips most of their cost when a loss
+  // reads a few sampled pixels (a FeatureObjective, feature_objective.hpp).
+  std::shared_ptr<const std::vector<uint32_t>> feature_pixels;
   // Divide depth by the accumulated alpha (pixels with alpha < 1e-6 get 0); otherwise depth is the
   // unnormalised sum, which is what a depth loss against a dense prior usually wants.
   bool normalize_depth = false;

@@ -158,12 +158,18 @@ void backward_tile(const RasterState& s, int t, const PixelGrads& pixel_grads, f
   // behind opaque surfaces that is most of a trained scene's tile list. Skipping them is exact.
   float row_last[kTileSize] = {};
   uint32_t tile_last = 0;
+  // Per tile row, the channels up to the last one with a nonzero gradient at any of its pixels:
+  // the channels past it add exactly 0 to every sum. A feature objective's gradient (the last
+  // block, rasterizer_forward.cpp) is nonzero at a few sampled pixels, so most rows skip it.
+  int row_channels[kTileSize] = {};
   for (int y = tile.y0; y < tile.y1; ++y)
     for (int x = tile.x0; x < tile.x1; ++x) {
       const int p = (y - tile.y0) * kTileSize + (x - tile.x0);
       const size_t pix = size_t(y) * s.width + x;
       uint32_t contributors = s.contributors[pix];
       if (contributors > 0 && !pixel_grads.at(pix, scratch.pixel.data())) contributors = 0;
+      for (int c = C; contributors > 0 && c > row_channels[y - tile.y0]; --c)
+        if (scratch.pixel[c - 1] != 0.f) row_channels[y - tile.y0] = c;
       last[p] = float(contributors);
       row_last[y - tile.y0] = std::max(row_last[y - tile.y0], last[p]);
       tile_last = std::max(tile_last, contributors);
@@ -208,8 +214,9 @@ void backward_tile(const RasterState& s, int t, const PixelGrads& pixel_grads, f
         w[x] = a[x] * Tj[x];
         gv[x] = 0.f;
       }
+      const int row_c = row_channels[y - tile.y0];
 #pragma GCC unroll 16  // gv stays in a register across the channels
-      for (int c = 0; c < C; ++c) {
+      for (int c = 0; c < row_c; ++c) {
         const float* __restrict gc = g + c * kTilePixels + at;
         float* __restrict dc = d + c * kLanes;
         const float vc = v[c];

@@ -187,14 +187,17 @@ void bin_gaussians(const GaussianModel& model, const ViewTransform& view,
 
 // Blends tile t front to back (blend_tile) into acc, structure of arrays: channel c of tile pixel
 // p at [c * 256 + p], so that adding one entry's values to a row is a 16-lane FMA per channel.
-// kChannels > 0 fixes the channel count, so the channel loop unrolls.
+// kChannels > 0 fixes the channel count, so the channel loop unrolls. With `feature_rows` (one flag
+// per tile row) the feature channels, the last block, are blended only in the flagged rows.
 template <int kChannels>
-void forward_tile(const RasterState& s, int t, const float* values, float* acc, TileBlend& out) {
+void forward_tile(const RasterState& s, int t, const float* values, float* acc, TileBlend& out,
+                  const uint8_t* feature_rows) {
   const int C = kChannels > 0 ? kChannels : s.channels;
   blend_tile(s, t, out, [&](uint32_t j, int at, const float* w) {
     const float* v = values + size_t(j) * C;
+    const int row_c = feature_rows && !feature_rows[at / kTileSize] ? s.feature_offset : C;
 #pragma GCC unroll 16
-    for (int c = 0; c < C; ++c) {
+    for (int c = 0; c < row_c; ++c) {
       float* __restrict a = acc + c * kTilePixels + at;
       const float vc = v[c];
 #pragma GCC unroll 1  // one vector loop, not kLanes scalar copies
@@ -235,8 +238,10 @@ RenderOutput render(const GaussianModel& model, const Camera& camera, const Pose
   add_block(settings.rgb, 3, s.rgb_offset);
   add_block(settings.depth, 1, s.depth_offset);
   add_block(settings.normal, 3, s.normal_offset);
-  add_block(settings.features && D > 0, D, s.feature_offset);
   add_block(settings.alpha || (settings.depth && settings.normalize_depth), 1, s.alpha_offset);
+  // Features last: the backward pass skips the channels past the last one with a gradient in a
+  // tile row, and a feature objective's gradient is sparse (sampled pixels, feature_objective.hpp).
+  add_block(settings.features && D > 0, D, s.feature_offset);
   s.background.assign(s.channels, 0.f);
   for (int k = 0; s.rgb_offset >= 0 && k < 3; ++k)
     s.background[s.rgb_offset + k] = settings.background[k];
@@ -253,6 +258,19 @@ RenderOutput render(const GaussianModel& model, const Camera& camera, const Pose
   if (settings.normal) out.normal.assign(pixels * 3, 0.f);
   if (settings.alpha) out.alpha.assign(pixels, 0.f);
   if (settings.features) out.features.assign(pixels * D, 0.f);
+  // The tile rows that hold a requested feature pixel, a flag per row at [tile * kTileSize + row].
+  std::vector<uint8_t> feature_rows;
+  if (s.feature_offset >= 0 && settings.feature_pixels) {
+    feature_rows.assign(size_t(s.tile_count()) * kTileSize, 0);
+    for (const uint32_t p : *settings.feature_pixels) {
+      if (p >= pixels)
+        throw InputError("rasterizer: feature pixel " + std::to_string(p) +
+                         " is outside the image");
+      const int x = int(p % s.width), y = int(p / s.width);
+      feature_rows[size_t((y / kTileSize) * s.tiles_x + x / kTileSize) * kTileSize +
+                   y % kTileSize] = 1;
+    }
+  }
   s.final_transmittance.assign(pixels, 1.f);
   s.contributors.assign(pixels, 0);
   if (s.alpha_offset >= 0) s.alpha_sum.assign(pixels, 0.f);
@@ -265,22 +283,24 @@ RenderOutput render(const GaussianModel& model, const Camera& camera, const Pose
           const TileGaussian* list = s.tile_gaussians.data() + s.tile_offsets[t];
           gather_values(s, list, s.tile_offsets[t + 1] - s.tile_offsets[t], values);
           std::fill(acc.begin(), acc.end(), 0.f);
+          const uint8_t* rows =
+              feature_rows.empty() ? nullptr : feature_rows.data() + size_t(t) * kTileSize;
           // The common channel counts get fixed-size loops (see backward_tile).
           switch (s.channels) {
             case 3:
-              forward_tile<3>(s, t, values.data(), acc.data(), blend);
+              forward_tile<3>(s, t, values.data(), acc.data(), blend, rows);
               break;
             case 7:
-              forward_tile<7>(s, t, values.data(), acc.data(), blend);
+              forward_tile<7>(s, t, values.data(), acc.data(), blend, rows);
               break;
             case 8:
-              forward_tile<8>(s, t, values.data(), acc.data(), blend);
+              forward_tile<8>(s, t, values.data(), acc.data(), blend, rows);
               break;
             case 16:
-              forward_tile<16>(s, t, values.data(), acc.data(), blend);
+              forward_tile<16>(s, t, values.data(), acc.data(), blend, rows);
               break;
             default:
-              forward_tile<0>(s, t, values.data(), acc.data(), blend);
+              forward_tile<0>(s, t, values.data(), acc.data(), blend, rows);
               break;
           }
           const PixelRect tile = tile_pixels(s, t);

@@ -258,6 +258,12 @@ ReconstructResult reconstruct(const Capture& capture, const ReconstructOptions& 
     settings.depth = use_depth;
     settings.normal = use_normal;
     settings.features = objective != nullptr;
+    const int view_index = static_cast<int>(&view - capture.views.data());
+    if (objective && objective->pixels) {
+      auto pixels = std::make_shared<std::vector<uint32_t>>();
+      objective->pixels(step, view_index, target.camera.width, target.camera.height, *pixels);
+      settings.feature_pixels = std::move(pixels);
+    }
     RenderOutput out = render(model, target.camera, view.pose, settings);
     const int H = out.height, W = out.width;
     clock.charge(phases.render);
@@ -278,8 +284,7 @@ ReconstructResult reconstruct(const Capture& capture, const ReconstructOptions& 
       rgrads.normal = scaled_vector(grad, options.normal_weight);
     }
     if (objective)
-      loss.features = feature_objective_grads(
-          *objective, step, static_cast<int>(&view - capture.views.data()), out, rgrads);
+      loss.features = feature_objective_grads(*objective, step, view_index, out, rgrads);
     clock.charge(phases.losses);
     grads.reset(model);
     render_backward(model, target.camera, view.pose, settings, out, rgrads, grads);

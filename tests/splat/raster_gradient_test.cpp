@@ -1,10 +1,12 @@
 // Finite-difference checks of render_backward for every rendered channel and every parameter kind.
 #include <cmath>
 #include <functional>
+#include <memory>
 #include <random>
 #include <string>
 #include <vector>
 
+#include "base/errors.hpp"
 #include "nodes/splat/rasterizer.hpp"
 #include "tests/splat/raster_scene.hpp"
 #include "tests/test_support.hpp"
@@ -65,6 +67,14 @@ void check_gradients(const test::RasterScene& scene, const RenderSettings& setti
   if (!out.normal.empty()) loss.weights.normal = random_vector(out.normal.size(), rng);
   if (!out.alpha.empty()) loss.weights.alpha = random_vector(out.alpha.size(), rng);
   if (!out.features.empty()) loss.weights.features = random_vector(out.features.size(), rng);
+  if (settings.feature_pixels) {
+    // A feature objective's loss: the features are read at the requested pixels only.
+    std::vector<float> sparse(loss.weights.features.size(), 0.f);
+    const size_t D = out.feature_dim;
+    for (const uint32_t p : *settings.feature_pixels)
+      for (size_t f = 0; f < D; ++f) sparse[p * D + f] = loss.weights.features[p * D + f];
+    loss.weights.features = sparse;
+  }
   ModelGrads grads;
   grads.reset(scene.model);
   render_backward(scene.model, scene.camera, scene.pose, settings, out, loss.weights, grads);
@@ -119,6 +129,51 @@ RenderSettings only(bool rgb, bool depth, bool normal, bool alpha, bool features
 
 }  // namespace
 
+TEST_CASE("raster: features at requested pixels only are exact there and change nothing else",
+          "[splat][raster]") {
+  // 64 x 48: 4 x 3 tiles; pixels in 3 of the 48 rows.
+  const test::RasterScene scene = test::random_raster_scene(200, 1, 16, 11, 64, 48);
+  RenderSettings full;
+  full.depth = full.normal = full.alpha = full.features = true;
+  RenderSettings sparse = full;
+  const std::vector<uint32_t> pixels = {5 * 64 + 7, 5 * 64 + 60, 30 * 64 + 33, 47 * 64 + 63};
+  sparse.feature_pixels = std::make_shared<const std::vector<uint32_t>>(pixels);
+  const RenderOutput a = render(scene.model, scene.camera, scene.pose, full);
+  const RenderOutput b = render(scene.model, scene.camera, scene.pose, sparse);
+  CHECK(a.rgb == b.rgb);
+  CHECK(a.depth == b.depth);
+  CHECK(a.normal == b.normal);
+  CHECK(a.alpha == b.alpha);
+  for (const uint32_t p : pixels)
+    for (int f = 0; f < 16; ++f) CHECK(b.features[p * 16 + f] == a.features[p * 16 + f]);
+  // A row with no requested pixel got no features; the full render has them there.
+  double full_row = 0, sparse_row = 0;
+  for (int x = 0; x < 64; ++x) {
+    full_row += std::abs(a.features[(20 * 64 + x) * 16]);
+    sparse_row += std::abs(b.features[(20 * 64 + x) * 16]);
+  }
+  CHECK(full_row > 0);
+  CHECK(sparse_row == 0);
+  // The same gradient from either forward pass (the backward reads only its raster state).
+  std::mt19937 rng(3);
+  RenderGrads g;
+  g.rgb = random_vector(a.rgb.size(), rng);
+  g.features.assign(a.features.size(), 0.f);
+  for (const uint32_t p : pixels)
+    for (int f = 0; f < 16; ++f) g.features[p * 16 + f] = float(f) - 7.5f;
+  ModelGrads from_full, from_sparse;
+  from_full.reset(scene.model);
+  from_sparse.reset(scene.model);
+  render_backward(scene.model, scene.camera, scene.pose, full, a, g, from_full);
+  render_backward(scene.model, scene.camera, scene.pose, sparse, b, g, from_sparse);
+  CHECK(from_full.means == from_sparse.means);
+  CHECK(from_full.opacity_logits == from_sparse.opacity_logits);
+  CHECK(from_full.features == from_sparse.features);
+  // A pixel outside the image is an error, not a write past the buffer.
+  sparse.feature_pixels = std::make_shared<const std::vector<uint32_t>>(1, 64 * 48);
+  CHECK_THROWS_AS(render(scene.model, scene.camera, scene.pose, sparse), InputError);
+}
+
 TEST_CASE("raster: gradients of each channel match central differences", "[splat][raster]") {
   const test::RasterScene scene = test::random_raster_scene(16, 3, 4, 7);
   SECTION("rgb, SH degree 3, with background") {
@@ -164,6 +219,15 @@ TEST_CASE("raster: gradients of each channel match central differences", "[splat
     }
     RenderSettings s = only(true, true, true, true, true);
     check_gradients(clamped, s, 9);
+  }
+  SECTION("features read at three pixels of two tile rows (RenderSettings::feature_pixels)") {
+    // The forward pass blends features only in those rows and the backward pass skips the
+    // feature channels in every row without a feature gradient: both must stay exact.
+    RenderSettings s = only(true, true, true, false, true);
+    const int w = scene.camera.width;
+    s.feature_pixels = std::make_shared<const std::vector<uint32_t>>(
+        std::vector<uint32_t>{uint32_t(2 * w + 3), uint32_t(2 * w + 20), uint32_t(17 * w + 10)});
+    check_gradients(scene, s, 10);
   }
   SECTION("all channels in one pass") {
     RenderSettings s = only(true, true, true, true, true);
