@@ -10,13 +10,20 @@ namespace gslift {
 
 // FNV-1a, 64 bit (Fowler, Noll, Vo; the IETF draft "The FNV Non-Cryptographic Hash Algorithm"):
 // a stable hash of a byte string (node ids, text features, settings texts).
-constexpr uint64_t fnv1a64(std::string_view text) {
-  uint64_t h = 0xcbf29ce484222325ull;  // offset basis
+constexpr uint64_t kFnv1a64Basis = 0xcbf29ce484222325ull;  // the hash of no bytes
+
+// FNV-1a continued from the hash `h` of the bytes before `text`, for data read in pieces
+// (a file streamed through a buffer): fnv1a64(ab) == fnv1a64_update(fnv1a64(a), b).
+constexpr uint64_t fnv1a64_update(uint64_t h, std::string_view text) {
   for (const char c : text) {
     h ^= static_cast<unsigned char>(c);
     h *= 0x100000001b3ull;  // FNV prime
   }
   return h;
+}
+
+constexpr uint64_t fnv1a64(std::string_view text) {
+  return fnv1a64_update(kFnv1a64Basis, text);
 }
 
 // SplitMix64's output function (Steele, Lea, Flood 2014, "Fast splittable pseudorandom number

@@ -32,20 +32,10 @@ std::string hex16(uint64_t v) {
   return buf;
 }
 
-// FNV-1a continued over more bytes (base/hash.hpp's, streamed).
-uint64_t fnv1a64_update(uint64_t h, std::string_view bytes) {
-  for (const char c : bytes) {
-    h ^= static_cast<unsigned char>(c);
-    h *= 0x100000001b3ull;
-  }
-  return h;
-}
-constexpr uint64_t kFnvBasis = 0xcbf29ce484222325ull;
-
 std::optional<uint64_t> file_digest(const fs::path& file) {
   std::ifstream in(file, std::ios::binary);
   if (!in) return std::nullopt;
-  uint64_t h = kFnvBasis;
+  uint64_t h = kFnv1a64Basis;
   std::string buf(1 << 20, '\0');
   while (in) {
     in.read(buf.data(), static_cast<std::streamsize>(buf.size()));
@@ -116,7 +106,7 @@ std::optional<uint64_t> path_digest(const fs::path& path) {
       files.emplace_back(fs::relative(it->path(), path, fec).generic_string(), *d);
   }
   std::sort(files.begin(), files.end());
-  uint64_t h = kFnvBasis;
+  uint64_t h = kFnv1a64Basis;
   for (const auto& [name, digest] : files)
     h = fnv1a64_update(h, name + "\n" + hex16(digest) + "\n");
   return h;

@@ -69,14 +69,11 @@ DuplicateRepairCount repair_duplicate_masks(const cv::Mat& rgb, const cv::Mat& d
     masks[i].pixels = g.pixels;
     ++count.regrown;
   }
-  size_t kept = 0;
+  std::vector<Mask> kept;
   for (size_t i = 0; i < masks.size(); ++i)
-    if (!drop[i]) {
-      if (kept != i) masks[kept] = std::move(masks[i]);  // a self-move would empty the label
-      ++kept;
-    }
-  count.dropped = static_cast<int>(masks.size() - kept);
-  masks.resize(kept);
+    if (!drop[i]) kept.push_back(std::move(masks[i]));
+  count.dropped = static_cast<int>(masks.size() - kept.size());
+  masks = std::move(kept);
   return count;
 }
 

@@ -151,41 +151,48 @@ double normal_cosine_loss(const cv::Mat& rendered, const cv::Mat& target, cv::Ma
   return sum * inv;
 }
 
-double flatness_loss(const std::vector<float>& log_scales, std::vector<float>* grad) {
+namespace {
+
+// Mean over the N Gaussians of a term of each one's three log-scales (log_scales is N x 3).
+// term(s, g) returns the Gaussian's term and writes its gradient with respect to s into g (three
+// values, zeroed); grad (resized to N x 3) receives the mean's gradient, g / N.
+template <class Term>
+double mean_scale_term(const std::vector<float>& log_scales, std::vector<float>* grad, Term term) {
   const size_t n = log_scales.size() / 3;
   if (grad) grad->assign(log_scales.size(), 0.f);
   if (n == 0) return 0;
   double sum = 0;
   for (size_t i = 0; i < n; ++i) {
-    const float* s = &log_scales[i * 3];
-    const int k = s[0] <= s[1] ? (s[0] <= s[2] ? 0 : 2) : (s[1] <= s[2] ? 1 : 2);
-    const double scale = std::exp(static_cast<double>(s[k]));
-    sum += scale;
-    // d exp(s_k) / d s_k = exp(s_k); the min picks one axis (a subgradient at ties).
-    if (grad) (*grad)[i * 3 + k] = static_cast<float>(scale / static_cast<double>(n));
+    double g[3] = {0, 0, 0};
+    sum += term(&log_scales[i * 3], g);
+    for (int k = 0; grad && k < 3; ++k)
+      (*grad)[i * 3 + k] = static_cast<float>(g[k] / static_cast<double>(n));
   }
   return sum / static_cast<double>(n);
 }
 
+}  // namespace
+
+double flatness_loss(const std::vector<float>& log_scales, std::vector<float>* grad) {
+  return mean_scale_term(log_scales, grad, [](const float* s, double* g) {
+    const int k = s[0] <= s[1] ? (s[0] <= s[2] ? 0 : 2) : (s[1] <= s[2] ? 1 : 2);
+    // d exp(s_k) / d s_k = exp(s_k); the min picks one axis (a subgradient at ties).
+    g[k] = std::exp(static_cast<double>(s[k]));
+    return g[k];
+  });
+}
+
 double anisotropy_loss(const std::vector<float>& log_scales, double ratio,
                        std::vector<float>* grad) {
-  const size_t n = log_scales.size() / 3;
-  if (grad) grad->assign(log_scales.size(), 0.f);
-  if (n == 0) return 0;
-  double sum = 0;
-  for (size_t i = 0; i < n; ++i) {
-    const float* s = &log_scales[i * 3];
+  return mean_scale_term(log_scales, grad, [ratio](const float* s, double* g) {
     int order[3] = {0, 1, 2};
     std::sort(order, order + 3, [&](int a, int b) { return s[a] > s[b]; });
     const double e = std::exp(static_cast<double>(s[order[0]]) - s[order[1]]);
-    if (e <= ratio) continue;
-    sum += e - ratio;
-    if (grad) {
-      (*grad)[i * 3 + order[0]] = static_cast<float>(e / static_cast<double>(n));
-      (*grad)[i * 3 + order[1]] = static_cast<float>(-e / static_cast<double>(n));
-    }
-  }
-  return sum / static_cast<double>(n);
+    if (e <= ratio) return 0.0;
+    g[order[0]] = e;
+    g[order[1]] = -e;
+    return e - ratio;
+  });
 }
 
 double masked_l1_loss(const cv::Mat& rendered, const cv::Mat& target, const cv::Mat1b& mask,

@@ -11,6 +11,8 @@ TEST_CASE("FNV-1a 64 matches its published test vectors", "[hash]") {
   // Bytes, not chars: a byte >= 0x80 is hashed as unsigned.
   CHECK(fnv1a64("\xff") == ((0xcbf29ce484222325ull ^ 0xffull) * 0x100000001b3ull));
   static_assert(fnv1a64("a") == 0xaf63dc4c8601ec8cull, "usable in constant expressions");
+  // Streamed in pieces (a file through a buffer), the same hash.
+  CHECK(fnv1a64_update(fnv1a64_update(kFnv1a64Basis, "foo"), "bar") == 0x85944171f73967e8ull);
 }
 
 TEST_CASE("splitmix64 matches Vigna's reference generator", "[hash]") {
