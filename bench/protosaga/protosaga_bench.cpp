@@ -16,13 +16,14 @@
 //   end to end, on the held-out views (Table 1 / Table 4): Proto-SaGa (both + prototypes),
 //   Proto-SaGa with K-means or a trained classifier (Cls) instead of the prototypes, Proto-SaGa's
 //   depth-only association with prototypes, and Gaga (depth gaga_compat + lift + classifier).
-// Options add variants: --joint Proto-SaGa with the view classifiers trained jointly with a
-// reconstruction of its own (Eq. 8; same reconstruction params and seed; --joint-only runs it
-// alone, no frozen variant and no timing), --kl Gaga with its 3D KL neighbour regulariser at that
-// lambda, --min-areas Proto-SaGa and Gaga (and joint) with each minimum label area at inference
-// (label_argmax.hpp); --background sets the reconstruction's (graphs' recon.background), --no-cls
-// leaves out the Cls baseline (a lift per seed), --dim the view classifiers' feature width D (also
-// of the joint ones). Association time per view is recorded for every association. Timing (unless
+// Options add variants: --joint Proto-SaGa (and its K-means and Cls baselines) with the view
+// classifiers trained jointly with a reconstruction of its own (Eq. 8; same reconstruction params
+// and seed; --joint-only runs it alone, no frozen variant and no timing), --kl Gaga with its 3D KL
+// neighbour regulariser at that lambda, --min-areas Proto-SaGa and Gaga (and joint) with each
+// minimum label area at inference (label_argmax.hpp); --background sets the reconstruction's
+// (graphs' recon.background), --no-cls leaves out the Cls baseline (a lift per seed), --dim the
+// view classifiers' feature width D (also of the joint ones). Association time per view is recorded
+// for every association. Timing (unless
 // --no-timing): the two graphs (graphs/protosaga.yaml, graphs/gaga.yaml) as child `gslift run`
 // processes at seed 0 on 2 threads, wall time and peak memory. Writes protosaga[_vV].json and .svg
 // into --out (default bench/results).
@@ -262,6 +263,16 @@ int main(int argc, char** argv) {
       return std::string(buf);
     };
     std::vector<std::string> printed;
+    // Gaga's lift (a classifier on features trained against consistent labels) on `model`.
+    auto lift_on = [&](const GaussianModel& model, const LabelMapSet& labels, double kl_lambda) {
+      LabelClassifierOptions lo;
+      lo.seed = stream_seed(seed, "bench.label_classifier");
+      lo.iterations = lift_iterations;
+      lo.kl.lambda = kl_lambda;
+      LabelClassifierResult r = train_label_classifier(model, capture, labels, lo);
+      seconds[kl_lambda > 0 ? "label_classifier_kl" : "label_classifier"].push_back(r.seconds);
+      return r;
+    };
     if (frozen) {  // --joint-only: the frozen variants are left out
       const ViewClassifierResult vc = train_view_classifiers(b.model, capture, *b.partitions, vo);
       seconds["view_classifiers"].push_back(vc.seconds);
@@ -283,13 +294,7 @@ int main(int argc, char** argv) {
       }
 
       auto lift = [&](const LabelMapSet& labels, double kl_lambda) {
-        LabelClassifierOptions lo;
-        lo.seed = stream_seed(seed, "bench.label_classifier");
-        lo.iterations = lift_iterations;
-        lo.kl.lambda = kl_lambda;
-        LabelClassifierResult r = train_label_classifier(b.model, capture, labels, lo);
-        seconds[kl_lambda > 0 ? "label_classifier_kl" : "label_classifier"].push_back(r.seconds);
-        return r;
+        return lift_on(b.model, labels, kl_lambda);
       };
       auto lifted = [&](const LabelMapSet& labels) {
         const LabelClassifierResult r = lift(labels, 0);
@@ -350,6 +355,18 @@ int main(int argc, char** argv) {
           scored(infer_labels_by_prototypes(jc.model, capture, ja.consistent, test,
                                             PrototypeClassifier::Averaged, seed)));
       printed.push_back("protosaga_joint");
+      // The baselines of Table 4 on the joint features and labels: K-means over the prototypes,
+      // and a classifier lifted on the joint model (Cls).
+      add(e2e, "kmeans_joint",
+          scored(infer_labels_by_prototypes(jc.model, capture, ja.consistent, test,
+                                            PrototypeClassifier::KMeans, seed)));
+      printed.push_back("kmeans_joint");
+      if (cls) {
+        const LabelClassifierResult r = lift_on(jc.model, ja.consistent, 0);
+        add(e2e, "cls_joint",
+            scored(infer_labels_by_classifier(r.model, capture, r.classifier, test)));
+        printed.push_back("cls_joint");
+      }
       for (const double area : min_areas) {
         add(e2e, area_name("protosaga_joint", area),
             scored(infer_labels_by_prototypes(jc.model, capture, ja.consistent, test,
