@@ -13,8 +13,9 @@
 namespace gslift {
 namespace {
 
-// Random access to a file's bytes; a read past the end is an InputError "<file>: <format> header
-// is cut short".
+// Random access to a file's bytes through a 4 KB window, so that a walk over neighbouring bytes
+// (JPEG fill bytes and segments, a TIFF directory) reads the file once per window, not once per
+// byte; a read past the end is an InputError "<file>: <format> header is cut short".
 class HeaderBytes {
  public:
   explicit HeaderBytes(const std::filesystem::path& path)
@@ -55,15 +56,22 @@ class HeaderBytes {
 
  private:
   std::optional<unsigned> try_byte(std::uint64_t offset) {
-    in_.clear();
-    in_.seekg(static_cast<std::streamoff>(offset));
-    const int c = in_.get();
-    if (!in_) return std::nullopt;
-    return static_cast<unsigned>(c);
+    if (offset < window_start_ || offset >= window_start_ + window_.size()) {
+      window_.resize(4096);
+      in_.clear();
+      in_.seekg(static_cast<std::streamoff>(offset));
+      in_.read(window_.data(), static_cast<std::streamsize>(window_.size()));
+      window_.resize(static_cast<size_t>(in_.gcount()));  // short at the end of the file
+      window_start_ = offset;
+      if (window_.empty()) return std::nullopt;
+    }
+    return static_cast<unsigned char>(window_[offset - window_start_]);
   }
 
   std::filesystem::path path_;
   std::ifstream in_;
+  std::string window_;  // the bytes at window_start_
+  std::uint64_t window_start_ = 0;
   std::string format_ = "image";
 };
 
