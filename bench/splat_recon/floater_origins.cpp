@@ -3,8 +3,10 @@
 // takes the Gaussian at which the pixel's accumulated opacity reaches 0.5 (the one that sets the
 // median depth) and asks each training view's depth prior about its centre (the pixel it projects
 // to, relative margin --margin, default 0.1 as free_space.hpp): in observed free space, on the
-// observed surface, hidden behind it, or outside the view. A floater that some view sees in free
-// space could be carved with the priors; one that only sits on or behind observed surfaces cannot.
+// observed surface, hidden behind it, or outside the view. It asks the same of the point the pixel
+// draws (its ray at the median depth), which for a Gaussian reaching past a silhouette lies away
+// from the centre. A floater that some view sees in free space could be carved with the priors;
+// one that only sits on or behind observed surfaces cannot.
 //
 //   floater_origins GRAPH [--input CAPTURE] [--set NODE.P=V]... [--margin M]
 //
@@ -62,6 +64,30 @@ int main(int argc, char** argv) {
   for (const View& v : capture->views)
     if (!v.held_out) train.push_back(&v), prior.push_back(v.depth.load());
 
+  // Where a world point stands for the training views' depth priors (relative margin `margin`).
+  const auto classify = [&](const Eigen::Vector3d& c) -> std::string {
+    bool free = false, on = false, hidden = false;
+    for (size_t t = 0; t < train.size(); ++t) {
+      const Eigen::Vector3d q = train[t]->pose.to_camera(c);
+      const Camera& cam = train[t]->camera;
+      if (!(q.z() > 0)) continue;
+      const double u = cam.fx * q.x() / q.z() + cam.cx, w = cam.fy * q.y() / q.z() + cam.cy;
+      if (!(u >= 0 && w >= 0 && u < prior[t].cols && w < prior[t].rows)) continue;
+      const float d = prior[t](static_cast<int>(w), static_cast<int>(u));
+      if (!(d > 0)) continue;
+      if (q.z() < (1 - margin) * d)
+        free = true;
+      else if (q.z() <= (1 + margin) * d)
+        on = true;
+      else
+        hidden = true;
+    }
+    return free     ? "in free space of some training view"
+           : on     ? "on an observed surface (none sees it free)"
+           : hidden ? "hidden behind observed surfaces only"
+                    : "outside every training view";
+  };
+
   for (const View& view : capture->views) {
     if (!view.held_out) continue;
     const cv::Mat1f gt = view.gt_depth.load();
@@ -69,8 +95,8 @@ int main(int argc, char** argv) {
     weights_only.rgb = false;
     const RenderCache cache(render(*model, view.camera, view.pose, weights_only));
     const auto& off = cache.pixel_offsets();
-    std::map<std::string, int> origin;
-    std::map<int, int> gaussians;  // floater Gaussian -> pixels it sets
+    std::map<std::string, int> origin, drawn;  // by the Gaussian's centre; by the drawn point
+    std::map<int, int> gaussians;              // floater Gaussian -> pixels it sets
     int surface = 0, floaters = 0;
     for (int y = 0; y < gt.rows; ++y)
       for (int x = 0; x < gt.cols; ++x) {
@@ -88,34 +114,24 @@ int main(int argc, char** argv) {
         if (median < 0) continue;
         const Eigen::Vector3d c(model->means[median * 3], model->means[median * 3 + 1],
                                 model->means[median * 3 + 2]);
-        if (!(view.pose.to_camera(c).z() < 0.9 * truth)) continue;
+        const double z = view.pose.to_camera(c).z();
+        if (!(z < 0.9 * truth)) continue;
         ++floaters;
         ++gaussians[median];
-        bool free = false, on = false, hidden = false;
-        for (size_t t = 0; t < train.size(); ++t) {
-          const Eigen::Vector3d q = train[t]->pose.to_camera(c);
-          const Camera& cam = train[t]->camera;
-          if (!(q.z() > 0)) continue;
-          const double u = cam.fx * q.x() / q.z() + cam.cx, w = cam.fy * q.y() / q.z() + cam.cy;
-          if (!(u >= 0 && w >= 0 && u < prior[t].cols && w < prior[t].rows)) continue;
-          const float d = prior[t](static_cast<int>(w), static_cast<int>(u));
-          if (!(d > 0)) continue;
-          if (q.z() < (1 - margin) * d)
-            free = true;
-          else if (q.z() <= (1 + margin) * d)
-            on = true;
-          else
-            hidden = true;
-        }
-        ++origin[free     ? "in free space of some training view"
-                 : on     ? "on an observed surface (none sees it free)"
-                 : hidden ? "hidden behind observed surfaces only"
-                          : "outside every training view"];
+        ++origin[classify(c)];
+        // The point the pixel draws: on its ray, at the median depth.
+        const Eigen::Vector3d ray((x + 0.5 - view.camera.cx) / view.camera.fx,
+                                  (y + 0.5 - view.camera.cy) / view.camera.fy, 1.0);
+        ++drawn[classify(view.pose.R.transpose() * (z * ray - view.pose.t))];
       }
     std::printf("%s: %d floater pixels (%.2f%% of %d surface pixels), set by %zu Gaussians\n",
                 view.name.c_str(), floaters, 100.0 * floaters / std::max(surface, 1), surface,
                 gaussians.size());
+    std::printf(" the median-depth Gaussian's centre:\n");
     for (const auto& [what, n] : origin)
+      std::printf("  %-45s %6d px  %5.1f%%\n", what.c_str(), n, 100.0 * n / std::max(floaters, 1));
+    std::printf(" the point drawn (the pixel's ray at the median depth):\n");
+    for (const auto& [what, n] : drawn)
       std::printf("  %-45s %6d px  %5.1f%%\n", what.c_str(), n, 100.0 * n / std::max(floaters, 1));
   }
   return 0;
