@@ -23,15 +23,22 @@ trap '[ -n "${GSLIFT_KEEP_SCRATCH:-}" ] && echo "kept $D" || rm -rf "$D"' EXIT
 export GSLIFT_CACHE=$D/cache
 RANDOM=16  # the kill moments repeat from run to run
 
-# Starts a command in the background, kills it with SIGKILL after a random 0..max_ms, and
-# prints what the moment was and whether the command had already finished.
+# Starts a command in the background and kills it with SIGKILL after a random 0..max_ms scaled by
+# reach_pct. A kill that comes after the command ended shrinks reach_pct by a quarter (to 10% at
+# least): the measured duration is an upper bound that other load on the machine can make far too
+# long (the warm-cache runs are shorter too), and kills drawn past the end would run out of tries.
+reach_pct=100
 kill_at_random() {
   local max_ms=$1
   shift
   "$@" >/dev/null 2>&1 &
-  local pid=$! ms=$((RANDOM % max_ms))
+  local pid=$! ms=$((RANDOM % (max_ms * reach_pct / 100 + 1)))
   sleep "$(printf '%d.%03d' $((ms / 1000)) $((ms % 1000)))"
-  if kill -KILL "$pid" 2>/dev/null; then killed=$((killed + 1)); fi
+  if kill -KILL "$pid" 2>/dev/null; then
+    killed=$((killed + 1))
+  else
+    reach_pct=$((reach_pct * 3 / 4 > 10 ? reach_pct * 3 / 4 : 10))
+  fi
   wait "$pid" 2>/dev/null || true
 }
 
@@ -97,6 +104,7 @@ all_done() { [ -f "$D/batch/or_0/_DONE" ] && [ -f "$D/batch/or_1/_DONE" ] && [ -
 killed=0
 tries=0
 reruns=0
+reach_pct=100
 while [ $killed -lt "$KILLS" ]; do
   tries=$((tries + 1))
   [ $tries -le $((3 * KILLS)) ] || fail "only $killed of $tries kills landed while gslift batch ran"
