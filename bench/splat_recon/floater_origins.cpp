@@ -9,6 +9,12 @@
 // one that only sits on or behind observed surfaces cannot.
 //
 //   floater_origins GRAPH [--input CAPTURE] [--set NODE.P=V]... [--margin M]
+//                   [--carve F]... [--carve-tolerance T]
+//
+// --carve F prunes the trained model after the fact by the line-of-sight rule (free_space.hpp:
+// more than F of a Gaussian's training-view weight drawn over 1 - T of the prior depth, T default
+// 0.03) and prints the held-out floaters, holes and PSNR and the training PSNR before and after,
+// once per F: what pruning alone does, without the steps that let the model heal.
 //
 // GRAPH has a node `capture` (ingest.capture) and a node `model` whose output `model` is the
 // reconstruction (splat.load of a run's recon/model.ply, or splat.reconstruct).
@@ -24,16 +30,18 @@
 #include "nodes/builtin.hpp"
 #include "nodes/scene/capture.hpp"
 #include "nodes/scene/gaussian_model.hpp"
+#include "nodes/splat/free_space.hpp"
 #include "nodes/splat/rasterizer.hpp"
 #include "nodes/splat/render_cache.hpp"
+#include "nodes/splat/view_geometry.hpp"
 #include "runtime/executor.hpp"
 
 using namespace gslift;
 
 int main(int argc, char** argv) {
   if (argc < 2) {
-    std::cerr
-        << "usage: floater_origins GRAPH [--input CAPTURE] [--set NODE.P=V]... [--margin M]\n";
+    std::cerr << "usage: floater_origins GRAPH [--input CAPTURE] [--set NODE.P=V]... [--margin M] "
+                 "[--carve F]... [--carve-tolerance T]\n";
     return 2;
   }
   Registry registry;
@@ -41,11 +49,15 @@ int main(int argc, char** argv) {
   LoadOptions load;
   load.vars["input"] = "embedded:or";
   double margin = 0.1;
+  std::vector<double> carves;  // --carve may repeat
+  double carve_tolerance = 0.03;
   for (int i = 2; i + 1 < argc; i += 2) {
     const std::string a = argv[i];
     if (a == "--set") load.sets.push_back(argv[i + 1]);
     if (a == "--input") load.vars["input"] = argv[i + 1];
     if (a == "--margin") margin = std::stod(argv[i + 1]);
+    if (a == "--carve") carves.push_back(std::stod(argv[i + 1]));
+    if (a == "--carve-tolerance") carve_tolerance = std::stod(argv[i + 1]);
   }
   const LoadResult g = load_graph(argv[1], registry, load);
   if (!g.ok()) {
@@ -133,6 +145,41 @@ int main(int argc, char** argv) {
     std::printf(" the point drawn (the pixel's ray at the median depth):\n");
     for (const auto& [what, n] : drawn)
       std::printf("  %-45s %6d px  %5.1f%%\n", what.c_str(), n, 100.0 * n / std::max(floaters, 1));
+  }
+  if (!carves.empty()) {
+    // Line-of-sight pruning (free_space.hpp): drop the Gaussians that draw more than `carve` of
+    // their training-view weight in observed free space; the held-out geometry before and after.
+    std::vector<DepthObservation> obs;
+    std::vector<int> train_ids, test_ids = capture->test_views();
+    cv::Scalar sum;
+    for (size_t t = 0; t < train.size(); ++t) {
+      obs.push_back({&train[t]->camera, &train[t]->pose, prior[t]});
+      sum += cv::mean(train[t]->rgb.load());
+    }
+    train_ids = capture->train_views();
+    const Eigen::Vector3f bg(float(sum[0] / train.size() / 255), float(sum[1] / train.size() / 255),
+                             float(sum[2] / train.size() / 255));
+    const LineOfSightWeights los = line_of_sight_weights(*model, obs, carve_tolerance);
+    std::vector<GaussianModel> carved;
+    for (double carve : carves) {
+      std::vector<size_t> keep;
+      for (size_t i = 0; i < model->size(); ++i)
+        if (!(los.free_space[i] > carve * (los.free_space[i] + los.on_surface[i])))
+          keep.push_back(i);
+      carved.push_back(model->subset(keep));
+    }
+    std::vector<const GaussianModel*> models = {model.get()};
+    for (const GaussianModel& m : carved) models.push_back(&m);
+    for (const GaussianModel* m : models) {
+      const ViewGeometry g = mean_view_geometry(*m, *capture, test_ids, train_ids, bg);
+      const ViewGeometry t = mean_view_geometry(*m, *capture, train_ids, train_ids, bg);
+      std::printf(
+          "%s: %zu Gaussians, floaters %.2f%% (away %.2f%%), holes %.2f%% (covered %.2f%%), "
+          "held-out %.2f dB, train %.2f dB\n",
+          m == model.get() ? "trained" : "carved", m->size(), 100 * g.floaters,
+          100 * g.floaters_away_from_discontinuity, 100 * g.holes, 100 * g.holes_covered, g.psnr,
+          t.psnr);
+    }
   }
   return 0;
 }

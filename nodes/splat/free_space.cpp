@@ -3,8 +3,12 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
 
 #include <tbb/parallel_for.h>
+
+#include "nodes/splat/rasterizer.hpp"
+#include "nodes/splat/render_cache.hpp"
 
 namespace gslift {
 
@@ -48,6 +52,73 @@ std::vector<char> free_space_prune_mask(const FreeSpaceCounts& counts,
   for (size_t i = 0; i < prune.size(); ++i)
     prune[i] = (o.free_space_views > 0 && counts.in_free_space[i] >= o.free_space_views) ||
                (o.min_seen_views > 0 && counts.seen[i] < o.min_seen_views);
+  return prune;
+}
+
+LineOfSightWeights line_of_sight_weights(const GaussianModel& model,
+                                         const std::vector<DepthObservation>& views,
+                                         double tolerance) {
+  const size_t n = model.size();
+  LineOfSightWeights out;
+  out.free_space.assign(n, 0.0);
+  out.on_surface.assign(n, 0.0);
+  RenderSettings weights_only;
+  weights_only.rgb = false;
+  std::vector<float> z(n);
+  for (const DepthObservation& v : views) {
+    const RenderOutput forward = render(model, *v.camera, *v.pose, weights_only);
+    if (forward.width != v.depth.cols || forward.height != v.depth.rows)
+      throw std::invalid_argument("line_of_sight_weights: a depth prior is not the view's size");
+    const RenderCache cache(forward);
+    tbb::parallel_for(size_t(0), n, [&](size_t i) {
+      z[i] = static_cast<float>(
+          v.pose
+              ->to_camera(Eigen::Vector3d(model.means[i * 3], model.means[i * 3 + 1],
+                                          model.means[i * 3 + 2]))
+              .z());
+    });
+    const auto& offsets = cache.pixel_offsets();
+    const auto& ids = cache.ids();
+    const auto& weights = cache.weights();
+    // Fixed bands of rows, each summed into its own pair of vectors and then added in band order:
+    // the same sums at any thread count.
+    const int rows = v.depth.rows, cols = v.depth.cols, band = 32;
+    const int bands = (rows + band - 1) / band;
+    std::vector<LineOfSightWeights> partial(bands);
+    tbb::parallel_for(0, bands, [&](int b) {
+      LineOfSightWeights& part = partial[b];
+      part.free_space.assign(n, 0.0);
+      part.on_surface.assign(n, 0.0);
+      for (int y = b * band; y < std::min(rows, (b + 1) * band); ++y)
+        for (int x = 0; x < cols; ++x) {
+          const float d = v.depth(y, x);
+          if (!(d > 0) || !std::isfinite(d)) continue;
+          const size_t p = static_cast<size_t>(y) * cols + x;
+          for (uint32_t k = offsets[p]; k < offsets[p + 1]; ++k)
+            (z[ids[k]] < (1 - tolerance) * d ? part.free_space : part.on_surface)[ids[k]] +=
+                weights[k];
+        }
+    });
+    for (const LineOfSightWeights& part : partial)
+      for (size_t i = 0; i < n; ++i) {
+        out.free_space[i] += part.free_space[i];
+        out.on_surface[i] += part.on_surface[i];
+      }
+  }
+  return out;
+}
+
+std::vector<char> free_space_prune_mask(const GaussianModel& model,
+                                        const std::vector<DepthObservation>& views,
+                                        const FreeSpacePruneOptions& o) {
+  std::vector<char> prune(model.size(), 0);
+  if (o.free_space_views > 0 || o.min_seen_views > 0)
+    prune = free_space_prune_mask(free_space_counts(model, views, o.tolerance), o);
+  if (o.line_of_sight > 0) {
+    const LineOfSightWeights w = line_of_sight_weights(model, views, o.tolerance);
+    for (size_t i = 0; i < prune.size(); ++i)
+      if (w.free_space[i] > o.line_of_sight * (w.free_space[i] + w.on_surface[i])) prune[i] = 1;
+  }
   return prune;
 }
 

@@ -46,13 +46,36 @@ struct FreeSpacePruneOptions {
   int free_space_views = 0;
   // Prune a Gaussian that fewer than this many training views see.
   int min_seen_views = 0;
-  // Relative depth tolerance of both tests: the depth prior's noise and the Gaussians' extent.
+  // Prune a Gaussian that draws more than this fraction of its training-view weight in observed
+  // free space (line_of_sight_weights below).
+  double line_of_sight = 0;
+  // Relative depth tolerance of every test: the depth prior's noise and the Gaussians' extent.
   double tolerance = 0.1;
-  bool active() const { return free_space_views > 0 || min_seen_views > 0; }
+  bool active() const { return free_space_views > 0 || min_seen_views > 0 || line_of_sight > 0; }
 };
 
-// 1 for the Gaussians the options prune, else 0.
+// 1 for the Gaussians the options' centre rules prune, else 0.
 std::vector<char> free_space_prune_mask(const FreeSpaceCounts& counts,
+                                        const FreeSpacePruneOptions& options);
+
+// Per Gaussian, its blending weight w_i = alpha_i T_i summed over the pixels of the training views
+// that observed a depth D, split by where the Gaussian's camera depth z lies on each pixel's ray:
+// `free_space` where z < (1 - tolerance) D (drawn in space that pixel saw through: the
+// line-of-sight prior of depth-supervised NeRFs), `on_surface` where not. Unlike the centre test
+// above it looks at the whole footprint: an object's Gaussian whose footprint reaches past the
+// object's silhouette onto the wall behind draws there in free space although its centre is on the
+// object. Renders each view once (weights only). Deterministic at any thread count.
+struct LineOfSightWeights {
+  std::vector<double> free_space, on_surface;
+};
+LineOfSightWeights line_of_sight_weights(const GaussianModel& model,
+                                         const std::vector<DepthObservation>& views,
+                                         double tolerance);
+
+// 1 for the Gaussians that any active rule of the options prunes (the centre rules and the
+// line-of-sight rule), else 0; computes only what the active rules need.
+std::vector<char> free_space_prune_mask(const GaussianModel& model,
+                                        const std::vector<DepthObservation>& views,
                                         const FreeSpacePruneOptions& options);
 
 }  // namespace gslift

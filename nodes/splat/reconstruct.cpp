@@ -371,9 +371,7 @@ ReconstructResult reconstruct(const Capture& capture, const ReconstructOptions& 
                                 (step - d.start) % d.interval == 0;
       if (density_step || floater_step) {
         std::vector<char> floaters;
-        if (floater_step)
-          floaters = free_space_prune_mask(
-              free_space_counts(model, observations, options.floaters.tolerance), options.floaters);
+        if (floater_step) floaters = free_space_prune_mask(model, observations, options.floaters);
         result.free_space_pruned += std::count(floaters.begin(), floaters.end(), 1);
         // Outside density rounds no statistics are passed: pruning only, no growth.
         const DensityChange change = densify_and_prune(model, density_step ? stats : DensityStats{},
@@ -494,8 +492,13 @@ const ParamTable<ReconstructOptions>& reconstruct_param_table() {
                          "densification rounds prune Gaussians that fewer training views see; 0 "
                          "= off",
                          0, 255)
+                    .add("prune_line_of_sight", &F::line_of_sight,
+                         "densification rounds prune Gaussians that draw more than this fraction "
+                         "of their training-view weight in front of the depth prior; 0 = off",
+                         0, 1)
                     .add("free_space_tolerance", &F::tolerance,
-                         "relative depth margin of the free-space and seen tests", 0, 1))
+                         "relative depth margin of the free-space, seen and line-of-sight tests", 0,
+                         1))
           .nest(&O::extent_clamp,
                 ParamTable<ExtentClampOptions>()
                     .add("extent_clamp_sigmas", &ExtentClampOptions::sigmas,

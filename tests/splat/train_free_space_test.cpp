@@ -1,5 +1,11 @@
-// Free-space counts against hand-placed Gaussians in front of, on and behind an observed wall.
+// Free-space counts and line-of-sight weights against hand-placed Gaussians in front of, on and
+// behind an observed wall.
+#include <cmath>
+
+#include <tbb/global_control.h>
+
 #include "nodes/splat/free_space.hpp"
+#include "nodes/splat/rasterizer.hpp"
 #include "tests/pinhole.hpp"
 #include "tests/test_support.hpp"
 
@@ -62,4 +68,59 @@ TEST_CASE("free space: a Gaussian in front of the observed wall is in free space
   o.free_space_views = 0;
   o.min_seen_views = 1;
   CHECK(free_space_prune_mask(c, o) == std::vector<char>{0, 0, 1, 1, 0, 0, 1, 1});
+}
+
+TEST_CASE("line of sight: a Gaussian's weight splits by where each pixel observed its surface") {
+  // The left half of the image observes a wall at 4 m, the right half an object at 1 m. Gaussian
+  // 0 (3 m, straddling the two halves) is in front of the wall on the left and behind the object
+  // on the right; Gaussian 1 lies on the wall, Gaussian 2 floats at 2 m in front of it.
+  const Camera cam = test::centred_pinhole(80, 40, 60);
+  const Pose pose;
+  cv::Mat1f depth(cam.height, cam.width, 4.f);
+  depth(cv::Rect(40, 0, 40, 40)) = 1.f;
+  auto at = [&](double u, double v, double z) {
+    return Eigen::Vector3f(float((u - cam.cx) / cam.fx * z), float((v - cam.cy) / cam.fy * z),
+                           float(z));
+  };
+  GaussianModel m = centres({at(40.0, 20.0, 3.0), at(12.0, 20.0, 4.0), at(25.0, 20.0, 2.0)});
+  for (size_t i = 0; i < m.size(); ++i) {
+    // Isotropic, 2-3 pixels across at its depth, opacity 0.8, apart from each other on screen.
+    const double z = m.means[i * 3 + 2];
+    for (int k = 0; k < 3; ++k) m.log_scales[i * 3 + k] = float(std::log(2.5 * z / cam.fx));
+    m.opacity_logits[i] = float(std::log(0.8 / 0.2));
+  }
+  const std::vector<DepthObservation> views = {{&cam, &pose, depth}};
+  const LineOfSightWeights w = line_of_sight_weights(m, views, 0.03);
+
+  // Every weight is counted once: the sum over both parts is the rendered opacity.
+  RenderSettings alpha_only;
+  alpha_only.rgb = false;
+  alpha_only.alpha = true;
+  const RenderOutput out = render(m, cam, pose, alpha_only);
+  double alpha = 0;
+  for (float a : out.alpha) alpha += a;
+  double total = 0;
+  for (size_t i = 0; i < m.size(); ++i) total += w.free_space[i] + w.on_surface[i];
+  CHECK(total == Approx(alpha).epsilon(1e-5));
+
+  // Symmetric footprint across the boundary: half of it in free space.
+  CHECK(w.free_space[0] / (w.free_space[0] + w.on_surface[0]) == Approx(0.5).margin(0.05));
+  CHECK(w.free_space[1] == 0);
+  CHECK(w.on_surface[1] > 1);
+  CHECK(w.on_surface[2] == 0);
+  CHECK(w.free_space[2] > 1);
+
+  FreeSpacePruneOptions o;
+  o.tolerance = 0.03;
+  o.line_of_sight = 0.6;
+  CHECK(o.active());
+  CHECK(free_space_prune_mask(m, views, o) == std::vector<char>{0, 0, 1});
+  o.line_of_sight = 0.4;
+  CHECK(free_space_prune_mask(m, views, o) == std::vector<char>{1, 0, 1});
+
+  // The same sums, bit for bit, on one thread.
+  tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
+  const LineOfSightWeights serial = line_of_sight_weights(m, views, 0.03);
+  CHECK(serial.free_space == w.free_space);
+  CHECK(serial.on_surface == w.on_surface);
 }
