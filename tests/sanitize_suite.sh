@@ -17,10 +17,7 @@ flags="-fsanitize=address,undefined -fno-sanitize=vptr -fno-sanitize-recover=und
 # -g1 -gz: line tables only, compressed. Reports keep their file:line frames, and the build stays
 # near 1.5 GB: with full -g every test executable carried 130-430 MB of debug info, 7.9 GB in all,
 # and CI's disk ran out while assembling (the temporary .s that -pipe now keeps off /tmp).
-# -Wno-(maybe-)uninitialized: at -O1 g++ 12 warns thousands of times inside the AVX-512 intrinsics
-# Eigen inlines (avx512fintrin.h, "__Y is used uninitialized"), which buried the real error in the
-# CI log; the Release build keeps both warnings.
-flags="$flags -fno-omit-frame-pointer -g1 -gz -pipe -O1 -Wno-uninitialized -Wno-maybe-uninitialized"
+flags="$flags -fno-omit-frame-pointer -g1 -gz -pipe -O1"
 # ccache where it is installed (a developer machine), plain compiles where not (CI).
 launcher=()
 command -v ccache >/dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
