@@ -14,8 +14,8 @@ jobs=${2:-2}
 # run; it is in TBB's header, not gslift's code, and a check built as non-recoverable cannot be
 # suppressed at run time. Every other UBSan check stays on.
 flags="-fsanitize=address,undefined -fno-sanitize=vptr -fno-sanitize-recover=undefined"
-# -g1 -gz: line tables only, compressed. Reports keep their file:line frames, and the build stays
-# near 1.5 GB: with full -g every test executable carried 130-430 MB of debug info, 7.9 GB in all,
+# -g1 -gz: line tables only, compressed. Reports keep their file:line frames, and the build takes
+# 2.5 GB: with full -g every test executable carried 130-430 MB of debug info, 7.9 GB in all,
 # and CI's disk ran out while assembling (the temporary .s that -pipe now keeps off /tmp).
 flags="$flags -fno-omit-frame-pointer -g1 -gz -pipe -O1"
 # ccache where it is installed (a developer machine), plain compiles where not (CI).

@@ -162,10 +162,10 @@ int main(int argc, char** argv) {
     const LineOfSightWeights los = line_of_sight_weights(*model, obs, carve_tolerance);
     std::vector<GaussianModel> carved;
     for (double carve : carves) {
+      const std::vector<char> prune = line_of_sight_prune_mask(los, carve);
       std::vector<size_t> keep;
-      for (size_t i = 0; i < model->size(); ++i)
-        if (!(los.free_space[i] > carve * (los.free_space[i] + los.on_surface[i])))
-          keep.push_back(i);
+      for (size_t i = 0; i < prune.size(); ++i)
+        if (!prune[i]) keep.push_back(i);
       carved.push_back(model->subset(keep));
     }
     std::vector<const GaussianModel*> models = {model.get()};

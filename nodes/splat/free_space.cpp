@@ -108,6 +108,13 @@ LineOfSightWeights line_of_sight_weights(const GaussianModel& model,
   return out;
 }
 
+std::vector<char> line_of_sight_prune_mask(const LineOfSightWeights& w, double fraction) {
+  std::vector<char> prune(w.free_space.size(), 0);
+  for (size_t i = 0; i < prune.size(); ++i)
+    prune[i] = w.free_space[i] > fraction * (w.free_space[i] + w.on_surface[i]);
+  return prune;
+}
+
 std::vector<char> free_space_prune_mask(const GaussianModel& model,
                                         const std::vector<DepthObservation>& views,
                                         const FreeSpacePruneOptions& o) {
@@ -115,9 +122,9 @@ std::vector<char> free_space_prune_mask(const GaussianModel& model,
   if (o.free_space_views > 0 || o.min_seen_views > 0)
     prune = free_space_prune_mask(free_space_counts(model, views, o.tolerance), o);
   if (o.line_of_sight > 0) {
-    const LineOfSightWeights w = line_of_sight_weights(model, views, o.tolerance);
-    for (size_t i = 0; i < prune.size(); ++i)
-      if (w.free_space[i] > o.line_of_sight * (w.free_space[i] + w.on_surface[i])) prune[i] = 1;
+    const std::vector<char> los =
+        line_of_sight_prune_mask(line_of_sight_weights(model, views, o.tolerance), o.line_of_sight);
+    for (size_t i = 0; i < prune.size(); ++i) prune[i] = prune[i] || los[i];
   }
   return prune;
 }

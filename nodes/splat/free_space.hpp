@@ -72,6 +72,9 @@ LineOfSightWeights line_of_sight_weights(const GaussianModel& model,
                                          const std::vector<DepthObservation>& views,
                                          double tolerance);
 
+// 1 for the Gaussians whose free-space weight exceeds `fraction` of their weight, else 0.
+std::vector<char> line_of_sight_prune_mask(const LineOfSightWeights& weights, double fraction);
+
 // 1 for the Gaussians that any active rule of the options prunes (the centre rules and the
 // line-of-sight rule), else 0; computes only what the active rules need.
 std::vector<char> free_space_prune_mask(const GaussianModel& model,

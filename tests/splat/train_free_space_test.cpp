@@ -110,6 +110,7 @@ TEST_CASE("line of sight: a Gaussian's weight splits by where each pixel observe
   CHECK(w.on_surface[2] == 0);
   CHECK(w.free_space[2] > 1);
 
+  CHECK(line_of_sight_prune_mask(w, 0.6) == std::vector<char>{0, 0, 1});
   FreeSpacePruneOptions o;
   o.tolerance = 0.03;
   o.line_of_sight = 0.6;
