@@ -115,18 +115,30 @@ std::vector<char> line_of_sight_prune_mask(const LineOfSightWeights& w, double f
   return prune;
 }
 
-std::vector<char> free_space_prune_mask(const GaussianModel& model,
-                                        const std::vector<DepthObservation>& views,
-                                        const FreeSpacePruneOptions& o) {
+std::vector<char> FreeSpacePruner::prune_mask(const GaussianModel& model,
+                                              const std::vector<DepthObservation>& views) {
+  const FreeSpacePruneOptions& o = options_;
   std::vector<char> prune(model.size(), 0);
   if (o.free_space_views > 0 || o.min_seen_views > 0)
     prune = free_space_prune_mask(free_space_counts(model, views, o.tolerance), o);
   if (o.line_of_sight > 0) {
     const std::vector<char> los =
         line_of_sight_prune_mask(line_of_sight_weights(model, views, o.tolerance), o.line_of_sight);
-    for (size_t i = 0; i < prune.size(); ++i) prune[i] = prune[i] || los[i];
+    streak_.resize(model.size(), 0);
+    for (size_t i = 0; i < prune.size(); ++i) {
+      streak_[i] = los[i] ? static_cast<uint8_t>(std::min(streak_[i] + 1, 255)) : 0;
+      prune[i] = prune[i] || streak_[i] >= o.line_of_sight_rounds;
+    }
   }
   return prune;
+}
+
+void FreeSpacePruner::remap(const std::vector<int>& source) {
+  if (streak_.empty()) return;
+  std::vector<uint8_t> next(source.size(), 0);
+  for (size_t i = 0; i < source.size(); ++i)
+    if (source[i] >= 0) next[i] = streak_[source[i]];
+  streak_ = std::move(next);
 }
 
 }  // namespace gslift

@@ -49,6 +49,10 @@ struct FreeSpacePruneOptions {
   // Prune a Gaussian that draws more than this fraction of its training-view weight in observed
   // free space (line_of_sight_weights below).
   double line_of_sight = 0;
+  // The line-of-sight rule prunes only a Gaussian that violates it in this many pruning rounds
+  // running (1: at once). A Gaussian on its way to its surface crosses free space for a round or
+  // two of a short run; a floater stays there (FreeSpacePruner).
+  int line_of_sight_rounds = 1;
   // Relative depth tolerance of every test: the depth prior's noise and the Gaussians' extent.
   double tolerance = 0.1;
   bool active() const { return free_space_views > 0 || min_seen_views > 0 || line_of_sight > 0; }
@@ -75,10 +79,26 @@ LineOfSightWeights line_of_sight_weights(const GaussianModel& model,
 // 1 for the Gaussians whose free-space weight exceeds `fraction` of their weight, else 0.
 std::vector<char> line_of_sight_prune_mask(const LineOfSightWeights& weights, double fraction);
 
-// 1 for the Gaussians that any active rule of the options prunes (the centre rules and the
-// line-of-sight rule), else 0; computes only what the active rules need.
-std::vector<char> free_space_prune_mask(const GaussianModel& model,
-                                        const std::vector<DepthObservation>& views,
-                                        const FreeSpacePruneOptions& options);
+// The rules above over a run's pruning rounds. The line-of-sight rule's streaks (the rounds
+// running in which each Gaussian violated it) live here and follow the model's rows through
+// density control.
+class FreeSpacePruner {
+ public:
+  explicit FreeSpacePruner(const FreeSpacePruneOptions& options) : options_(options) {}
+
+  // One pruning round: 1 for the Gaussians that an active centre rule prunes or that have now
+  // violated the line-of-sight rule `line_of_sight_rounds` rounds running, else 0. Computes only
+  // what the active rules need.
+  std::vector<char> prune_mask(const GaussianModel& model,
+                               const std::vector<DepthObservation>& views);
+
+  // After a density round: row i came from old row source[i]; -1 (a new Gaussian: a clone or a
+  // split child) starts without a streak.
+  void remap(const std::vector<int>& source);
+
+ private:
+  FreeSpacePruneOptions options_;
+  std::vector<uint8_t> streak_;
+};
 
 }  // namespace gslift

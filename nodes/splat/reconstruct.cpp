@@ -227,6 +227,7 @@ ReconstructResult reconstruct(const Capture& capture, const ReconstructOptions& 
   result.pseudo_views = pseudo.size();
 
   DensityStats stats;
+  FreeSpacePruner pruner(options.floaters);
   ModelGrads grads;
   std::vector<float> flatness_grad, opacity_grad, anisotropy_grad, edge_grad;
   RandomStream background_rng(stream_seed(options.seed, "reconstruct.background"));
@@ -371,13 +372,14 @@ ReconstructResult reconstruct(const Capture& capture, const ReconstructOptions& 
                                 (step - d.start) % d.interval == 0;
       if (density_step || floater_step) {
         std::vector<char> floaters;
-        if (floater_step) floaters = free_space_prune_mask(model, observations, options.floaters);
+        if (floater_step) floaters = pruner.prune_mask(model, observations);
         result.free_space_pruned += std::count(floaters.begin(), floaters.end(), 1);
         // Outside density rounds no statistics are passed: pruning only, no growth.
         const DensityChange change = densify_and_prune(model, density_step ? stats : DensityStats{},
                                                        d, extent, options.seed + step, floaters);
         result.growth_refused += change.refused;
         adam.remap(change.source);
+        pruner.remap(change.source);
         if (density_step)
           stats.clear();
         else
@@ -496,6 +498,10 @@ const ParamTable<ReconstructOptions>& reconstruct_param_table() {
                          "densification rounds prune Gaussians that draw more than this fraction "
                          "of their training-view weight in front of the depth prior; 0 = off",
                          0, 1)
+                    .add("line_of_sight_rounds", &F::line_of_sight_rounds,
+                         "prune_line_of_sight prunes only Gaussians that violate it in this many "
+                         "pruning rounds running",
+                         1, 255)
                     .add("free_space_tolerance", &F::tolerance,
                          "relative depth margin of the free-space, seen and line-of-sight tests", 0,
                          1))

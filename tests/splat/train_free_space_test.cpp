@@ -115,9 +115,27 @@ TEST_CASE("line of sight: a Gaussian's weight splits by where each pixel observe
   o.tolerance = 0.03;
   o.line_of_sight = 0.6;
   CHECK(o.active());
-  CHECK(free_space_prune_mask(m, views, o) == std::vector<char>{0, 0, 1});
+  CHECK(FreeSpacePruner(o).prune_mask(m, views) == std::vector<char>{0, 0, 1});
   o.line_of_sight = 0.4;
-  CHECK(free_space_prune_mask(m, views, o) == std::vector<char>{1, 0, 1});
+  CHECK(FreeSpacePruner(o).prune_mask(m, views) == std::vector<char>{1, 0, 1});
+
+  // Two rounds running: nothing in the first round; in the second the floater (2) and the
+  // straddling Gaussian (0) go. A density round in between that keeps 2 but turns row 0 into a
+  // new Gaussian (a split child, source -1) restarts 0's streak, and 1 (on the wall) never counts.
+  o.line_of_sight_rounds = 2;
+  FreeSpacePruner pruner(o);
+  CHECK(pruner.prune_mask(m, views) == std::vector<char>{0, 0, 0});
+  CHECK(pruner.prune_mask(m, views) == std::vector<char>{1, 0, 1});
+  FreeSpacePruner remapped(o);
+  CHECK(remapped.prune_mask(m, views) == std::vector<char>{0, 0, 0});
+  remapped.remap({-1, 1, 2});
+  CHECK(remapped.prune_mask(m, views) == std::vector<char>{0, 0, 1});
+  CHECK(remapped.prune_mask(m, views) == std::vector<char>{1, 0, 1});
+  // Rows reordered and one dropped: streaks follow their Gaussians (new row 0 is old 2).
+  FreeSpacePruner reordered(o);
+  reordered.prune_mask(m, views);
+  reordered.remap({2, 1});
+  CHECK(reordered.prune_mask(m.subset({2, 1}), views) == std::vector<char>{1, 0});
 
   // The same sums, bit for bit, on one thread.
   tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
