@@ -9,15 +9,23 @@
 // one that only sits on or behind observed surfaces cannot.
 //
 //   floater_origins GRAPH [--input CAPTURE] [--set NODE.P=V]... [--margin M]
-//                   [--carve F]... [--carve-tolerance T]
+//                   [--carve F]... [--carve-tolerance T] [--picture PREFIX] [--model-node ID]
+//
+// --picture PREFIX writes PREFIX<view>.png per held-out view: its ground-truth depth in grey with
+// each floater pixel coloured by where the point it draws lies (red: in some training view's
+// free space, yellow: on an observed surface, magenta: hidden behind observed surfaces only,
+// cyan: outside every training view), to see which objects each kind belongs to.
 //
 // --carve F prunes the trained model after the fact by the line-of-sight rule (free_space.hpp:
 // more than F of a Gaussian's training-view weight drawn over 1 - T of the prior depth, T default
 // 0.03) and prints the held-out floaters, holes and PSNR and the training PSNR before and after,
 // once per F: what pruning alone does, without the steps that let the model heal.
 //
-// GRAPH has a node `capture` (ingest.capture) and a node `model` whose output `model` is the
-// reconstruction (splat.load of a run's recon/model.ply, or splat.reconstruct).
+// GRAPH has a node `capture` (ingest.capture) and a node (`model`, or --model-node ID) whose output
+// `model` is the reconstruction (splat.load of a run's recon/model.ply, or splat.reconstruct). A
+// node's RNG seed depends on its id (runtime/node_seed.hpp): name it `recon` to reproduce the
+// reconstruction of graphs/langor.yaml.
+#include <algorithm>
 #include <cstdio>
 #include <iostream>
 #include <map>
@@ -25,6 +33,7 @@
 #include <vector>
 
 #include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
 
 #include "graph/loader.hpp"
 #include "nodes/builtin.hpp"
@@ -41,7 +50,7 @@ using namespace gslift;
 int main(int argc, char** argv) {
   if (argc < 2) {
     std::cerr << "usage: floater_origins GRAPH [--input CAPTURE] [--set NODE.P=V]... [--margin M] "
-                 "[--carve F]... [--carve-tolerance T]\n";
+                 "[--carve F]... [--carve-tolerance T] [--picture PREFIX] [--model-node ID]\n";
     return 2;
   }
   Registry registry;
@@ -51,6 +60,7 @@ int main(int argc, char** argv) {
   double margin = 0.1;
   std::vector<double> carves;  // --carve may repeat
   double carve_tolerance = 0.03;
+  std::string picture, model_node = "model";
   for (int i = 2; i + 1 < argc; i += 2) {
     const std::string a = argv[i];
     if (a == "--set") load.sets.push_back(argv[i + 1]);
@@ -58,6 +68,8 @@ int main(int argc, char** argv) {
     if (a == "--margin") margin = std::stod(argv[i + 1]);
     if (a == "--carve") carves.push_back(std::stod(argv[i + 1]));
     if (a == "--carve-tolerance") carve_tolerance = std::stod(argv[i + 1]);
+    if (a == "--picture") picture = argv[i + 1];
+    if (a == "--model-node") model_node = argv[i + 1];
   }
   const LoadResult g = load_graph(argv[1], registry, load);
   if (!g.ok()) {
@@ -70,7 +82,7 @@ int main(int argc, char** argv) {
     return 1;
   }
   const auto capture = run.values.at("capture.capture").get<Capture>();
-  const auto model = run.values.at("model.model").get<GaussianModel>();
+  const auto model = run.values.at(model_node + ".model").get<GaussianModel>();
   std::vector<const View*> train;
   std::vector<cv::Mat1f> prior;
   for (const View& v : capture->views)
@@ -110,6 +122,20 @@ int main(int argc, char** argv) {
     std::map<std::string, int> origin, drawn;  // by the Gaussian's centre; by the drawn point
     std::map<int, int> gaussians;              // floater Gaussian -> pixels it sets
     int surface = 0, floaters = 0;
+    double far = 0;
+    cv::minMaxLoc(gt, nullptr, &far);
+    cv::Mat3b canvas(gt.size());
+    for (int y = 0; y < gt.rows; ++y)
+      for (int x = 0; x < gt.cols; ++x) {
+        const auto g =
+            static_cast<uchar>(std::clamp(40 + 200 * gt(y, x) / std::max(far, 1e-6), 0.0, 255.0));
+        canvas(y, x) = cv::Vec3b(g, g, g);
+      }
+    const std::map<std::string, cv::Vec3b> colour = {
+        {"in free space of some training view", {0, 0, 255}},
+        {"on an observed surface (none sees it free)", {0, 255, 255}},
+        {"hidden behind observed surfaces only", {255, 0, 255}},
+        {"outside every training view", {255, 255, 0}}};
     for (int y = 0; y < gt.rows; ++y)
       for (int x = 0; x < gt.cols; ++x) {
         const float truth = gt(y, x);
@@ -134,8 +160,11 @@ int main(int argc, char** argv) {
         // The point the pixel draws: on its ray, at the median depth.
         const Eigen::Vector3d ray((x + 0.5 - view.camera.cx) / view.camera.fx,
                                   (y + 0.5 - view.camera.cy) / view.camera.fy, 1.0);
-        ++drawn[classify(view.pose.R.transpose() * (z * ray - view.pose.t))];
+        const std::string kind = classify(view.pose.R.transpose() * (z * ray - view.pose.t));
+        ++drawn[kind];
+        canvas(y, x) = colour.at(kind);
       }
+    if (!picture.empty()) cv::imwrite(picture + view.name + ".png", canvas);
     std::printf("%s: %d floater pixels (%.2f%% of %d surface pixels), set by %zu Gaussians\n",
                 view.name.c_str(), floaters, 100.0 * floaters / std::max(surface, 1), surface,
                 gaussians.size());
