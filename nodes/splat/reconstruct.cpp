@@ -12,6 +12,7 @@
 #include "base/errors.hpp"
 #include "base/random.hpp"
 #include "nodes/splat/depth_normals.hpp"
+#include "nodes/splat/line_of_sight_loss.hpp"
 #include "nodes/splat/losses.hpp"
 #include "nodes/splat/rasterizer.hpp"
 
@@ -289,6 +290,14 @@ ReconstructResult reconstruct(const Capture& capture, const ReconstructOptions& 
     clock.charge(phases.losses);
     grads.reset(model);
     render_backward(model, target.camera, view.pose, settings, out, rgrads, grads);
+    if (options.line_of_sight_weight > 0 && !target.depth.empty() &&
+        step % std::max(options.line_of_sight_every, 1) == 0) {
+      clock.charge(phases.backward);
+      loss.line_of_sight =
+          line_of_sight_loss(model, target.camera, view.pose, target.depth, out,
+                             options.floaters.tolerance, options.line_of_sight_weight, &grads);
+      clock.charge(phases.losses);
+    }
     if (!pseudo.empty() && step % std::max(options.pseudo_every, 1) == 0) {
       const PseudoView& p = pseudo[(step / std::max(options.pseudo_every, 1)) % pseudo.size()];
       RenderSettings ps = settings;
@@ -339,6 +348,7 @@ ReconstructResult reconstruct(const Capture& capture, const ReconstructOptions& 
                  options.opacity_entropy_weight * loss.opacity_entropy +
                  options.anisotropy_weight * loss.anisotropy +
                  options.edge_extent_weight * loss.edge_extent +
+                 options.line_of_sight_weight * loss.line_of_sight +
                  options.pseudo_weight * loss.pseudo;
     if (objective) loss.total += objective->weight * loss.features;
     clock.charge(phases.losses);
@@ -472,6 +482,12 @@ const ParamTable<ReconstructOptions>& reconstruct_param_table() {
                "penalty on the extent along a training view's ray of Gaussians on the near side "
                "of its depth prior's discontinuities (silhouette overhangs); 0 = off",
                0)
+          .add("line_of_sight_weight", &O::line_of_sight_weight,
+               "weight of the opacity training pixels accumulate in front of their depth prior "
+               "(by free_space_tolerance); 0 = off",
+               0)
+          .add("line_of_sight_every", &O::line_of_sight_every,
+               "the line-of-sight loss joins every this many steps", 1)
           .add("coarse_fraction", &O::coarse_fraction,
                "fraction of the steps trained at half resolution first; 0 = off", 0, 1)
           .add("densify", &O::densify, "clone/split/prune on the compressed schedule")

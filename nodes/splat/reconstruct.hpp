@@ -78,6 +78,11 @@ struct ReconstructOptions {
   // Extent along the training rays of Gaussians on the near side of a depth-prior discontinuity
   // (depth_edge_extent.hpp), in metres per Gaussian; 0 = off.
   double edge_extent_weight = 0;
+  // Line-of-sight loss (line_of_sight_loss.hpp): the opacity each training pixel accumulates more
+  // than floaters.tolerance in front of its depth prior, averaged over the pixels with a prior,
+  // on the step's own view every line_of_sight_every-th step. 0 = off.
+  double line_of_sight_weight = 0;
+  int line_of_sight_every = 1;
   // Depth-warped pseudo-views (pseudo_views.hpp): every pseudo_every-th step also renders one of
   // the half-resolution views between two training cameras (in turn) and adds pseudo_weight x
   // (masked L1 + depth_weight x depth log-L1) against the warped training images. 0 = off.
@@ -116,7 +121,7 @@ const ParamTable<ReconstructOptions>& reconstruct_param_table();
 // Mean of each loss term over the last 10% of the steps (at least one step).
 struct LossSummary {
   double total = 0, photometric = 0, depth = 0, normal = 0, flatness = 0, opacity_entropy = 0,
-         anisotropy = 0, edge_extent = 0, pseudo = 0;
+         anisotropy = 0, edge_extent = 0, pseudo = 0, line_of_sight = 0;
   double features = 0;  // the FeatureObjective's loss (unweighted); 0 without one
 };
 

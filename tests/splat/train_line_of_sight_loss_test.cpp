@@ -1,0 +1,138 @@
+// The line-of-sight loss against hand-placed Gaussians in front of, straddling and on an observed
+// wall: its value from the rendered opacity, zero behind the surface, its gradient against finite
+// differences, and the same sums on one thread.
+#include <cmath>
+
+#include <tbb/global_control.h>
+
+#include "nodes/splat/line_of_sight_loss.hpp"
+#include "tests/pinhole.hpp"
+#include "tests/test_support.hpp"
+
+using namespace gslift;
+
+namespace {
+
+// A 40x30 camera (focal 40) at the origin looking down +z; its prior observes a wall at 4 m on the
+// left (columns 0-19) and an object at 1.5 m on the right; the top-left 4x4 pixels have no prior.
+struct Scene {
+  Camera cam = test::centred_pinhole(40, 30, 40);
+  Pose pose;
+  cv::Mat1f depth;
+  Scene() : depth(30, 40, 4.f) {
+    depth(cv::Rect(20, 0, 20, 30)) = 1.5f;
+    depth(cv::Rect(0, 0, 4, 4)) = 0.f;
+  }
+  // Every contribution counted (min_alpha 0), so small changes never move one in or out.
+  RenderOutput forward(const GaussianModel& m) const {
+    RenderSettings s;
+    s.rgb = false;
+    s.alpha = true;
+    s.min_alpha = 0;
+    return render(m, cam, pose, s);
+  }
+  double loss(const GaussianModel& m, ModelGrads* grads = nullptr) const {
+    return line_of_sight_loss(m, cam, pose, depth, forward(m), 0.03, 1.0, grads);
+  }
+  // Gaussian i centred on pixel (u, v) at depth z, isotropic scale s, opacity o.
+  void place(GaussianModel& m, int i, double u, double v, double z, double s, double o) const {
+    m.means[i * 3] = float((u - cam.cx) / cam.fx * z);
+    m.means[i * 3 + 1] = float((v - cam.cy) / cam.fy * z);
+    m.means[i * 3 + 2] = float(z);
+    for (int k = 0; k < 3; ++k) m.log_scales[i * 3 + k] = float(std::log(s));
+    m.quats[i * 4] = 1.f;
+    m.opacity_logits[i] = float(std::log(o / (1 - o)));
+  }
+};
+
+}  // namespace
+
+TEST_CASE("line-of-sight loss: the opacity drawn in front of the observed surface",
+          "[splat][geometry]") {
+  const Scene scene;
+  const double observed = 40 * 30 - 16;
+
+  // One Gaussian at 2 m in front of the wall, well inside the left half: every pixel with a prior
+  // sees it in free space, so the loss is its rendered opacity over those pixels / their count.
+  GaussianModel one;
+  one.resize(1);
+  scene.place(one, 0, 10.5, 15.5, 2.0, 0.08, 0.7);
+  RenderSettings alpha_only;
+  alpha_only.rgb = false;
+  alpha_only.alpha = true;
+  alpha_only.min_alpha = 0;
+  const RenderOutput out = render(one, scene.cam, scene.pose, alpha_only);
+  double drawn = 0;
+  for (int y = 0; y < 30; ++y)
+    for (int x = 0; x < 40; ++x)
+      if (scene.depth(y, x) > 0) drawn += out.alpha[size_t(y) * 40 + x];
+  CHECK(drawn > 1);
+  CHECK(scene.loss(one) == Approx(drawn / observed).epsilon(1e-4));
+
+  // The same Gaussian on the wall (4 m, inside the 3% margin) or behind the object: nothing.
+  GaussianModel on_wall = one;
+  scene.place(on_wall, 0, 10.5, 15.5, 3.95, 0.16, 0.7);
+  ModelGrads none;
+  none.reset(on_wall);
+  CHECK(scene.loss(on_wall, &none) == 0);
+  CHECK(none.means == std::vector<float>(3, 0.f));
+  CHECK(none.opacity_logits == std::vector<float>(1, 0.f));
+}
+
+TEST_CASE("line-of-sight loss: gradient against central differences", "[splat][geometry]") {
+  const Scene scene;
+  GaussianModel m;
+  m.resize(4);
+  scene.place(m, 0, 10.3, 14.8, 2.0, 0.12, 0.6);  // in front of the wall
+  scene.place(m, 1, 19.6, 15.2, 3.0, 0.1,
+              0.5);  // straddles: in front of the wall, behind the object
+  scene.place(m, 2, 8.7, 9.4, 3.99, 0.2, 0.8);    // on the wall, behind Gaussian 0
+  scene.place(m, 3, 29.5, 20.1, 1.0, 0.03, 0.4);  // in front of the object
+  // Anisotropic and rotated, so that every quaternion and scale component has a gradient.
+  const float scales1[] = {0.15f, 0.06f, 0.1f};
+  for (int k = 0; k < 3; ++k) m.log_scales[3 + k] = std::log(scales1[k]);
+  const Eigen::Quaternionf q =
+      Eigen::Quaternionf(Eigen::AngleAxisf(0.6f, Eigen::Vector3f(0.3f, 0.2f, 1.f).normalized()));
+  m.quats[4] = q.w(), m.quats[5] = q.x(), m.quats[6] = q.y(), m.quats[7] = q.z();
+  m.quats[0] = 0.9f, m.quats[1] = 0.2f, m.quats[2] = -0.1f, m.quats[3] = 0.3f;
+  m.log_scales[0] = std::log(0.05f);  // Gaussian 0 flat along x
+
+  ModelGrads g;
+  g.reset(m);
+  const double loss = scene.loss(m, &g);
+  CHECK(loss > 1e-3);
+  // The Gaussian on the wall is never in front: no gradient at all.
+  for (int k = 6; k < 9; ++k) CHECK(g.means[k] == 0.f);
+  CHECK(g.opacity_logits[2] == 0.f);
+  // More opacity in front of the surface costs more.
+  CHECK(g.opacity_logits[0] > 0);
+
+  const auto check = [&](std::vector<float> GaussianModel::*param,
+                         std::vector<float> ModelGrads::*grad, const char* name, double eps) {
+    for (size_t k = 0; k < (m.*param).size(); ++k) {
+      GaussianModel up = m, down = m;
+      (up.*param)[k] += float(eps);
+      (down.*param)[k] -= float(eps);
+      const double fd = (scene.loss(up) - scene.loss(down)) / (2 * eps);
+      INFO(name << "[" << k << "]: analytic " << (g.*grad)[k] << ", central difference " << fd);
+      CHECK((g.*grad)[k] == Approx(fd).margin(2e-5).epsilon(0.03));
+    }
+  };
+  check(&GaussianModel::means, &ModelGrads::means, "means", 1e-3);
+  check(&GaussianModel::log_scales, &ModelGrads::log_scales, "log_scales", 1e-3);
+  check(&GaussianModel::quats, &ModelGrads::quats, "quats", 1e-3);
+  check(&GaussianModel::opacity_logits, &ModelGrads::opacity_logits, "opacity_logits", 1e-3);
+
+  // Scaled: the gradient scales, the value does not; the same sums, bit for bit, on one thread.
+  ModelGrads twice;
+  twice.reset(m);
+  CHECK(line_of_sight_loss(m, scene.cam, scene.pose, scene.depth, scene.forward(m), 0.03, 2.0,
+                           &twice) == loss);
+  for (size_t k = 0; k < g.means.size(); ++k) CHECK(twice.means[k] == Approx(2 * g.means[k]));
+  tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
+  ModelGrads serial;
+  serial.reset(m);
+  CHECK(scene.loss(m, &serial) == loss);
+  CHECK(serial.means == g.means);
+  CHECK(serial.log_scales == g.log_scales);
+}
