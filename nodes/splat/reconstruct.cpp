@@ -291,6 +291,7 @@ ReconstructResult reconstruct(const Capture& capture, const ReconstructOptions& 
     grads.reset(model);
     render_backward(model, target.camera, view.pose, settings, out, rgrads, grads);
     if (options.line_of_sight_weight > 0 && !target.depth.empty() &&
+        step >= options.line_of_sight_start * options.iterations &&
         step % std::max(options.line_of_sight_every, 1) == 0) {
       clock.charge(phases.backward);
       loss.line_of_sight =
@@ -429,6 +430,7 @@ ReconstructResult reconstruct(const Capture& capture, const ReconstructOptions& 
     result.final_loss.opacity_entropy += history[i].opacity_entropy / tail;
     result.final_loss.anisotropy += history[i].anisotropy / tail;
     result.final_loss.edge_extent += history[i].edge_extent / tail;
+    result.final_loss.line_of_sight += history[i].line_of_sight / tail;
     result.final_loss.pseudo += history[i].pseudo / tail;
     result.final_loss.features += history[i].features / tail;
   }
@@ -488,6 +490,8 @@ const ParamTable<ReconstructOptions>& reconstruct_param_table() {
                0)
           .add("line_of_sight_every", &O::line_of_sight_every,
                "the line-of-sight loss joins every this many steps", 1)
+          .add("line_of_sight_start", &O::line_of_sight_start,
+               "fraction of the steps before the line-of-sight loss joins", 0, 1)
           .add("coarse_fraction", &O::coarse_fraction,
                "fraction of the steps trained at half resolution first; 0 = off", 0, 1)
           .add("densify", &O::densify, "clone/split/prune on the compressed schedule")

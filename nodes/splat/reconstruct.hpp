@@ -80,9 +80,11 @@ struct ReconstructOptions {
   double edge_extent_weight = 0;
   // Line-of-sight loss (line_of_sight_loss.hpp): the opacity each training pixel accumulates more
   // than floaters.tolerance in front of its depth prior, averaged over the pixels with a prior,
-  // on the step's own view every line_of_sight_every-th step. 0 = off.
+  // on the step's own view every line_of_sight_every-th step from the first line_of_sight_start
+  // fraction of the steps on. 0 = off.
   double line_of_sight_weight = 0;
   int line_of_sight_every = 1;
+  double line_of_sight_start = 0;
   // Depth-warped pseudo-views (pseudo_views.hpp): every pseudo_every-th step also renders one of
   // the half-resolution views between two training cameras (in turn) and adds pseudo_weight x
   // (masked L1 + depth_weight x depth log-L1) against the warped training images. 0 = off.

@@ -4,8 +4,10 @@
 // (09:05); about 12 s on a quiet 2-core machine. 14:10: 40.7 / 72.7 / 47.9 with label-aware box
 // clustering and HDBSCAN min_samples 3 (the previous defaults give 44.2 / 81.8 / 51.4 at this
 // reduced setting and seed; at the default setting the new ones gain 9.3 mIoU over seeds 0-4,
-// docs/langor.md). The floors keep a margin of 10 points or more below the lower measurement:
-// they catch a broken stage, not a small regression.
+// docs/langor.md). 2026-11-25 with the line-of-sight prior (recon's second half and two-round
+// pruning): 48.4 / 90.9 / 55.2 (38.2 / 90.9 / 44.6 with the pruning alone; 33.2 / 72.7 / 37.2
+// with the loss from step 0). The floors keep a margin of 10 points or more below the lower
+// measurement: they catch a broken stage, not a small regression.
 #include "nodes/builtin.hpp"
 #include "runtime/executor.hpp"
 #include "tests/test_support.hpp"

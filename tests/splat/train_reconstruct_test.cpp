@@ -5,6 +5,7 @@
 #include <tbb/global_control.h>
 
 #include "nodes/ingest/capture_loader.hpp"
+#include "nodes/splat/line_of_sight_loss.hpp"
 #include "nodes/splat/reconstruct.hpp"
 #include "tests/splat/train_scene.hpp"
 #include "tests/test_support.hpp"
@@ -147,4 +148,42 @@ TEST_CASE("PSNR is taken over the background the model was trained on") {
   const GaussianModel empty;
   CHECK(std::isinf(mean_psnr(empty, capture, {0}, Eigen::Vector3f::Ones())));
   CHECK(mean_psnr(empty, capture, {0}) == Approx(0.0).margin(1e-9));
+}
+
+TEST_CASE("the line-of-sight loss lowers the opacity drawn in front of the depth priors") {
+  const Capture capture = rendered_capture();
+  ReconstructOptions o = tiny_options();
+  o.iterations = 150;
+  o.floaters.tolerance = 0.03;
+  // The loss over the training views of a trained model, as the loss defines it.
+  const auto in_front = [&](const GaussianModel& m) {
+    double sum = 0;
+    for (const View& v : capture.views) {
+      if (v.held_out) continue;
+      const RenderOutput forward = render(m, v.camera, v.pose, RenderSettings());
+      sum += line_of_sight_loss(m, v.camera, v.pose, v.depth.load(), forward, 0.03);
+    }
+    return sum;
+  };
+  const ReconstructResult off = reconstruct(capture, o);
+  o.line_of_sight_weight = 0.6;
+  ReconstructResult on;
+  {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 1);
+    on = reconstruct(capture, o);
+  }
+  INFO("in front of the priors: " << in_front(off.model) << " without the loss, "
+                                  << in_front(on.model) << " with it; train PSNR " << off.train_psnr
+                                  << " / " << on.train_psnr);
+  CHECK(off.final_loss.line_of_sight == 0);
+  CHECK(on.final_loss.line_of_sight > 0);
+  CHECK(in_front(on.model) < 0.7 * in_front(off.model));
+  // The scene is made of Gaussians whose fronts lie in front of the prior (the blended depth)
+  // by more than the 3% margin: the loss trims what the images show, measured 31.8 -> 29.3 dB.
+  CHECK(on.train_psnr > 27.0);
+  // Deterministic at any thread count with the loss on too.
+  tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 2);
+  const ReconstructResult again = reconstruct(capture, o);
+  CHECK(again.model.means == on.model.means);
+  CHECK(again.loss_history == on.loss_history);
 }
