@@ -290,16 +290,18 @@ ReconstructResult reconstruct(const Capture& capture, const ReconstructOptions& 
     clock.charge(phases.losses);
     grads.reset(model);
     render_backward(model, target.camera, view.pose, settings, out, rgrads, grads);
-    if (options.line_of_sight_weight > 0 && !target.depth.empty() &&
-        step >= options.line_of_sight_start * options.iterations &&
-        step % std::max(options.line_of_sight_every, 1) == 0) {
+    const bool line_of_sight_step = options.line_of_sight_weight > 0 &&
+                                    step >= options.line_of_sight_start * options.iterations &&
+                                    step % std::max(options.line_of_sight_every, 1) == 0;
+    if (line_of_sight_step && !target.depth.empty()) {
       clock.charge(phases.backward);
       loss.line_of_sight =
           line_of_sight_loss(model, target.camera, view.pose, target.depth, out,
                              options.floaters.tolerance, options.line_of_sight_weight, &grads);
       clock.charge(phases.losses);
     }
-    if (!pseudo.empty() && step % std::max(options.pseudo_every, 1) == 0) {
+    if (!pseudo.empty() && step >= options.pseudo_start * options.iterations &&
+        step % std::max(options.pseudo_every, 1) == 0) {
       const PseudoView& p = pseudo[(step / std::max(options.pseudo_every, 1)) % pseudo.size()];
       RenderSettings ps = settings;
       ps.depth = options.depth_weight > 0;
@@ -319,6 +321,13 @@ ReconstructResult reconstruct(const Capture& capture, const ReconstructOptions& 
       }
       clock.charge(phases.losses);
       render_backward(model, p.camera, p.pose, ps, po, pg, grads);
+      if (line_of_sight_step) {
+        clock.charge(phases.backward);
+        loss.line_of_sight +=
+            line_of_sight_loss(model, p.camera, p.pose, p.depth, po, options.floaters.tolerance,
+                               options.line_of_sight_weight, &grads);
+        clock.charge(phases.losses);
+      }
     }
     clock.charge(phases.backward);
     if (options.scale_weight > 0) {
@@ -499,6 +508,8 @@ const ParamTable<ReconstructOptions>& reconstruct_param_table() {
                "weight of the depth-warped pseudo-views between training cameras; 0 = off", 0)
           .add("pseudo_every", &O::pseudo_every, "a pseudo-view joins every this many steps", 1,
                1000)
+          .add("pseudo_start", &O::pseudo_start,
+               "fraction of the steps before the pseudo-views join", 0, 1)
           .nest(&O::density,
                 ParamTable<D>()
                     .add("max_gaussians", &D::max_gaussians, "Gaussian budget for densification", 1)

@@ -81,7 +81,8 @@ struct ReconstructOptions {
   // Line-of-sight loss (line_of_sight_loss.hpp): the opacity each training pixel accumulates more
   // than floaters.tolerance in front of its depth prior, averaged over the pixels with a prior,
   // on the step's own view every line_of_sight_every-th step from the first line_of_sight_start
-  // fraction of the steps on. 0 = off.
+  // fraction of the steps on, and on the step's pseudo-view when there is one (its warped depth
+  // is an observation of the same kind). 0 = off.
   double line_of_sight_weight = 0;
   int line_of_sight_every = 1;
   double line_of_sight_start = 0;
@@ -90,6 +91,7 @@ struct ReconstructOptions {
   // (masked L1 + depth_weight x depth log-L1) against the warped training images. 0 = off.
   double pseudo_weight = 0;
   int pseudo_every = 4;
+  double pseudo_start = 0;        // fraction of the steps before the pseudo-views join
   double pseudo_max_angle = 100;  // degrees between the optical axes of a pair
   // Coarse-to-fine: the first coarse_fraction of the steps render and compare at half resolution
   // (a quarter of the pixels), the rest at full resolution. 0 = off. [decision] 0.4: on the

@@ -187,3 +187,23 @@ TEST_CASE("the line-of-sight loss lowers the opacity drawn in front of the depth
   CHECK(again.model.means == on.model.means);
   CHECK(again.loss_history == on.loss_history);
 }
+
+TEST_CASE("pseudo-views join after pseudo_start of the steps, and not before") {
+  const Capture capture = rendered_capture();
+  ReconstructOptions o = tiny_options();
+  o.iterations = 40;
+  o.pseudo_every = 2;
+  const ReconstructResult without = reconstruct(capture, o);
+  o.pseudo_weight = 0.1;
+  o.pseudo_start = 1;  // never within the run: the same run as without them
+  const ReconstructResult never = reconstruct(capture, o);
+  REQUIRE(never.pseudo_views > 0);
+  CHECK(never.loss_history == without.loss_history);
+  CHECK(never.model.means == without.model.means);
+  o.pseudo_start = 0.5;  // the first 20 steps as without them, then they train
+  const ReconstructResult late = reconstruct(capture, o);
+  CHECK(std::equal(late.loss_history.begin(), late.loss_history.begin() + 20,
+                   without.loss_history.begin()));
+  CHECK(late.loss_history[20] != without.loss_history[20]);
+  CHECK(late.final_loss.pseudo > 0);
+}
