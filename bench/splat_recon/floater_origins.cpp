@@ -112,6 +112,13 @@ int main(int argc, char** argv) {
                     : "outside every training view";
   };
 
+  // Each Gaussian's blending weight over every training pixel: how much the training views see
+  // of the Gaussians that set floater pixels (none: hidden or outside; the hidden rule's input).
+  std::vector<DepthObservation> observations;
+  for (size_t t = 0; t < train.size(); ++t)
+    observations.push_back({&train[t]->camera, &train[t]->pose, prior[t]});
+  const LineOfSightWeights seen = line_of_sight_weights(*model, observations, margin);
+
   for (const View& view : capture->views) {
     if (!view.held_out) continue;
     const cv::Mat1f gt = view.gt_depth.load();
@@ -174,21 +181,29 @@ int main(int argc, char** argv) {
     std::printf(" the point drawn (the pixel's ray at the median depth):\n");
     for (const auto& [what, n] : drawn)
       std::printf("  %-45s %6d px  %5.1f%%\n", what.c_str(), n, 100.0 * n / std::max(floaters, 1));
+    std::printf(" the median-depth Gaussian's weight over every training pixel:\n");
+    const double bounds[] = {0.05, 0.5, 5, 50};
+    int by_weight[5] = {0, 0, 0, 0, 0};
+    for (const auto& [i, n] : gaussians) {
+      const double w = seen.free_space[i] + seen.on_surface[i] + seen.unobserved[i];
+      by_weight[std::upper_bound(std::begin(bounds), std::end(bounds), w) - std::begin(bounds)] +=
+          n;
+    }
+    const char* names[] = {"< 0.05", "0.05 - 0.5", "0.5 - 5", "5 - 50", ">= 50"};
+    for (int b = 0; b < 5; ++b)
+      std::printf("  %-45s %6d px  %5.1f%%\n", names[b], by_weight[b],
+                  100.0 * by_weight[b] / std::max(floaters, 1));
   }
   if (!carves.empty()) {
     // Line-of-sight pruning (free_space.hpp): drop the Gaussians that draw more than `carve` of
     // their training-view weight in observed free space; the held-out geometry before and after.
-    std::vector<DepthObservation> obs;
     std::vector<int> train_ids, test_ids = capture->test_views();
     cv::Scalar sum;
-    for (size_t t = 0; t < train.size(); ++t) {
-      obs.push_back({&train[t]->camera, &train[t]->pose, prior[t]});
-      sum += cv::mean(train[t]->rgb.load());
-    }
+    for (size_t t = 0; t < train.size(); ++t) sum += cv::mean(train[t]->rgb.load());
     train_ids = capture->train_views();
     const Eigen::Vector3f bg(float(sum[0] / train.size() / 255), float(sum[1] / train.size() / 255),
                              float(sum[2] / train.size() / 255));
-    const LineOfSightWeights los = line_of_sight_weights(*model, obs, carve_tolerance);
+    const LineOfSightWeights los = line_of_sight_weights(*model, observations, carve_tolerance);
     std::vector<GaussianModel> carved;
     for (double carve : carves) {
       const std::vector<char> prune = line_of_sight_prune_mask(los, carve);

@@ -62,6 +62,7 @@ LineOfSightWeights line_of_sight_weights(const GaussianModel& model,
   LineOfSightWeights out;
   out.free_space.assign(n, 0.0);
   out.on_surface.assign(n, 0.0);
+  out.unobserved.assign(n, 0.0);
   RenderSettings weights_only;
   weights_only.rgb = false;
   std::vector<float> z(n);
@@ -89,11 +90,16 @@ LineOfSightWeights line_of_sight_weights(const GaussianModel& model,
       LineOfSightWeights& part = partial[b];
       part.free_space.assign(n, 0.0);
       part.on_surface.assign(n, 0.0);
+      part.unobserved.assign(n, 0.0);
       for (int y = b * band; y < std::min(rows, (b + 1) * band); ++y)
         for (int x = 0; x < cols; ++x) {
           const float d = v.depth(y, x);
-          if (!(d > 0) || !std::isfinite(d)) continue;
           const size_t p = static_cast<size_t>(y) * cols + x;
+          if (!(d > 0) || !std::isfinite(d)) {
+            for (uint32_t k = offsets[p]; k < offsets[p + 1]; ++k)
+              part.unobserved[ids[k]] += weights[k];
+            continue;
+          }
           for (uint32_t k = offsets[p]; k < offsets[p + 1]; ++k)
             (z[ids[k]] < (1 - tolerance) * d ? part.free_space : part.on_surface)[ids[k]] +=
                 weights[k];
@@ -103,6 +109,7 @@ LineOfSightWeights line_of_sight_weights(const GaussianModel& model,
       for (size_t i = 0; i < n; ++i) {
         out.free_space[i] += part.free_space[i];
         out.on_surface[i] += part.on_surface[i];
+        out.unobserved[i] += part.unobserved[i];
       }
   }
   return out;

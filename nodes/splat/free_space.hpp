@@ -68,9 +68,12 @@ std::vector<char> free_space_prune_mask(const FreeSpaceCounts& counts,
 // line-of-sight prior of depth-supervised NeRFs), `on_surface` where not. Unlike the centre test
 // above it looks at the whole footprint: an object's Gaussian whose footprint reaches past the
 // object's silhouette onto the wall behind draws there in free space although its centre is on the
-// object. Renders each view once (weights only). Deterministic at any thread count.
+// object. `unobserved` holds the weight drawn at pixels without a depth, so the three sum to the
+// Gaussian's whole training-view weight (floater_origins reports it: a Gaussian no training view
+// draws is one nothing trains). Renders each view once (weights only). Deterministic at
+// any thread count.
 struct LineOfSightWeights {
-  std::vector<double> free_space, on_surface;
+  std::vector<double> free_space, on_surface, unobserved;
 };
 LineOfSightWeights line_of_sight_weights(const GaussianModel& model,
                                          const std::vector<DepthObservation>& views,

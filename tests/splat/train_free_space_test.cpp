@@ -102,6 +102,7 @@ TEST_CASE("line of sight: a Gaussian's weight splits by where each pixel observe
   double total = 0;
   for (size_t i = 0; i < m.size(); ++i) total += w.free_space[i] + w.on_surface[i];
   CHECK(total == Approx(alpha).epsilon(1e-5));
+  CHECK(w.unobserved == std::vector<double>(m.size(), 0.0));  // every pixel has a prior
 
   // Symmetric footprint across the boundary: half of it in free space.
   CHECK(w.free_space[0] / (w.free_space[0] + w.on_surface[0]) == Approx(0.5).margin(0.05));
@@ -143,4 +144,46 @@ TEST_CASE("line of sight: a Gaussian's weight splits by where each pixel observe
   const LineOfSightWeights serial = line_of_sight_weights(m, views, 0.03);
   CHECK(serial.free_space == w.free_space);
   CHECK(serial.on_surface == w.on_surface);
+}
+
+TEST_CASE(
+    "line of sight: weight at pixels without a prior is unobserved; a hidden Gaussian has none") {
+  // Three large opaque discs at 1.5-1.7 m in the middle of the view hide Gaussian 3 (4 m, right
+  // behind them: the transmittance past them is under 3DGS's early-stop 1e-4); Gaussian 4 lies on
+  // the wall at the left edge, where the prior has no depth; Gaussian 5 is outside the view.
+  const Camera cam = test::centred_pinhole(80, 40, 60);
+  const Pose pose;
+  cv::Mat1f depth(cam.height, cam.width, 4.f);
+  depth(cv::Rect(0, 0, 16, 40)) = 0.f;
+  auto at = [&](double u, double v, double z) {
+    return Eigen::Vector3f(float((u - cam.cx) / cam.fx * z), float((v - cam.cy) / cam.fy * z),
+                           float(z));
+  };
+  GaussianModel m = centres({at(40, 20, 1.5), at(40, 20, 1.6), at(40, 20, 1.7), at(40, 20, 4.0),
+                             at(8, 20, 4.0), at(-30, 20, 4.0)});
+  for (size_t i = 0; i < m.size(); ++i) {
+    const double z = m.means[i * 3 + 2], pixels = i < 3 ? 16.0 : i == 3 ? 1.0 : 2.0;
+    for (int k = 0; k < 3; ++k) m.log_scales[i * 3 + k] = float(std::log(pixels * z / cam.fx));
+    const double opacity = i < 3 ? 0.99 : 0.8;
+    m.opacity_logits[i] = float(std::log(opacity / (1 - opacity)));
+  }
+  const std::vector<DepthObservation> views = {{&cam, &pose, depth}};
+  const LineOfSightWeights w = line_of_sight_weights(m, views, 0.03);
+
+  // The three parts sum to the rendered opacity: no weight is lost where the prior has a hole.
+  RenderSettings alpha_only;
+  alpha_only.rgb = false;
+  alpha_only.alpha = true;
+  const RenderOutput out = render(m, cam, pose, alpha_only);
+  double alpha = 0, total = 0;
+  for (float a : out.alpha) alpha += a;
+  for (size_t i = 0; i < m.size(); ++i)
+    total += w.free_space[i] + w.on_surface[i] + w.unobserved[i];
+  CHECK(total == Approx(alpha).epsilon(1e-5));
+  CHECK(w.unobserved[4] > 1);
+  CHECK(w.free_space[4] + w.on_surface[4] == 0);
+  CHECK(w.free_space[0] > 10);  // the front disc, in front of the wall
+  CHECK(w.unobserved[0] < w.free_space[0]);
+  for (int hidden : {3, 5})
+    CHECK(w.free_space[hidden] + w.on_surface[hidden] + w.unobserved[hidden] == 0);
 }
