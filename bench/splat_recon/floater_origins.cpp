@@ -6,7 +6,9 @@
 // observed surface, hidden behind it, or outside the view. It asks the same of the point the pixel
 // draws (its ray at the median depth), which for a Gaussian reaching past a silhouette lies away
 // from the centre. A floater that some view sees in free space could be carved with the priors;
-// one that only sits on or behind observed surfaces cannot.
+// one that only sits on or behind observed surfaces cannot. It also sorts the floater pixels by
+// the weight their Gaussian draws over every training pixel (line_of_sight_weights, pixels without
+// a prior included): under 0.05 no training view sees it, so nothing trains it.
 //
 //   floater_origins GRAPH [--input CAPTURE] [--set NODE.P=V]... [--margin M]
 //                   [--carve F]... [--carve-tolerance T] [--picture PREFIX] [--model-node ID]
