@@ -195,6 +195,37 @@ int main(int argc, char** argv) {
     for (int b = 0; b < 5; ++b)
       std::printf("  %-45s %6d px  %5.1f%%\n", names[b], by_weight[b],
                   100.0 * by_weight[b] / std::max(floaters, 1));
+    std::printf(" where that Gaussian's training-view weight lies (pixel-weighted means):\n");
+    double parts[4] = {0, 0, 0, 0};
+    int behind_most = 0;
+    for (const auto& [i, n] : gaussians) {
+      const double total = seen.free_space[i] + seen.on_surface[i] + seen.unobserved[i];
+      if (!(total > 0)) continue;
+      parts[0] += n * seen.free_space[i] / total;
+      parts[1] += n * (seen.on_surface[i] - seen.behind[i]) / total;
+      parts[2] += n * seen.behind[i] / total;
+      parts[3] += n * seen.unobserved[i] / total;
+      if (seen.behind[i] > 0.5 * total) behind_most += n;
+    }
+    const char* where[] = {"in free space", "on the observed surface", "behind it (seen through)",
+                           "at pixels without a prior"};
+    for (int b = 0; b < 4; ++b)
+      std::printf("  %-45s %5.1f%%\n", where[b], 100.0 * parts[b] / std::max(floaters, 1));
+    std::printf("  %-45s %6d px  %5.1f%%\n", "more than half behind", behind_most,
+                100.0 * behind_most / std::max(floaters, 1));
+    {
+      double all = 0, behind_all = 0;
+      size_t n_half = 0;
+      for (size_t i = 0; i < model->size(); ++i) {
+        const double total = seen.free_space[i] + seen.on_surface[i] + seen.unobserved[i];
+        all += total;
+        behind_all += seen.behind[i];
+        if (seen.behind[i] > 0.5 * total && total > 0) ++n_half;
+      }
+      std::printf(
+          " all Gaussians: %.1f%% of the training weight behind; %zu of %zu more than half\n",
+          100 * behind_all / std::max(all, 1e-12), n_half, model->size());
+    }
   }
   if (!carves.empty()) {
     // Line-of-sight pruning (free_space.hpp): drop the Gaussians that draw more than `carve` of

@@ -63,6 +63,7 @@ LineOfSightWeights line_of_sight_weights(const GaussianModel& model,
   out.free_space.assign(n, 0.0);
   out.on_surface.assign(n, 0.0);
   out.unobserved.assign(n, 0.0);
+  out.behind.assign(n, 0.0);
   RenderSettings weights_only;
   weights_only.rgb = false;
   std::vector<float> z(n);
@@ -91,6 +92,7 @@ LineOfSightWeights line_of_sight_weights(const GaussianModel& model,
       part.free_space.assign(n, 0.0);
       part.on_surface.assign(n, 0.0);
       part.unobserved.assign(n, 0.0);
+      part.behind.assign(n, 0.0);
       for (int y = b * band; y < std::min(rows, (b + 1) * band); ++y)
         for (int x = 0; x < cols; ++x) {
           const float d = v.depth(y, x);
@@ -100,9 +102,15 @@ LineOfSightWeights line_of_sight_weights(const GaussianModel& model,
               part.unobserved[ids[k]] += weights[k];
             continue;
           }
-          for (uint32_t k = offsets[p]; k < offsets[p + 1]; ++k)
-            (z[ids[k]] < (1 - tolerance) * d ? part.free_space : part.on_surface)[ids[k]] +=
-                weights[k];
+          for (uint32_t k = offsets[p]; k < offsets[p + 1]; ++k) {
+            const uint32_t i = ids[k];
+            if (z[i] < (1 - tolerance) * d) {
+              part.free_space[i] += weights[k];
+              continue;
+            }
+            part.on_surface[i] += weights[k];
+            if (z[i] > (1 + tolerance) * d) part.behind[i] += weights[k];
+          }
         }
     });
     for (const LineOfSightWeights& part : partial)
@@ -110,6 +118,7 @@ LineOfSightWeights line_of_sight_weights(const GaussianModel& model,
         out.free_space[i] += part.free_space[i];
         out.on_surface[i] += part.on_surface[i];
         out.unobserved[i] += part.unobserved[i];
+        out.behind[i] += part.behind[i];
       }
   }
   return out;
@@ -128,9 +137,13 @@ std::vector<char> FreeSpacePruner::prune_mask(const GaussianModel& model,
   std::vector<char> prune(model.size(), 0);
   if (o.free_space_views > 0 || o.min_seen_views > 0)
     prune = free_space_prune_mask(free_space_counts(model, views, o.tolerance), o);
-  if (o.line_of_sight > 0) {
-    const std::vector<char> los =
-        line_of_sight_prune_mask(line_of_sight_weights(model, views, o.tolerance), o.line_of_sight);
+  if (o.line_of_sight > 0 || o.behind > 0) {
+    const LineOfSightWeights w = line_of_sight_weights(model, views, o.tolerance);
+    std::vector<char> los(model.size(), 0);
+    if (o.line_of_sight > 0) los = line_of_sight_prune_mask(w, o.line_of_sight);
+    if (o.behind > 0)
+      for (size_t i = 0; i < los.size(); ++i)
+        los[i] = los[i] || w.behind[i] > o.behind * (w.free_space[i] + w.on_surface[i]);
     streak_.resize(model.size(), 0);
     for (size_t i = 0; i < prune.size(); ++i) {
       streak_[i] = los[i] ? static_cast<uint8_t>(std::min(streak_[i] + 1, 255)) : 0;

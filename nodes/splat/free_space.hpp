@@ -53,9 +53,15 @@ struct FreeSpacePruneOptions {
   // running (1: at once). A Gaussian on its way to its surface crosses free space for a round or
   // two of a short run; a floater stays there (FreeSpacePruner).
   int line_of_sight_rounds = 1;
+  // Prune a Gaussian that draws more than this fraction of its training-view weight behind the
+  // depth prior (seen through the observed surface: an opaque model would hide it), under the same
+  // rounds-running rule as line_of_sight. 0 = off.
+  double behind = 0;
   // Relative depth tolerance of every test: the depth prior's noise and the Gaussians' extent.
   double tolerance = 0.1;
-  bool active() const { return free_space_views > 0 || min_seen_views > 0 || line_of_sight > 0; }
+  bool active() const {
+    return free_space_views > 0 || min_seen_views > 0 || line_of_sight > 0 || behind > 0;
+  }
 };
 
 // 1 for the Gaussians the options' centre rules prune, else 0.
@@ -72,8 +78,10 @@ std::vector<char> free_space_prune_mask(const FreeSpaceCounts& counts,
 // Gaussian's whole training-view weight (floater_origins reports it: a Gaussian no training view
 // draws is one nothing trains). Renders each view once (weights only). Deterministic at
 // any thread count.
+// `behind` is the part of `on_surface` drawn where z > (1 + tolerance) D: seen through the
+// surface the pixel observed, which an opaque model would hide.
 struct LineOfSightWeights {
-  std::vector<double> free_space, on_surface, unobserved;
+  std::vector<double> free_space, on_surface, unobserved, behind;
 };
 LineOfSightWeights line_of_sight_weights(const GaussianModel& model,
                                          const std::vector<DepthObservation>& views,

@@ -290,16 +290,24 @@ ReconstructResult reconstruct(const Capture& capture, const ReconstructOptions& 
     clock.charge(phases.losses);
     grads.reset(model);
     render_backward(model, target.camera, view.pose, settings, out, rgrads, grads);
-    const bool line_of_sight_step = options.line_of_sight_weight > 0 &&
-                                    step >= options.line_of_sight_start * options.iterations &&
-                                    step % std::max(options.line_of_sight_every, 1) == 0;
-    if (line_of_sight_step && !target.depth.empty()) {
+    const bool line_of_sight_step =
+        (options.line_of_sight_weight > 0 || options.line_of_sight_behind_weight > 0) &&
+        step >= options.line_of_sight_start * options.iterations &&
+        step % std::max(options.line_of_sight_every, 1) == 0;
+    // Adds the line-of-sight terms of a render against its depth prior to the step's loss and
+    // grads.
+    const auto line_of_sight = [&](const Camera& camera, const Pose& pose, const cv::Mat1f& depth,
+                                   const RenderOutput& forward) {
       clock.charge(phases.backward);
-      loss.line_of_sight =
-          line_of_sight_loss(model, target.camera, view.pose, target.depth, out,
-                             options.floaters.tolerance, options.line_of_sight_weight, &grads);
+      const LineOfSightLoss l = line_of_sight_loss(
+          model, camera, pose, depth, forward, options.floaters.tolerance,
+          options.line_of_sight_weight, options.line_of_sight_behind_weight, &grads);
+      loss.line_of_sight += l.front;
+      loss.line_of_sight_behind += l.behind;
       clock.charge(phases.losses);
-    }
+    };
+    if (line_of_sight_step && !target.depth.empty())
+      line_of_sight(target.camera, view.pose, target.depth, out);
     if (!pseudo.empty() && step >= options.pseudo_start * options.iterations &&
         step % std::max(options.pseudo_every, 1) == 0) {
       const PseudoView& p = pseudo[(step / std::max(options.pseudo_every, 1)) % pseudo.size()];
@@ -321,13 +329,7 @@ ReconstructResult reconstruct(const Capture& capture, const ReconstructOptions& 
       }
       clock.charge(phases.losses);
       render_backward(model, p.camera, p.pose, ps, po, pg, grads);
-      if (line_of_sight_step) {
-        clock.charge(phases.backward);
-        loss.line_of_sight +=
-            line_of_sight_loss(model, p.camera, p.pose, p.depth, po, options.floaters.tolerance,
-                               options.line_of_sight_weight, &grads);
-        clock.charge(phases.losses);
-      }
+      if (line_of_sight_step) line_of_sight(p.camera, p.pose, p.depth, po);
     }
     clock.charge(phases.backward);
     if (options.scale_weight > 0) {
@@ -359,6 +361,7 @@ ReconstructResult reconstruct(const Capture& capture, const ReconstructOptions& 
                  options.anisotropy_weight * loss.anisotropy +
                  options.edge_extent_weight * loss.edge_extent +
                  options.line_of_sight_weight * loss.line_of_sight +
+                 options.line_of_sight_behind_weight * loss.line_of_sight_behind +
                  options.pseudo_weight * loss.pseudo;
     if (objective) loss.total += objective->weight * loss.features;
     clock.charge(phases.losses);
@@ -440,6 +443,7 @@ ReconstructResult reconstruct(const Capture& capture, const ReconstructOptions& 
     result.final_loss.anisotropy += history[i].anisotropy / tail;
     result.final_loss.edge_extent += history[i].edge_extent / tail;
     result.final_loss.line_of_sight += history[i].line_of_sight / tail;
+    result.final_loss.line_of_sight_behind += history[i].line_of_sight_behind / tail;
     result.final_loss.pseudo += history[i].pseudo / tail;
     result.final_loss.features += history[i].features / tail;
   }
@@ -497,6 +501,10 @@ const ParamTable<ReconstructOptions>& reconstruct_param_table() {
                "weight of the opacity training pixels accumulate in front of their depth prior "
                "(by free_space_tolerance); 0 = off",
                0)
+          .add("line_of_sight_behind_weight", &O::line_of_sight_behind_weight,
+               "weight of the blending weight training pixels draw behind their depth prior "
+               "(by free_space_tolerance); 0 = off",
+               0)
           .add("line_of_sight_every", &O::line_of_sight_every,
                "the line-of-sight loss joins every this many steps", 1)
           .add("line_of_sight_start", &O::line_of_sight_start,
@@ -528,6 +536,10 @@ const ParamTable<ReconstructOptions>& reconstruct_param_table() {
                     .add("prune_line_of_sight", &F::line_of_sight,
                          "densification rounds prune Gaussians that draw more than this fraction "
                          "of their training-view weight in front of the depth prior; 0 = off",
+                         0, 1)
+                    .add("prune_behind", &F::behind,
+                         "densification rounds prune Gaussians that draw more than this fraction "
+                         "of their training-view weight behind the depth prior; 0 = off",
                          0, 1)
                     .add("line_of_sight_rounds", &F::line_of_sight_rounds,
                          "prune_line_of_sight prunes only Gaussians that violate it in this many "

@@ -112,6 +112,21 @@ TEST_CASE("line of sight: a Gaussian's weight splits by where each pixel observe
   CHECK(w.free_space[2] > 1);
 
   CHECK(line_of_sight_prune_mask(w, 0.6) == std::vector<char>{0, 0, 1});
+  // Behind the observed surface: only 0's right half, which the object at 1 m hides.
+  CHECK(w.behind[0] == Approx(w.on_surface[0]));
+  CHECK(w.behind[1] == 0);
+  CHECK(w.behind[2] == 0);
+  {
+    FreeSpacePruneOptions behind;
+    behind.tolerance = 0.03;
+    behind.behind = 0.4;
+    CHECK(behind.active());
+    CHECK(FreeSpacePruner(behind).prune_mask(m, views) == std::vector<char>{1, 0, 0});
+    behind.behind = 0.6;
+    CHECK(FreeSpacePruner(behind).prune_mask(m, views) == std::vector<char>{0, 0, 0});
+    behind.line_of_sight = 0.6;
+    CHECK(FreeSpacePruner(behind).prune_mask(m, views) == std::vector<char>{0, 0, 1});
+  }
   FreeSpacePruneOptions o;
   o.tolerance = 0.03;
   o.line_of_sight = 0.6;
@@ -144,6 +159,7 @@ TEST_CASE("line of sight: a Gaussian's weight splits by where each pixel observe
   const LineOfSightWeights serial = line_of_sight_weights(m, views, 0.03);
   CHECK(serial.free_space == w.free_space);
   CHECK(serial.on_surface == w.on_surface);
+  CHECK(serial.behind == w.behind);
 }
 
 TEST_CASE(
