@@ -18,16 +18,14 @@ namespace {
 // conic (A, B, C), d/d opacity (not its logit).
 struct Partial {
   uint32_t id;
-  uint8_t term;  // 0: the front term, 1: the behind term (each scaled by its own weight)
   float d[6];
 };
 
 }  // namespace
 
-LineOfSightLoss line_of_sight_loss(const GaussianModel& model, const Camera& camera,
-                                   const Pose& pose, const cv::Mat1f& prior_depth,
-                                   const RenderOutput& forward, double tolerance,
-                                   double front_scale, double behind_scale, ModelGrads* grads) {
+double line_of_sight_loss(const GaussianModel& model, const Camera& camera, const Pose& pose,
+                          const cv::Mat1f& prior_depth, const RenderOutput& forward,
+                          double tolerance, double scale, ModelGrads* grads) {
   if (!forward.state) throw std::invalid_argument("line_of_sight_loss: the render has no state");
   const RasterState& s = *forward.state;
   if (s.width != prior_depth.cols || s.height != prior_depth.rows)
@@ -38,22 +36,18 @@ LineOfSightLoss line_of_sight_loss(const GaussianModel& model, const Camera& cam
       const float d = prior_depth(y, x);
       observed += d > 0 && std::isfinite(d);
     }
-  if (observed == 0) return {};
-  const bool behind_term = behind_scale > 0;
+  if (observed == 0) return 0.0;
 
   const int tiles = s.tile_count();
-  std::vector<double> tile_front(tiles, 0.0), tile_behind(tiles, 0.0);
+  std::vector<double> tile_loss(tiles, 0.0);
   std::vector<std::vector<Partial>> tile_partials(tiles);
   tbb::parallel_for(0, tiles, [&](int t) {
-    // A blended Gaussian of the pixel, in front of the surface (F), on it (M) or behind it (B).
-    enum Where : uint8_t { kFront, kOn, kBehind };
-    struct Blended {
+    struct Front {
       uint32_t id;
       float a, G, dx, dy;
       const TileGaussian* g;
-      Where where;
     };
-    std::vector<Blended> blended;
+    std::vector<Front> front;
     const TileGaussian* list = s.tile_gaussians.data() + s.tile_offsets[t];
     const uint32_t count = s.tile_offsets[t + 1] - s.tile_offsets[t];
     const int tx = t % s.tiles_x, ty = t / s.tiles_x;
@@ -61,18 +55,14 @@ LineOfSightLoss line_of_sight_loss(const GaussianModel& model, const Camera& cam
       for (int x = tx * kTileSize; x < std::min(s.width, (tx + 1) * kTileSize); ++x) {
         const float D = prior_depth(y, x);
         if (!(D > 0) || !std::isfinite(D)) continue;
-        const float near = static_cast<float>((1 - tolerance) * D);
-        const float far = static_cast<float>((1 + tolerance) * D);
-        // The list is in blending order, front to back: the Gaussians in front are a prefix, the
-        // ones behind a suffix. Alphas exactly as the forward pass blends them (raster_state.hpp
-        // blend_row). T_front: transmittance past F, T_surface: past F and M, T: past all.
-        blended.clear();
-        double T = 1, T_front = 1, T_surface = 1;
+        const float cut = static_cast<float>((1 - tolerance) * D);
+        // The list is in blending order, front to back: the Gaussians in front are a prefix.
+        // Alphas exactly as the forward pass blends them (raster_state.hpp blend_row).
+        front.clear();
+        double T = 1;
         for (uint32_t j = 0; j < count; ++j) {
           const TileGaussian& g = list[j];
-          const float z = s.projections[g.id].depth;
-          const Where where = z < near ? kFront : z <= far ? kOn : kBehind;
-          if (where != kFront && !behind_term) break;
+          if (!(s.projections[g.id].depth < cut)) break;
           if (x < g.x0 || x >= g.x1 || y < g.y0 || y >= g.y1) continue;
           const float dx = g.mx - (float(x) + 0.5f), dy = g.my - (float(y) + 0.5f);
           const float power = (-0.5f * g.C * dy * dy - 0.5f * g.A * dx * dx) - g.B * dy * dx;
@@ -81,50 +71,38 @@ LineOfSightLoss line_of_sight_loss(const GaussianModel& model, const Camera& cam
           const float a = std::min(kMaxAlpha, g.opacity * G);
           if (a < s.min_alpha) continue;
           if (T * (1.0 - a) < kMinTransmittance) break;  // where the forward pass stops
-          blended.push_back({g.id, a, G, dx, dy, &g, where});
+          front.push_back({g.id, a, G, dx, dy, &g});
           T *= 1.0 - a;
-          if (where == kFront) T_front = T;
-          if (where != kBehind) T_surface = T;
         }
-        // F = 1 - T_front: dF/da_k = T_front / (1 - a_k) for k in front.
-        // W = T_surface - T (the weight drawn behind): dW/da_k = -W / (1 - a_k) for k in front of
-        // or on the surface, T / (1 - a_k) for k behind it.
-        const double W = T_surface - T;
-        tile_front[t] += 1.0 - T_front;
-        tile_behind[t] += W;
+        tile_loss[t] += 1.0 - T;
         if (!grads) continue;
-        const auto push = [&](const Blended& b, float dL_da, uint8_t term) {
-          const TileGaussian& g = *b.g;
-          const float d_power = dL_da * b.a;
+        // F = 1 - prod (1 - a_k): dF/da_k = T / (1 - a_k); a = o G, G = exp(power).
+        for (const Front& f : front) {
+          if (f.a >= kMaxAlpha) continue;  // clamped: constant
+          const float dF_da = static_cast<float>(T / (1.0 - f.a));
+          const TileGaussian& g = *f.g;
+          const float d_power = dF_da * f.a;
           tile_partials[t].push_back(
-              {b.id,
-               term,
-               {-d_power * (g.A * b.dx + g.B * b.dy), -d_power * (g.C * b.dy + g.B * b.dx),
-                -0.5f * d_power * b.dx * b.dx, -d_power * b.dx * b.dy,
-                -0.5f * d_power * b.dy * b.dy, dL_da * b.G}});
-        };
-        for (const Blended& b : blended) {
-          if (b.a >= kMaxAlpha) continue;  // clamped: constant
-          if (b.where == kFront) push(b, static_cast<float>(T_front / (1.0 - b.a)), 0);
-          if (behind_term && W > 0)
-            push(b, static_cast<float>((b.where == kBehind ? T : -W) / (1.0 - b.a)), 1);
+              {f.id,
+               {-d_power * (g.A * f.dx + g.B * f.dy), -d_power * (g.C * f.dy + g.B * f.dx),
+                -0.5f * d_power * f.dx * f.dx, -d_power * f.dx * f.dy,
+                -0.5f * d_power * f.dy * f.dy, dF_da * f.G}});
         }
       }
   });
-  LineOfSightLoss loss;
-  for (int t = 0; t < tiles; ++t) loss.front += tile_front[t], loss.behind += tile_behind[t];
-  loss.front /= static_cast<double>(observed);
-  loss.behind /= static_cast<double>(observed);
+  double loss = 0;
+  for (double l : tile_loss) loss += l;
+  loss /= static_cast<double>(observed);
   if (!grads) return loss;
+
   // Per Gaussian, the screen-space partials summed in tile order, then through the projection.
   const size_t n = model.size();
   std::vector<float> sums(n * 6, 0.f);
   std::vector<char> touched(n, 0);
-  const float k[2] = {static_cast<float>(front_scale / static_cast<double>(observed)),
-                      static_cast<float>(behind_scale / static_cast<double>(observed))};
+  const float k = static_cast<float>(scale / static_cast<double>(observed));
   for (const auto& partials : tile_partials)
     for (const Partial& part : partials) {
-      for (int c = 0; c < 6; ++c) sums[part.id * 6 + c] += k[part.term] * part.d[c];
+      for (int c = 0; c < 6; ++c) sums[part.id * 6 + c] += k * part.d[c];
       touched[part.id] = 1;
     }
   const ViewTransform view(camera, pose);

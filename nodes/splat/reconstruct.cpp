@@ -290,20 +290,16 @@ ReconstructResult reconstruct(const Capture& capture, const ReconstructOptions& 
     clock.charge(phases.losses);
     grads.reset(model);
     render_backward(model, target.camera, view.pose, settings, out, rgrads, grads);
-    const bool line_of_sight_step =
-        (options.line_of_sight_weight > 0 || options.line_of_sight_behind_weight > 0) &&
-        step >= options.line_of_sight_start * options.iterations &&
-        step % std::max(options.line_of_sight_every, 1) == 0;
-    // Adds the line-of-sight terms of a render against its depth prior to the step's loss and
-    // grads.
+    const bool line_of_sight_step = options.line_of_sight_weight > 0 &&
+                                    step >= options.line_of_sight_start * options.iterations &&
+                                    step % std::max(options.line_of_sight_every, 1) == 0;
+    // Adds the line-of-sight loss of a render against its depth prior to the step's loss and grads.
     const auto line_of_sight = [&](const Camera& camera, const Pose& pose, const cv::Mat1f& depth,
                                    const RenderOutput& forward) {
       clock.charge(phases.backward);
-      const LineOfSightLoss l = line_of_sight_loss(
-          model, camera, pose, depth, forward, options.floaters.tolerance,
-          options.line_of_sight_weight, options.line_of_sight_behind_weight, &grads);
-      loss.line_of_sight += l.front;
-      loss.line_of_sight_behind += l.behind;
+      loss.line_of_sight +=
+          line_of_sight_loss(model, camera, pose, depth, forward, options.floaters.tolerance,
+                             options.line_of_sight_weight, &grads);
       clock.charge(phases.losses);
     };
     if (line_of_sight_step && !target.depth.empty())
@@ -361,7 +357,6 @@ ReconstructResult reconstruct(const Capture& capture, const ReconstructOptions& 
                  options.anisotropy_weight * loss.anisotropy +
                  options.edge_extent_weight * loss.edge_extent +
                  options.line_of_sight_weight * loss.line_of_sight +
-                 options.line_of_sight_behind_weight * loss.line_of_sight_behind +
                  options.pseudo_weight * loss.pseudo;
     if (objective) loss.total += objective->weight * loss.features;
     clock.charge(phases.losses);
@@ -443,7 +438,6 @@ ReconstructResult reconstruct(const Capture& capture, const ReconstructOptions& 
     result.final_loss.anisotropy += history[i].anisotropy / tail;
     result.final_loss.edge_extent += history[i].edge_extent / tail;
     result.final_loss.line_of_sight += history[i].line_of_sight / tail;
-    result.final_loss.line_of_sight_behind += history[i].line_of_sight_behind / tail;
     result.final_loss.pseudo += history[i].pseudo / tail;
     result.final_loss.features += history[i].features / tail;
   }
@@ -499,10 +493,6 @@ const ParamTable<ReconstructOptions>& reconstruct_param_table() {
                0)
           .add("line_of_sight_weight", &O::line_of_sight_weight,
                "weight of the opacity training pixels accumulate in front of their depth prior "
-               "(by free_space_tolerance); 0 = off",
-               0)
-          .add("line_of_sight_behind_weight", &O::line_of_sight_behind_weight,
-               "weight of the blending weight training pixels draw behind their depth prior "
                "(by free_space_tolerance); 0 = off",
                0)
           .add("line_of_sight_every", &O::line_of_sight_every,

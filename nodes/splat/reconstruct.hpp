@@ -84,9 +84,6 @@ struct ReconstructOptions {
   // fraction of the steps on, and on the step's pseudo-view when there is one (its warped depth
   // is an observation of the same kind). 0 = off.
   double line_of_sight_weight = 0;
-  // Its second term on the same steps and views: the weight each training pixel draws more than
-  // floaters.tolerance behind its depth prior (seen through the observed surface). 0 = off.
-  double line_of_sight_behind_weight = 0;
   int line_of_sight_every = 1;
   double line_of_sight_start = 0;
   // Depth-warped pseudo-views (pseudo_views.hpp): every pseudo_every-th step also renders one of
@@ -128,7 +125,7 @@ const ParamTable<ReconstructOptions>& reconstruct_param_table();
 // Mean of each loss term over the last 10% of the steps (at least one step).
 struct LossSummary {
   double total = 0, photometric = 0, depth = 0, normal = 0, flatness = 0, opacity_entropy = 0,
-         anisotropy = 0, edge_extent = 0, pseudo = 0, line_of_sight = 0, line_of_sight_behind = 0;
+         anisotropy = 0, edge_extent = 0, pseudo = 0, line_of_sight = 0;
   double features = 0;  // the FeatureObjective's loss (unweighted); 0 without one
 };
 

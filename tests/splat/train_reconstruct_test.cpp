@@ -161,7 +161,7 @@ TEST_CASE("the line-of-sight loss lowers the opacity drawn in front of the depth
     for (const View& v : capture.views) {
       if (v.held_out) continue;
       const RenderOutput forward = render(m, v.camera, v.pose, RenderSettings());
-      sum += line_of_sight_loss(m, v.camera, v.pose, v.depth.load(), forward, 0.03).front;
+      sum += line_of_sight_loss(m, v.camera, v.pose, v.depth.load(), forward, 0.03);
     }
     return sum;
   };
