@@ -21,6 +21,22 @@ GaussianModel centres(const std::vector<Eigen::Vector3f>& xs) {
   return m;
 }
 
+// The point of pixel (u, v) of `cam` (at the origin, looking down +z) at depth z.
+Eigen::Vector3f at(const Camera& cam, double u, double v, double z) {
+  return Eigen::Vector3f(float((u - cam.cx) / cam.fx * z), float((v - cam.cy) / cam.fy * z),
+                         float(z));
+}
+
+// The model's rendered opacity summed over the view's pixels.
+double summed_opacity(const GaussianModel& m, const Camera& cam, const Pose& pose) {
+  RenderSettings alpha_only;
+  alpha_only.rgb = false;
+  alpha_only.alpha = true;
+  double alpha = 0;
+  for (float a : render(m, cam, pose, alpha_only).alpha) alpha += a;
+  return alpha;
+}
+
 }  // namespace
 
 TEST_CASE("free space: a Gaussian in front of the observed wall is in free space, on it seen") {
@@ -31,19 +47,15 @@ TEST_CASE("free space: a Gaussian in front of the observed wall is in free space
   cv::Mat1f depth(cam.height, cam.width, 4.f);
   depth(cv::Rect(0, 0, 20, 20)) = 0.f;
   depth(cv::Rect(40, 0, 20, 40)) = 2.f;
-  auto at = [&](double u, double v, double z) {  // the point of pixel (u, v) at depth z
-    return Eigen::Vector3f(float((u - cam.cx) / cam.fx * z), float((v - cam.cy) / cam.fy * z),
-                           float(z));
-  };
   const GaussianModel m = centres({
-      at(30.5, 30.5, 2.0),   // 0: halfway to the wall: free space, seen
-      at(30.5, 30.5, 3.8),   // 1: within 10% in front of the wall: on the surface, seen
-      at(30.5, 30.5, 6.0),   // 2: behind the wall: hidden, neither
-      at(10.5, 10.5, 1.0),   // 3: in front of the depth hole: no observation, neither
-      at(40.5, 30.5, 2.0),   // 4: on the object's silhouette (its own pixel observes 2 m)
-      at(39.5, 30.5, 2.0),   // 5: beside it, whose own pixel observes the wall at 4 m
-      at(30.5, 30.5, -1.0),  // 6: behind the camera
-      at(70.5, 30.5, 2.0),   // 7: outside the image
+      at(cam, 30.5, 30.5, 2.0),   // 0: halfway to the wall: free space, seen
+      at(cam, 30.5, 30.5, 3.8),   // 1: within 10% in front of the wall: on the surface, seen
+      at(cam, 30.5, 30.5, 6.0),   // 2: behind the wall: hidden, neither
+      at(cam, 10.5, 10.5, 1.0),   // 3: in front of the depth hole: no observation, neither
+      at(cam, 40.5, 30.5, 2.0),   // 4: on the object's silhouette (its own pixel observes 2 m)
+      at(cam, 39.5, 30.5, 2.0),   // 5: beside it, whose own pixel observes the wall at 4 m
+      at(cam, 30.5, 30.5, -1.0),  // 6: behind the camera
+      at(cam, 70.5, 30.5, 2.0),   // 7: outside the image
   });
   const std::vector<DepthObservation> views = {{&cam, &pose, depth}};
   const FreeSpaceCounts c = free_space_counts(m, views, 0.1);
@@ -78,11 +90,8 @@ TEST_CASE("line of sight: a Gaussian's weight splits by where each pixel observe
   const Pose pose;
   cv::Mat1f depth(cam.height, cam.width, 4.f);
   depth(cv::Rect(40, 0, 40, 40)) = 1.f;
-  auto at = [&](double u, double v, double z) {
-    return Eigen::Vector3f(float((u - cam.cx) / cam.fx * z), float((v - cam.cy) / cam.fy * z),
-                           float(z));
-  };
-  GaussianModel m = centres({at(40.0, 20.0, 3.0), at(12.0, 20.0, 4.0), at(25.0, 20.0, 2.0)});
+  GaussianModel m =
+      centres({at(cam, 40.0, 20.0, 3.0), at(cam, 12.0, 20.0, 4.0), at(cam, 25.0, 20.0, 2.0)});
   for (size_t i = 0; i < m.size(); ++i) {
     // Isotropic, 2-3 pixels across at its depth, opacity 0.8, apart from each other on screen.
     const double z = m.means[i * 3 + 2];
@@ -93,15 +102,9 @@ TEST_CASE("line of sight: a Gaussian's weight splits by where each pixel observe
   const LineOfSightWeights w = line_of_sight_weights(m, views, 0.03);
 
   // Every weight is counted once: the sum over both parts is the rendered opacity.
-  RenderSettings alpha_only;
-  alpha_only.rgb = false;
-  alpha_only.alpha = true;
-  const RenderOutput out = render(m, cam, pose, alpha_only);
-  double alpha = 0;
-  for (float a : out.alpha) alpha += a;
   double total = 0;
   for (size_t i = 0; i < m.size(); ++i) total += w.free_space[i] + w.on_surface[i];
-  CHECK(total == Approx(alpha).epsilon(1e-5));
+  CHECK(total == Approx(summed_opacity(m, cam, pose)).epsilon(1e-5));
   CHECK(w.unobserved == std::vector<double>(m.size(), 0.0));  // every pixel has a prior
 
   // Symmetric footprint across the boundary: half of it in free space.
@@ -171,12 +174,8 @@ TEST_CASE(
   const Pose pose;
   cv::Mat1f depth(cam.height, cam.width, 4.f);
   depth(cv::Rect(0, 0, 16, 40)) = 0.f;
-  auto at = [&](double u, double v, double z) {
-    return Eigen::Vector3f(float((u - cam.cx) / cam.fx * z), float((v - cam.cy) / cam.fy * z),
-                           float(z));
-  };
-  GaussianModel m = centres({at(40, 20, 1.5), at(40, 20, 1.6), at(40, 20, 1.7), at(40, 20, 4.0),
-                             at(8, 20, 4.0), at(-30, 20, 4.0)});
+  GaussianModel m = centres({at(cam, 40, 20, 1.5), at(cam, 40, 20, 1.6), at(cam, 40, 20, 1.7),
+                             at(cam, 40, 20, 4.0), at(cam, 8, 20, 4.0), at(cam, -30, 20, 4.0)});
   for (size_t i = 0; i < m.size(); ++i) {
     const double z = m.means[i * 3 + 2], pixels = i < 3 ? 16.0 : i == 3 ? 1.0 : 2.0;
     for (int k = 0; k < 3; ++k) m.log_scales[i * 3 + k] = float(std::log(pixels * z / cam.fx));
@@ -187,15 +186,10 @@ TEST_CASE(
   const LineOfSightWeights w = line_of_sight_weights(m, views, 0.03);
 
   // The three parts sum to the rendered opacity: no weight is lost where the prior has a hole.
-  RenderSettings alpha_only;
-  alpha_only.rgb = false;
-  alpha_only.alpha = true;
-  const RenderOutput out = render(m, cam, pose, alpha_only);
-  double alpha = 0, total = 0;
-  for (float a : out.alpha) alpha += a;
+  double total = 0;
   for (size_t i = 0; i < m.size(); ++i)
     total += w.free_space[i] + w.on_surface[i] + w.unobserved[i];
-  CHECK(total == Approx(alpha).epsilon(1e-5));
+  CHECK(total == Approx(summed_opacity(m, cam, pose)).epsilon(1e-5));
   CHECK(w.unobserved[4] > 1);
   CHECK(w.free_space[4] + w.on_surface[4] == 0);
   CHECK(w.free_space[0] > 10);  // the front disc, in front of the wall
