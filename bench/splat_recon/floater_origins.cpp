@@ -114,12 +114,15 @@ int main(int argc, char** argv) {
                     : "outside every training view";
   };
 
-  // Each Gaussian's blending weight over every training pixel: how much the training views see
-  // of the Gaussians that set floater pixels (none: hidden or outside; the hidden rule's input).
+  // Each Gaussian's blending weight over the training pixels, split by where it is drawn: how much
+  // the training views see of the Gaussians that set floater pixels (none: hidden or outside).
   std::vector<DepthObservation> observations;
   for (size_t t = 0; t < train.size(); ++t)
     observations.push_back({&train[t]->camera, &train[t]->pose, prior[t]});
   const LineOfSightWeights seen = line_of_sight_weights(*model, observations, margin);
+  const auto total_weight = [&](size_t i) {
+    return seen.free_space[i] + seen.on_surface[i] + seen.unobserved[i];
+  };
 
   for (const View& view : capture->views) {
     if (!view.held_out) continue;
@@ -187,7 +190,7 @@ int main(int argc, char** argv) {
     const double bounds[] = {0.05, 0.5, 5, 50};
     int by_weight[5] = {0, 0, 0, 0, 0};
     for (const auto& [i, n] : gaussians) {
-      const double w = seen.free_space[i] + seen.on_surface[i] + seen.unobserved[i];
+      const double w = total_weight(i);
       by_weight[std::upper_bound(std::begin(bounds), std::end(bounds), w) - std::begin(bounds)] +=
           n;
     }
@@ -199,7 +202,7 @@ int main(int argc, char** argv) {
     double parts[4] = {0, 0, 0, 0};
     int behind_most = 0;
     for (const auto& [i, n] : gaussians) {
-      const double total = seen.free_space[i] + seen.on_surface[i] + seen.unobserved[i];
+      const double total = total_weight(i);
       if (!(total > 0)) continue;
       parts[0] += n * seen.free_space[i] / total;
       parts[1] += n * (seen.on_surface[i] - seen.behind[i]) / total;
@@ -217,7 +220,7 @@ int main(int argc, char** argv) {
       double all = 0, behind_all = 0;
       size_t n_half = 0;
       for (size_t i = 0; i < model->size(); ++i) {
-        const double total = seen.free_space[i] + seen.on_surface[i] + seen.unobserved[i];
+        const double total = total_weight(i);
         all += total;
         behind_all += seen.behind[i];
         if (seen.behind[i] > 0.5 * total && total > 0) ++n_half;

@@ -124,10 +124,14 @@ LineOfSightWeights line_of_sight_weights(const GaussianModel& model,
   return out;
 }
 
-std::vector<char> line_of_sight_prune_mask(const LineOfSightWeights& w, double fraction) {
+std::vector<char> line_of_sight_prune_mask(const LineOfSightWeights& w, double fraction,
+                                           double behind) {
   std::vector<char> prune(w.free_space.size(), 0);
-  for (size_t i = 0; i < prune.size(); ++i)
-    prune[i] = w.free_space[i] > fraction * (w.free_space[i] + w.on_surface[i]);
+  for (size_t i = 0; i < prune.size(); ++i) {
+    const double observed = w.free_space[i] + w.on_surface[i];
+    prune[i] = (fraction > 0 && w.free_space[i] > fraction * observed) ||
+               (behind > 0 && w.behind[i] > behind * observed);
+  }
   return prune;
 }
 
@@ -138,12 +142,8 @@ std::vector<char> FreeSpacePruner::prune_mask(const GaussianModel& model,
   if (o.free_space_views > 0 || o.min_seen_views > 0)
     prune = free_space_prune_mask(free_space_counts(model, views, o.tolerance), o);
   if (o.line_of_sight > 0 || o.behind > 0) {
-    const LineOfSightWeights w = line_of_sight_weights(model, views, o.tolerance);
-    std::vector<char> los(model.size(), 0);
-    if (o.line_of_sight > 0) los = line_of_sight_prune_mask(w, o.line_of_sight);
-    if (o.behind > 0)
-      for (size_t i = 0; i < los.size(); ++i)
-        los[i] = los[i] || w.behind[i] > o.behind * (w.free_space[i] + w.on_surface[i]);
+    const std::vector<char> los = line_of_sight_prune_mask(
+        line_of_sight_weights(model, views, o.tolerance), o.line_of_sight, o.behind);
     streak_.resize(model.size(), 0);
     for (size_t i = 0; i < prune.size(); ++i) {
       streak_[i] = los[i] ? static_cast<uint8_t>(std::min(streak_[i] + 1, 255)) : 0;

@@ -74,12 +74,11 @@ std::vector<char> free_space_prune_mask(const FreeSpaceCounts& counts,
 // line-of-sight prior of depth-supervised NeRFs), `on_surface` where not. Unlike the centre test
 // above it looks at the whole footprint: an object's Gaussian whose footprint reaches past the
 // object's silhouette onto the wall behind draws there in free space although its centre is on the
-// object. `unobserved` holds the weight drawn at pixels without a depth, so the three sum to the
-// Gaussian's whole training-view weight (floater_origins reports it: a Gaussian no training view
-// draws is one nothing trains). Renders each view once (weights only). Deterministic at
-// any thread count.
-// `behind` is the part of `on_surface` drawn where z > (1 + tolerance) D: seen through the
-// surface the pixel observed, which an opaque model would hide.
+// object. `behind` is the part of `on_surface` drawn where z > (1 + tolerance) D: seen through the
+// surface the pixel observed, which an opaque model would hide. `unobserved` holds the weight drawn
+// at pixels without a depth, so free_space + on_surface + unobserved is the Gaussian's whole
+// training-view weight (floater_origins reports it). Renders each view once (weights only).
+// Deterministic at any thread count.
 struct LineOfSightWeights {
   std::vector<double> free_space, on_surface, unobserved, behind;
 };
@@ -87,8 +86,10 @@ LineOfSightWeights line_of_sight_weights(const GaussianModel& model,
                                          const std::vector<DepthObservation>& views,
                                          double tolerance);
 
-// 1 for the Gaussians whose free-space weight exceeds `fraction` of their weight, else 0.
-std::vector<char> line_of_sight_prune_mask(const LineOfSightWeights& weights, double fraction);
+// 1 for the Gaussians whose free-space weight exceeds `fraction` of their observed weight (free
+// space + on surface), or whose weight behind the surface exceeds `behind` of it; 0 = a side off.
+std::vector<char> line_of_sight_prune_mask(const LineOfSightWeights& weights, double fraction,
+                                           double behind = 0);
 
 // The rules above over a run's pruning rounds. The line-of-sight rule's streaks (the rounds
 // running in which each Gaussian violated it) live here and follow the model's rows through

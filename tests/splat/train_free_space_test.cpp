@@ -114,29 +114,29 @@ TEST_CASE("line of sight: a Gaussian's weight splits by where each pixel observe
   CHECK(w.on_surface[2] == 0);
   CHECK(w.free_space[2] > 1);
 
-  CHECK(line_of_sight_prune_mask(w, 0.6) == std::vector<char>{0, 0, 1});
   // Behind the observed surface: only 0's right half, which the object at 1 m hides.
   CHECK(w.behind[0] == Approx(w.on_surface[0]));
   CHECK(w.behind[1] == 0);
   CHECK(w.behind[2] == 0);
-  {
-    FreeSpacePruneOptions behind;
-    behind.tolerance = 0.03;
-    behind.behind = 0.4;
-    CHECK(behind.active());
-    CHECK(FreeSpacePruner(behind).prune_mask(m, views) == std::vector<char>{1, 0, 0});
-    behind.behind = 0.6;
-    CHECK(FreeSpacePruner(behind).prune_mask(m, views) == std::vector<char>{0, 0, 0});
-    behind.line_of_sight = 0.6;
-    CHECK(FreeSpacePruner(behind).prune_mask(m, views) == std::vector<char>{0, 0, 1});
-  }
+  CHECK(line_of_sight_prune_mask(w, 0.6) == std::vector<char>{0, 0, 1});
+  CHECK(line_of_sight_prune_mask(w, 0, 0.4) == std::vector<char>{1, 0, 0});
+
+  // The pruner in one round, by (in front, behind) fractions.
   FreeSpacePruneOptions o;
   o.tolerance = 0.03;
-  o.line_of_sight = 0.6;
-  CHECK(o.active());
-  CHECK(FreeSpacePruner(o).prune_mask(m, views) == std::vector<char>{0, 0, 1});
+  const auto one_round = [&](double front, double behind) {
+    FreeSpacePruneOptions x = o;
+    x.line_of_sight = front;
+    x.behind = behind;
+    CHECK(x.active());
+    return FreeSpacePruner(x).prune_mask(m, views);
+  };
+  CHECK(one_round(0.6, 0) == std::vector<char>{0, 0, 1});
+  CHECK(one_round(0.4, 0) == std::vector<char>{1, 0, 1});
+  CHECK(one_round(0, 0.4) == std::vector<char>{1, 0, 0});
+  CHECK(one_round(0, 0.6) == std::vector<char>{0, 0, 0});
+  CHECK(one_round(0.6, 0.6) == std::vector<char>{0, 0, 1});
   o.line_of_sight = 0.4;
-  CHECK(FreeSpacePruner(o).prune_mask(m, views) == std::vector<char>{1, 0, 1});
 
   // Two rounds running: nothing in the first round; in the second the floater (2) and the
   // straddling Gaussian (0) go. A density round in between that keeps 2 but turns row 0 into a
