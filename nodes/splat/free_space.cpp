@@ -1,3 +1,7 @@
+// Vector width of the blending loops it shares with the rasterizer: see rasterizer_forward.cpp.
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC target("prefer-vector-width=512")
+#endif
 #include "nodes/splat/free_space.hpp"
 
 #include <algorithm>
@@ -5,10 +9,11 @@
 #include <limits>
 #include <stdexcept>
 
+#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include "nodes/splat/raster_state.hpp"
 #include "nodes/splat/rasterizer.hpp"
-#include "nodes/splat/render_cache.hpp"
 
 namespace gslift {
 
@@ -66,60 +71,62 @@ LineOfSightWeights line_of_sight_weights(const GaussianModel& model,
   out.behind.assign(n, 0.0);
   RenderSettings weights_only;
   weights_only.rgb = false;
-  std::vector<float> z(n);
+  // Per slot (one Gaussian's entry in one tile's list), its weight over the tile's pixels in four
+  // parts: in free space, on the surface (behind it included), unobserved, behind. Summed while the
+  // forward pass's blending runs again (blend_tile), with no per-pixel lists: a pruning round costs
+  // two blending passes per view, not a render cache's three and its pairs.
+  enum Part { kFree, kOnSurface, kUnobserved, kBehind, kParts };
+  const float below = static_cast<float>(1 - tolerance), above = static_cast<float>(1 + tolerance);
   for (const DepthObservation& v : views) {
     const RenderOutput forward = render(model, *v.camera, *v.pose, weights_only);
     if (forward.width != v.depth.cols || forward.height != v.depth.rows)
       throw std::invalid_argument("line_of_sight_weights: a depth prior is not the view's size");
-    const RenderCache cache(forward);
-    tbb::parallel_for(size_t(0), n, [&](size_t i) {
-      z[i] = static_cast<float>(
-          v.pose
-              ->to_camera(Eigen::Vector3d(model.means[i * 3], model.means[i * 3 + 1],
-                                          model.means[i * 3 + 2]))
-              .z());
-    });
-    const auto& offsets = cache.pixel_offsets();
-    const auto& ids = cache.ids();
-    const auto& weights = cache.weights();
-    // Fixed bands of rows, each summed into its own pair of vectors and then added in band order:
-    // the same sums at any thread count.
-    const int rows = v.depth.rows, cols = v.depth.cols, band = 32;
-    const int bands = (rows + band - 1) / band;
-    std::vector<LineOfSightWeights> partial(bands);
-    tbb::parallel_for(0, bands, [&](int b) {
-      LineOfSightWeights& part = partial[b];
-      part.free_space.assign(n, 0.0);
-      part.on_surface.assign(n, 0.0);
-      part.unobserved.assign(n, 0.0);
-      part.behind.assign(n, 0.0);
-      for (int y = b * band; y < std::min(rows, (b + 1) * band); ++y)
-        for (int x = 0; x < cols; ++x) {
-          const float d = v.depth(y, x);
-          const size_t p = static_cast<size_t>(y) * cols + x;
-          if (!(d > 0) || !std::isfinite(d)) {
-            for (uint32_t k = offsets[p]; k < offsets[p + 1]; ++k)
-              part.unobserved[ids[k]] += weights[k];
-            continue;
-          }
-          for (uint32_t k = offsets[p]; k < offsets[p + 1]; ++k) {
-            const uint32_t i = ids[k];
-            if (z[i] < (1 - tolerance) * d) {
-              part.free_space[i] += weights[k];
-              continue;
+    const RasterState& s = *forward.state;
+    UninitVector<float> slots(s.tile_gaussians.size() * kParts);
+    tbb::parallel_for(
+        tbb::blocked_range<int>(0, s.tile_count()), [&](const tbb::blocked_range<int>& r) {
+          TileBlend blend;
+          // Per tile pixel, the depths that bound the observed surface (a pixel without a prior is
+          // unobserved: every test below fails there but `unobserved`).
+          alignas(64) float lower[kTilePixels], upper[kTilePixels], observed[kTilePixels];
+          for (int t = r.begin(); t != r.end(); ++t) {
+            const PixelRect tile = tile_pixels(s, t);
+            for (int p = 0; p < kTilePixels; ++p) {
+              const int x = tile.x0 + p % kTileSize, y = tile.y0 + p / kTileSize;
+              const float d = x < tile.x1 && y < tile.y1 ? v.depth(y, x) : 0.f;
+              const bool has = d > 0 && std::isfinite(d);
+              observed[p] = has ? 1.f : 0.f;
+              lower[p] = has ? below * d : 0.f;
+              upper[p] = has ? above * d : std::numeric_limits<float>::infinity();
             }
-            part.on_surface[i] += weights[k];
-            if (z[i] > (1 + tolerance) * d) part.behind[i] += weights[k];
+            const TileGaussian* list = s.tile_gaussians.data() + s.tile_offsets[t];
+            for (uint32_t j = 0; j < s.tile_offsets[t + 1] - s.tile_offsets[t]; ++j)
+              std::fill_n(&slots[size_t(list[j].slot) * kParts], kParts, 0.f);
+            blend_tile(s, t, blend, [&](uint32_t j, int at, const float* w) {
+              const float z = s.projections[list[j].id].depth;
+              float part[kParts] = {};
+              for (int x = 0; x < kLanes; ++x) {
+                const bool has = observed[at + x] != 0.f, free = z < lower[at + x];
+                part[kFree] += has && free ? w[x] : 0.f;
+                part[kOnSurface] += has && !free ? w[x] : 0.f;
+                part[kUnobserved] += has ? 0.f : w[x];
+                part[kBehind] += z > upper[at + x] ? w[x] : 0.f;
+              }
+              float* slot = &slots[size_t(list[j].slot) * kParts];
+              for (int k = 0; k < kParts; ++k) slot[k] += part[k];
+            });
           }
-        }
-    });
-    for (const LineOfSightWeights& part : partial)
-      for (size_t i = 0; i < n; ++i) {
-        out.free_space[i] += part.free_space[i];
-        out.on_surface[i] += part.on_surface[i];
-        out.unobserved[i] += part.unobserved[i];
-        out.behind[i] += part.behind[i];
+        });
+    // Each Gaussian's slots in slot order: the same sums at any thread count.
+    tbb::parallel_for(size_t(0), n, [&](size_t i) {
+      for (uint32_t k = s.slot_offsets[i]; k < s.slot_offsets[i + 1]; ++k) {
+        const float* slot = &slots[size_t(k) * kParts];
+        out.free_space[i] += slot[kFree];
+        out.on_surface[i] += slot[kOnSurface];
+        out.unobserved[i] += slot[kUnobserved];
+        out.behind[i] += slot[kBehind];
       }
+    });
   }
   return out;
 }

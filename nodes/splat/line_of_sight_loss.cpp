@@ -1,3 +1,7 @@
+// Vector width of the blending loops it shares with the rasterizer: see rasterizer_forward.cpp.
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC target("prefer-vector-width=512")
+#endif
 #include "nodes/splat/line_of_sight_loss.hpp"
 
 #include <algorithm>
@@ -5,23 +9,13 @@
 #include <stdexcept>
 #include <vector>
 
+#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include "nodes/splat/projection.hpp"
 #include "nodes/splat/raster_state.hpp"
 
 namespace gslift {
-
-namespace {
-
-// One (pixel, Gaussian in front of the pixel's prior) pair's share of dL: d/d(mean2d x, y), d/d
-// conic (A, B, C), d/d opacity (not its logit).
-struct Partial {
-  uint32_t id;
-  float d[6];
-};
-
-}  // namespace
 
 double line_of_sight_loss(const GaussianModel& model, const Camera& camera, const Pose& pose,
                           const cv::Mat1f& prior_depth, const RenderOutput& forward,
@@ -38,84 +32,91 @@ double line_of_sight_loss(const GaussianModel& model, const Camera& camera, cons
     }
   if (observed == 0) return 0.0;
 
+  // Per tile, two passes over its list in the rasterizer's lane layout (raster_state.hpp): front
+  // to back, each pixel's transmittance T_p through the Gaussians in front of its cut; then, as
+  // dF/da_k = T_p / (1 - a_k) needs the final T_p, the same contributions again for the
+  // gradient, summed per list entry into its slot (6 partials: mean2d, conic, opacity).
+  constexpr int kPartials = 6;
   const int tiles = s.tile_count();
   std::vector<double> tile_loss(tiles, 0.0);
-  std::vector<std::vector<Partial>> tile_partials(tiles);
-  tbb::parallel_for(0, tiles, [&](int t) {
-    struct Front {
-      uint32_t id;
-      float a, G, dx, dy;
-      const TileGaussian* g;
-    };
-    std::vector<Front> front;
-    const TileGaussian* list = s.tile_gaussians.data() + s.tile_offsets[t];
-    const uint32_t count = s.tile_offsets[t + 1] - s.tile_offsets[t];
-    const int tx = t % s.tiles_x, ty = t / s.tiles_x;
-    for (int y = ty * kTileSize; y < std::min(s.height, (ty + 1) * kTileSize); ++y)
-      for (int x = tx * kTileSize; x < std::min(s.width, (tx + 1) * kTileSize); ++x) {
-        const float D = prior_depth(y, x);
-        if (!(D > 0) || !std::isfinite(D)) continue;
-        const float cut = static_cast<float>((1 - tolerance) * D);
-        // The list is in blending order, front to back: the Gaussians in front are a prefix.
-        // Alphas exactly as the forward pass blends them (raster_state.hpp blend_row).
-        front.clear();
-        double T = 1;
-        for (uint32_t j = 0; j < count; ++j) {
-          const TileGaussian& g = list[j];
-          if (!(s.projections[g.id].depth < cut)) break;
-          if (x < g.x0 || x >= g.x1 || y < g.y0 || y >= g.y1) continue;
-          const float dx = g.mx - (float(x) + 0.5f), dy = g.my - (float(y) + 0.5f);
-          const float power = (-0.5f * g.C * dy * dy - 0.5f * g.A * dx * dx) - g.B * dy * dx;
-          if (power > 0.f || power < g.power_min) continue;
-          const float G = blend_exp(power);
-          const float a = std::min(kMaxAlpha, g.opacity * G);
-          if (a < s.min_alpha) continue;
-          if (T * (1.0 - a) < kMinTransmittance) break;  // where the forward pass stops
-          front.push_back({g.id, a, G, dx, dy, &g});
-          T *= 1.0 - a;
-        }
-        tile_loss[t] += 1.0 - T;
-        if (!grads) continue;
-        // F = 1 - prod (1 - a_k): dF/da_k = T / (1 - a_k); a = o G, G = exp(power).
-        for (const Front& f : front) {
-          if (f.a >= kMaxAlpha) continue;  // clamped: constant
-          const float dF_da = static_cast<float>(T / (1.0 - f.a));
-          const TileGaussian& g = *f.g;
-          const float d_power = dF_da * f.a;
-          tile_partials[t].push_back(
-              {f.id,
-               {-d_power * (g.A * f.dx + g.B * f.dy), -d_power * (g.C * f.dy + g.B * f.dx),
-                -0.5f * d_power * f.dx * f.dx, -d_power * f.dx * f.dy,
-                -0.5f * d_power * f.dy * f.dy, dF_da * f.G}});
-        }
+  UninitVector<float> slots(grads ? s.tile_gaussians.size() * kPartials : 0);
+  tbb::parallel_for(tbb::blocked_range<int>(0, tiles), [&](const tbb::blocked_range<int>& r) {
+    TileBlend front;
+    alignas(64) float cut[kTilePixels], gaussian[kLanes], alpha[kLanes];
+    for (int t = r.begin(); t != r.end(); ++t) {
+      const TileGaussian* list = s.tile_gaussians.data() + s.tile_offsets[t];
+      const uint32_t count = s.tile_offsets[t + 1] - s.tile_offsets[t];
+      const PixelRect tile = tile_pixels(s, t);
+      for (int p = 0; p < kTilePixels; ++p) {
+        const int x = tile.x0 + p % kTileSize, y = tile.y0 + p / kTileSize;
+        const float D = x < tile.x1 && y < tile.y1 ? prior_depth(y, x) : 0.f;
+        // No prior: a cut of 0 puts every Gaussian behind it (the near plane is > 0).
+        cut[p] = D > 0 && std::isfinite(D) ? static_cast<float>((1 - tolerance) * D) : 0.f;
       }
+      // Alphas and early stop exactly as the forward pass blends, restricted to the Gaussians in
+      // front of each pixel's cut.
+      blend_tile(
+          s, t, front, [](uint32_t, int, const float*) {}, cut);
+      double loss = 0;
+      for (int p = 0; p < kTilePixels; ++p) loss += 1.0 - front.T[p];  // 0 where none in front
+      tile_loss[t] = loss;
+      if (!grads) continue;
+      // Per tile row, its last contribution + 1: the entries at or past it add nothing there.
+      uint32_t row_last[kTileSize], reached = 0;
+      for (int row = 0; row < kTileSize; ++row) {
+        row_last[row] =
+            *std::max_element(front.last + row * kTileSize, front.last + (row + 1) * kTileSize);
+        reached = std::max(reached, row_last[row]);
+      }
+      for (uint32_t j = reached; j < count; ++j)
+        std::fill_n(&slots[size_t(list[j].slot) * kPartials], kPartials, 0.f);
+      // F = 1 - prod (1 - a_k): dF/da_k = T / (1 - a_k); a = o G, G = exp(power); a clamped
+      // alpha is constant.
+      for (uint32_t j = 0; j < reached; ++j) {
+        const TileGaussian& e = list[j];
+        const PixelRect rect = clip(e, tile);
+        GeometryMoments moments;
+        for (int y = rect.y0; y < rect.y1; ++y) {
+          if (j >= row_last[y - tile.y0]) continue;
+          blend_row(e, y, tile.x0, tile.x0 + kLanes, s.min_alpha, gaussian, alpha);
+          const int at = (y - tile.y0) * kTileSize;
+          const float dy = e.my - (float(y) + 0.5f);
+#pragma GCC unroll 1  // one vector loop, not kLanes scalar copies
+          for (int x = 0; x < kLanes; ++x) {
+            const int px = tile.x0 + x;
+            const bool active = (px >= rect.x0) & (px < rect.x1) & (alpha[x] >= 0.f) &
+                                (j < front.last[at + x]) & (alpha[x] < kMaxAlpha);
+            const float a = active ? alpha[x] : 0.f;
+            const float dF_da = front.T[at + x] / (1.f - a);
+            const float dx = e.mx - (float(px) + 0.5f);
+            moments.add(x, dx, dy, active ? dF_da * a : 0.f, active ? dF_da * gaussian[x] : 0.f);
+          }
+        }
+        moments.reduce(e, &slots[size_t(e.slot) * kPartials]);
+      }
+    }
   });
   double loss = 0;
   for (double l : tile_loss) loss += l;
   loss /= static_cast<double>(observed);
   if (!grads) return loss;
 
-  // Per Gaussian, the screen-space partials summed in tile order, then through the projection.
-  const size_t n = model.size();
-  std::vector<float> sums(n * 6, 0.f);
-  std::vector<char> touched(n, 0);
+  // Per Gaussian, its slots summed in tile order, then through the projection.
   const float k = static_cast<float>(scale / static_cast<double>(observed));
-  for (const auto& partials : tile_partials)
-    for (const Partial& part : partials) {
-      for (int c = 0; c < 6; ++c) sums[part.id * 6 + c] += k * part.d[c];
-      touched[part.id] = 1;
-    }
   const ViewTransform view(camera, pose);
-  tbb::parallel_for(size_t(0), n, [&](size_t i) {
-    if (!touched[i]) return;
+  tbb::parallel_for(size_t(0), model.size(), [&](size_t i) {
+    float sum[kPartials] = {};
+    for (uint32_t slot = s.slot_offsets[i]; slot < s.slot_offsets[i + 1]; ++slot)
+      for (int c = 0; c < kPartials; ++c) sum[c] += slots[size_t(slot) * kPartials + c];
+    if (std::all_of(sum, sum + kPartials, [](float v) { return v == 0.f; })) return;
     ProjectionGrads pg;
-    pg.mean2d = Eigen::Vector2f(sums[i * 6], sums[i * 6 + 1]);
-    pg.conic = Eigen::Vector3f(sums[i * 6 + 2], sums[i * 6 + 3], sums[i * 6 + 4]);
+    pg.mean2d = k * Eigen::Vector2f(sum[0], sum[1]);
+    pg.conic = k * Eigen::Vector3f(sum[2], sum[3], sum[4]);
     project_gaussian_backward(view, &model.means[i * 3], &model.log_scales[i * 3],
                               &model.quats[i * 4], pg, &grads->means[i * 3],
                               &grads->log_scales[i * 3], &grads->quats[i * 4]);
     const float o = 1.f / (1.f + std::exp(-model.opacity_logits[i]));
-    grads->opacity_logits[i] += sums[i * 6 + 5] * o * (1 - o);
+    grads->opacity_logits[i] += k * sum[5] * o * (1 - o);
   });
   return loss;
 }

@@ -141,6 +141,42 @@ inline PixelRect clip(const TileGaussian& g, const PixelRect& tile) {
 constexpr int kLanes = kTileSize;
 constexpr int kTilePixels = kTileSize * kTileSize;
 
+// Sum of kLanes lanes, pairwise in a fixed order (vectorisable, and the same at any thread count).
+inline float lane_sum(float* a) {
+  for (int h = kLanes / 2; h > 0; h /= 2)
+    for (int i = 0; i < h; ++i) a[i] += a[i + h];
+  return a[0];
+}
+
+// Lane accumulators of one list entry's geometry gradient over its pixels. With p = dL/dpower at
+// a pixel and d = mean2d - pixel centre, power = -0.5 (A dx^2 + C dy^2) - B dx dy has gradients
+// linear in the moments sum p dx, sum p dy, sum p dx^2, sum p dx dy, sum p dy^2; plus dL/dopacity.
+// Shared by the rasterizer's backward pass and the line-of-sight loss.
+struct GeometryMoments {
+  alignas(64) float x[kLanes] = {}, y[kLanes] = {}, xx[kLanes] = {}, xy[kLanes] = {},
+                    yy[kLanes] = {}, opacity[kLanes] = {};
+  // Lane `lane`: pixel offset (dx, dy), dL/dpower, dL/dopacity (0 where masked out).
+  void add(int lane, float dx, float dy, float d_power, float d_opacity) {
+    const float p_dx = d_power * dx;
+    x[lane] += p_dx;
+    y[lane] += d_power * dy;
+    xx[lane] += p_dx * dx;
+    xy[lane] += p_dx * dy;
+    yy[lane] += d_power * (dy * dy);
+    opacity[lane] += d_opacity;
+  }
+  // out[0..5] = dL/d(mean2d x, y), dL/d(A, B, C), dL/dopacity of entry e.
+  void reduce(const TileGaussian& e, float* out) {
+    const float sx = lane_sum(x), sy = lane_sum(y);
+    out[0] = -(e.A * sx + e.B * sy);  // dL/dmean2d = sum p dpower/dd
+    out[1] = -(e.B * sx + e.C * sy);
+    out[2] = -0.5f * lane_sum(xx);  // dL/dA, dL/dB, dL/dC
+    out[3] = -lane_sum(xy);
+    out[4] = -0.5f * lane_sum(yy);
+    out[5] = lane_sum(opacity);
+  }
+};
+
 // Per-pixel result of blending one tile: final transmittance and last contributing index + 1.
 struct TileBlend {
   alignas(64) float T[kTilePixels];
@@ -154,8 +190,12 @@ struct TileBlend {
 // (x < kLanes), 0 where entry j does not contribute there; out.last[at + x] == j + 1 exactly
 // where it does. The forward pass and the render cache both blend through here, so their weights
 // agree bit for bit.
+// With `cut` (kTilePixels camera depths), tile pixel p blends only the entries in front of
+// cut[p] (a prefix of its list: the line-of-sight loss's opacity in front of a depth prior), and
+// the pass ends at the first entry behind every pixel's cut; a row no entry reaches is skipped.
 template <class OnRow>
-inline void blend_tile(const RasterState& s, int t, TileBlend& out, OnRow&& on_row) {
+inline void blend_tile(const RasterState& s, int t, TileBlend& out, OnRow&& on_row,
+                       const float* cut = nullptr) {
   const TileGaussian* list = s.tile_gaussians.data() + s.tile_offsets[t];
   const uint32_t count = s.tile_offsets[t + 1] - s.tile_offsets[t];
   const PixelRect tile = tile_pixels(s, t);
@@ -163,10 +203,19 @@ inline void blend_tile(const RasterState& s, int t, TileBlend& out, OnRow&& on_r
   std::fill(std::begin(out.last), std::end(out.last), 0u);
   alignas(64) float done[kTilePixels] = {};  // 1 once the pixel's T would fall below 1e-4
   int active = (tile.x1 - tile.x0) * (tile.y1 - tile.y0);
+  float row_cut[kTileSize] = {}, tile_cut = 0;  // the furthest cut of each row, of the tile
+  if (cut)
+    for (int row = 0; row < kTileSize; ++row) {
+      row_cut[row] = *std::max_element(cut + row * kTileSize, cut + (row + 1) * kTileSize);
+      tile_cut = std::max(tile_cut, row_cut[row]);
+    }
   for (uint32_t j = 0; j < count && active > 0; ++j) {
     const TileGaussian& e = list[j];
+    const float z = cut ? s.projections[e.id].depth : 0.f;
+    if (cut && !(z < tile_cut)) break;
     const PixelRect r = clip(e, tile);
     for (int y = r.y0; y < r.y1; ++y) {
+      if (cut && !(z < row_cut[y - tile.y0])) continue;
       alignas(64) float gaussian[kLanes], alpha[kLanes], w[kLanes];
       blend_row(e, y, tile.x0, tile.x0 + kLanes, s.min_alpha, gaussian, alpha);
       const int at = (y - tile.y0) * kTileSize;
@@ -174,7 +223,9 @@ inline void blend_tile(const RasterState& s, int t, TileBlend& out, OnRow&& on_r
 #pragma GCC unroll 1  // one vector loop, not kLanes scalar copies
       for (int x = 0; x < kLanes; ++x) {
         const int px = tile.x0 + x;
-        const bool live = (px >= r.x0) & (px < r.x1) & (alpha[x] >= 0.f) & (done[at + x] == 0.f);
+        const bool in_front = !cut || z < cut[at + x];
+        const bool live =
+            (px >= r.x0) & (px < r.x1) & (alpha[x] >= 0.f) & (done[at + x] == 0.f) & in_front;
         const float T = out.T[at + x];
         const float next_T = T * (1.f - alpha[x]);
         const bool stop = live & (next_T < kMinTransmittance);

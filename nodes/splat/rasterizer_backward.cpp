@@ -105,13 +105,6 @@ class PixelGrads {
 // Per (Gaussian, tile) slot: dL/d mean2d (2), conic (3), opacity (1), then the channel values.
 constexpr int kSlotGeometry = 6;
 
-// Sum of kLanes lanes, pairwise in a fixed order (vectorisable, and the same at any thread count).
-inline float lane_sum(float* a) {
-  for (int h = kLanes / 2; h > 0; h /= 2)
-    for (int i = 0; i < h; ++i) a[i] += a[i + h];
-  return a[0];
-}
-
 // Per-worker buffers of backward_tile, structure of arrays: channel c of tile pixel p at [c][p].
 struct BackwardScratch {
   explicit BackwardScratch(int channels)
@@ -189,10 +182,7 @@ void backward_tile(const RasterState& s, int t, const PixelGrads& pixel_grads, f
     const float* v = &scratch.values[size_t(j) * C];
     const float jf = float(j);
     std::fill(d, d + size_t(C) * kLanes, 0.f);
-    // Lane accumulators of the moments of dL/dpower over the entry's pixels, d = mean2d - pixel:
-    // sum p dx, sum p dy, sum p dx^2, sum p dx dy, sum p dy^2 (p = dL/dpower), and of dL/dopacity.
-    alignas(64) float m_x[kLanes] = {}, m_y[kLanes] = {}, m_xx[kLanes] = {}, m_xy[kLanes] = {},
-                      m_yy[kLanes] = {}, d_opacity[kLanes] = {};
+    GeometryMoments moments;  // of dL/dpower and dL/dopacity over the entry's pixels
     for (int y = rect.y0; y < rect.y1; ++y) {
       if (jf >= row_last[y - tile.y0]) continue;
       const float dy = e.my - (float(y) + 0.5f);
@@ -236,23 +226,11 @@ void backward_tile(const RasterState& s, int t, const PixelGrads& pixel_grads, f
         const bool free = e.opacity * gaussian[x] <= kMaxAlpha;
         const float d_power = free ? d_alpha * a[x] : 0.f;
         const float dx = e.mx - (float(tile.x0 + x) + 0.5f);
-        const float p_dx = d_power * dx;
-        m_x[x] += p_dx;
-        m_y[x] += d_power * dy;
-        m_xx[x] += p_dx * dx;
-        m_xy[x] += p_dx * dy;
-        m_yy[x] += d_power * (dy * dy);
-        d_opacity[x] += free & (a[x] > 0.f) ? d_alpha * gaussian[x] : 0.f;
+        moments.add(x, dx, dy, d_power, free & (a[x] > 0.f) ? d_alpha * gaussian[x] : 0.f);
       }
     }
     float* slot = &slot_grads[size_t(e.slot) * stride];
-    const float sx = lane_sum(m_x), sy = lane_sum(m_y);
-    slot[0] = -(e.A * sx + e.B * sy);  // dL/dmean2d = sum p dpower/dd
-    slot[1] = -(e.B * sx + e.C * sy);
-    slot[2] = -0.5f * lane_sum(m_xx);  // dL/dA, dL/dB, dL/dC
-    slot[3] = -lane_sum(m_xy);
-    slot[4] = -0.5f * lane_sum(m_yy);
-    slot[5] = lane_sum(d_opacity);
+    moments.reduce(e, slot);
     for (int c = 0; c < C; ++c) slot[kSlotGeometry + c] = lane_sum(d + c * kLanes);
   }
 }

@@ -43,6 +43,14 @@ void run_reconstruct(NodeContext& ctx, ReconstructOptions o) {
   ctx.record("size_reason", model_size_reason(r));
   ctx.record("growth_refused", static_cast<double>(r.growth_refused));
   ctx.record("seconds", r.seconds);
+  // Where the time went (wall seconds per phase): what a user trading a lever's gain against its
+  // cost reads first.
+  ctx.record("prepare_seconds", r.phases.prepare);
+  ctx.record("render_seconds", r.phases.render);
+  ctx.record("losses_seconds", r.phases.losses);
+  ctx.record("backward_seconds", r.phases.backward);
+  ctx.record("adam_seconds", r.phases.adam);
+  ctx.record("density_seconds", r.phases.density);
   ctx.record("scene_extent", r.scene_extent);
   ctx.record("loss_total", r.final_loss.total);
   ctx.record("loss_photometric", r.final_loss.photometric);

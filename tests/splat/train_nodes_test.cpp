@@ -46,6 +46,16 @@ nodes:
   CHECK(std::get<double>(recon->records.at("train_psnr")) > 15);
   CHECK(recon->records.count("test_psnr") == 1);
   CHECK(std::get<double>(recon->records.at("iterations_run")) == 60);
+  // The phases' wall seconds: each measured, together no more than the whole reconstruction.
+  double phases = 0;
+  for (const char* phase : {"prepare", "render", "losses", "backward", "adam", "density"}) {
+    INFO(phase);
+    const double seconds = std::get<double>(recon->records.at(std::string(phase) + "_seconds"));
+    CHECK(seconds >= 0);
+    phases += seconds;
+  }
+  CHECK(std::get<double>(recon->records.at("render_seconds")) > 0);
+  CHECK(phases <= std::get<double>(recon->records.at("seconds")));
 
   const GaussianModel model = read_ply(options.out_dir / "recon" / "model.ply");
   CHECK(model.size() == static_cast<size_t>(gaussians));
