@@ -24,21 +24,14 @@ double line_of_sight_loss(const GaussianModel& model, const Camera& camera, cons
   const RasterState& s = *forward.state;
   if (s.width != prior_depth.cols || s.height != prior_depth.rows)
     throw std::invalid_argument("line_of_sight_loss: the depth prior is not the render's size");
-  size_t observed = 0;
-  for (int y = 0; y < s.height; ++y)
-    for (int x = 0; x < s.width; ++x) {
-      const float d = prior_depth(y, x);
-      observed += d > 0 && std::isfinite(d);
-    }
-  if (observed == 0) return 0.0;
-
   // Per tile, two passes over its list in the rasterizer's lane layout (raster_state.hpp): front
   // to back, each pixel's transmittance T_p through the Gaussians in front of its cut; then, as
   // dF/da_k = T_p / (1 - a_k) needs the final T_p, the same contributions again for the
-  // gradient, summed per list entry into its slot (6 partials: mean2d, conic, opacity).
-  constexpr int kPartials = 6;
+  // gradient, summed per list entry into its slot (mean2d, conic, opacity: GeometryMoments).
+  constexpr int kPartials = GeometryMoments::kOutputs;
   const int tiles = s.tile_count();
   std::vector<double> tile_loss(tiles, 0.0);
+  std::vector<size_t> tile_observed(tiles, 0);  // pixels with a prior: the mean's denominator
   UninitVector<float> slots(grads ? s.tile_gaussians.size() * kPartials : 0);
   tbb::parallel_for(tbb::blocked_range<int>(0, tiles), [&](const tbb::blocked_range<int>& r) {
     TileBlend front;
@@ -51,7 +44,9 @@ double line_of_sight_loss(const GaussianModel& model, const Camera& camera, cons
         const int x = tile.x0 + p % kTileSize, y = tile.y0 + p / kTileSize;
         const float D = x < tile.x1 && y < tile.y1 ? prior_depth(y, x) : 0.f;
         // No prior: a cut of 0 puts every Gaussian behind it (the near plane is > 0).
-        cut[p] = D > 0 && std::isfinite(D) ? static_cast<float>((1 - tolerance) * D) : 0.f;
+        const bool has = D > 0 && std::isfinite(D);
+        cut[p] = has ? static_cast<float>((1 - tolerance) * D) : 0.f;
+        tile_observed[t] += has;
       }
       // Alphas and early stop exactly as the forward pass blends, restricted to the Gaussians in
       // front of each pixel's cut.
@@ -97,7 +92,12 @@ double line_of_sight_loss(const GaussianModel& model, const Camera& camera, cons
     }
   });
   double loss = 0;
-  for (double l : tile_loss) loss += l;
+  size_t observed = 0;
+  for (int t = 0; t < tiles; ++t) {
+    loss += tile_loss[t];
+    observed += tile_observed[t];
+  }
+  if (observed == 0) return 0.0;
   loss /= static_cast<double>(observed);
   if (!grads) return loss;
 

@@ -153,6 +153,7 @@ inline float lane_sum(float* a) {
 // linear in the moments sum p dx, sum p dy, sum p dx^2, sum p dx dy, sum p dy^2; plus dL/dopacity.
 // Shared by the rasterizer's backward pass and the line-of-sight loss.
 struct GeometryMoments {
+  static constexpr int kOutputs = 6;  // what reduce() writes
   alignas(64) float x[kLanes] = {}, y[kLanes] = {}, xx[kLanes] = {}, xy[kLanes] = {},
                     yy[kLanes] = {}, opacity[kLanes] = {};
   // Lane `lane`: pixel offset (dx, dy), dL/dpower, dL/dopacity (0 where masked out).
@@ -165,7 +166,7 @@ struct GeometryMoments {
     yy[lane] += d_power * (dy * dy);
     opacity[lane] += d_opacity;
   }
-  // out[0..5] = dL/d(mean2d x, y), dL/d(A, B, C), dL/dopacity of entry e.
+  // out[0..kOutputs) = dL/d(mean2d x, y), dL/d(A, B, C), dL/dopacity of entry e.
   void reduce(const TileGaussian& e, float* out) {
     const float sx = lane_sum(x), sy = lane_sum(y);
     out[0] = -(e.A * sx + e.B * sy);  // dL/dmean2d = sum p dpower/dd

@@ -103,7 +103,7 @@ class PixelGrads {
 };
 
 // Per (Gaussian, tile) slot: dL/d mean2d (2), conic (3), opacity (1), then the channel values.
-constexpr int kSlotGeometry = 6;
+constexpr int kSlotGeometry = GeometryMoments::kOutputs;
 
 // Per-worker buffers of backward_tile, structure of arrays: channel c of tile pixel p at [c][p].
 struct BackwardScratch {

@@ -77,6 +77,15 @@ TEST_CASE("line-of-sight loss: the opacity drawn in front of the observed surfac
   CHECK(scene.loss(on_wall, &none) == 0);
   CHECK(none.means == std::vector<float>(3, 0.f));
   CHECK(none.opacity_logits == std::vector<float>(1, 0.f));
+
+  // A view without any prior observes nothing: no loss and no gradient, whatever is drawn.
+  const cv::Mat1f no_prior(30, 40, 0.f);
+  ModelGrads unobserved;
+  unobserved.reset(one);
+  CHECK(line_of_sight_loss(one, scene.cam, scene.pose, no_prior, scene.forward(one), 0.03, 1.0,
+                           &unobserved) == 0);
+  CHECK(unobserved.means == std::vector<float>(3, 0.f));
+  CHECK(unobserved.opacity_logits == std::vector<float>(1, 0.f));
 }
 
 TEST_CASE("line-of-sight loss: gradient against central differences", "[splat][geometry]") {
