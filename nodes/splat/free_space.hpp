@@ -57,10 +57,15 @@ struct FreeSpacePruneOptions {
   // depth prior (seen through the observed surface: an opaque model would hide it), under the same
   // rounds-running rule as line_of_sight. 0 = off.
   double behind = 0;
+  // Prune a Gaussian more than this fraction of whose footprint, summed over the training views,
+  // lies behind the depth prior (footprint_behind below: hidden from the cameras), under the same
+  // rounds-running rule. 0 = off.
+  double hidden = 0;
   // Relative depth tolerance of every test: the depth prior's noise and the Gaussians' extent.
   double tolerance = 0.1;
   bool active() const {
-    return free_space_views > 0 || min_seen_views > 0 || line_of_sight > 0 || behind > 0;
+    return free_space_views > 0 || min_seen_views > 0 || line_of_sight > 0 || behind > 0 ||
+           hidden > 0;
   }
 };
 
@@ -90,6 +95,23 @@ LineOfSightWeights line_of_sight_weights(const GaussianModel& model,
 // space + on surface), or whose weight behind the surface exceeds `behind` of it; 0 = a side off.
 std::vector<char> line_of_sight_prune_mask(const LineOfSightWeights& weights, double fraction,
                                            double behind = 0);
+
+// Per Gaussian, its footprint over the pixels of the training views that observed a depth D: the
+// sum of its alpha there, with no transmittance (what it would cover if nothing stood in front of
+// it), and the part of it where the Gaussian lies behind the observed surface, z > (1 + tolerance)
+// D; both summed over the views. A Gaussian whose footprint lies behind the observed surfaces is
+// hidden from the cameras: they cannot place it, and what they see of it (a sliver at a
+// silhouette, with the little weight line_of_sight_weights measures, which lets it escape the
+// `behind` rule) fits wherever it stands in the space no camera sees, so a new camera finds it in
+// front of whatever is there. Summed over the views, not view by view: a Gaussian that one view
+// sees edge-on (a few pixels, on its surface) and the others not at all is as unconstrained along
+// that view's rays. Renders each view once and visits every tile-list entry, past where blending
+// stops. Deterministic at any thread count.
+struct FootprintDepth {
+  std::vector<double> observed, behind;
+};
+FootprintDepth footprint_behind(const GaussianModel& model,
+                                const std::vector<DepthObservation>& views, double tolerance);
 
 // The rules above over a run's pruning rounds. The line-of-sight rule's streaks (the rounds
 // running in which each Gaussian violated it) live here and follow the model's rows through

@@ -17,13 +17,14 @@
 
 namespace gslift {
 
-double line_of_sight_loss(const GaussianModel& model, const Camera& camera, const Pose& pose,
-                          const cv::Mat1f& prior_depth, const RenderOutput& forward,
-                          double tolerance, double scale, ModelGrads* grads) {
-  if (!forward.state) throw std::invalid_argument("line_of_sight_loss: the render has no state");
+double opacity_before_prior(const GaussianModel& model, const Camera& camera, const Pose& pose,
+                            const cv::Mat1f& prior_depth, const RenderOutput& forward,
+                            double depth_factor, double scale, ModelGrads* grads,
+                            size_t* observed_pixels) {
+  if (!forward.state) throw std::invalid_argument("opacity_before_prior: the render has no state");
   const RasterState& s = *forward.state;
   if (s.width != prior_depth.cols || s.height != prior_depth.rows)
-    throw std::invalid_argument("line_of_sight_loss: the depth prior is not the render's size");
+    throw std::invalid_argument("opacity_before_prior: the depth prior is not the render's size");
   // Per tile, two passes over its list in the rasterizer's lane layout (raster_state.hpp): front
   // to back, each pixel's transmittance T_p through the Gaussians in front of its cut; then, as
   // dF/da_k = T_p / (1 - a_k) needs the final T_p, the same contributions again for the
@@ -45,7 +46,7 @@ double line_of_sight_loss(const GaussianModel& model, const Camera& camera, cons
         const float D = x < tile.x1 && y < tile.y1 ? prior_depth(y, x) : 0.f;
         // No prior: a cut of 0 puts every Gaussian behind it (the near plane is > 0).
         const bool has = D > 0 && std::isfinite(D);
-        cut[p] = has ? static_cast<float>((1 - tolerance) * D) : 0.f;
+        cut[p] = has ? static_cast<float>(depth_factor * D) : 0.f;
         tile_observed[t] += has;
       }
       // Alphas and early stop exactly as the forward pass blends, restricted to the Gaussians in
@@ -97,6 +98,7 @@ double line_of_sight_loss(const GaussianModel& model, const Camera& camera, cons
     loss += tile_loss[t];
     observed += tile_observed[t];
   }
+  if (observed_pixels) *observed_pixels = observed;
   if (observed == 0) return 0.0;
   loss /= static_cast<double>(observed);
   if (!grads) return loss;
@@ -119,6 +121,22 @@ double line_of_sight_loss(const GaussianModel& model, const Camera& camera, cons
     grads->opacity_logits[i] += k * sum[5] * o * (1 - o);
   });
   return loss;
+}
+
+double line_of_sight_loss(const GaussianModel& model, const Camera& camera, const Pose& pose,
+                          const cv::Mat1f& prior_depth, const RenderOutput& forward,
+                          double tolerance, double scale, ModelGrads* grads) {
+  return opacity_before_prior(model, camera, pose, prior_depth, forward, 1 - tolerance, scale,
+                              grads);
+}
+
+double surface_opacity_loss(const GaussianModel& model, const Camera& camera, const Pose& pose,
+                            const cv::Mat1f& prior_depth, const RenderOutput& forward,
+                            double tolerance, double scale, ModelGrads* grads) {
+  size_t observed = 0;
+  const double opacity = opacity_before_prior(model, camera, pose, prior_depth, forward,
+                                              1 + tolerance, -scale, grads, &observed);
+  return observed > 0 ? 1 - opacity : 0.0;
 }
 
 }  // namespace gslift

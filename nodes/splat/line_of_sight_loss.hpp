@@ -6,6 +6,7 @@
 // the depth-ordering priors of sparse-view 3DGS). Its gradient reaches what pruning cannot: it
 // shrinks, fades or moves the part of a Gaussian's footprint that lies in front of the surface
 // (an object's rim reaching past its silhouette) and leaves the part on the surface alone.
+// surface_opacity_loss below is the same sum at the far end of the margin.
 #pragma once
 
 #include <opencv2/core.hpp>
@@ -16,14 +17,37 @@
 
 namespace gslift {
 
-// L = mean over the pixels with a prior (depth > 0 and finite) of F_p. `forward` is a render of the
-// model in this view (any channels; its size is the prior's): its tile lists give each pixel's
-// Gaussians in blending order, and its alphas (the same projection, clamp at 0.99, min_alpha and
-// early stop) are the ones F is computed from. When grads is given, adds scale * dL/d(means,
-// log_scales, quats, opacity_logits) to it (sized for the model); a clamped alpha has none, and
-// the depth test is a step, with none. Parallel over tiles: deterministic at any thread count.
+// The opacity each training pixel p with a prior (depth D_p > 0 and finite) accumulates before its
+// ray reaches depth_factor x D_p, F_p = 1 - prod_{i: z_i < depth_factor D_p} (1 - alpha_i), and its
+// mean over those pixels (0 when the view has none; `observed` receives their count). `forward`
+// is a render of the model in this view (any channels; its size is the prior's): its tile lists
+// give each pixel's Gaussians in blending order, and its alphas (the same projection, clamp at
+// 0.99, min_alpha and early stop) are the ones F is computed from. When grads is given, adds
+// scale * d(mean F)/d(means, log_scales, quats, opacity_logits) to it (sized for the model); a
+// clamped alpha has none, and the depth test is a step, with none. Parallel over tiles:
+// deterministic at any thread count. The two losses below are this at the two ends of the margin.
+double opacity_before_prior(const GaussianModel& model, const Camera& camera, const Pose& pose,
+                            const cv::Mat1f& prior_depth, const RenderOutput& forward,
+                            double depth_factor, double scale = 1.0, ModelGrads* grads = nullptr,
+                            size_t* observed = nullptr);
+
+// The line-of-sight loss: L = mean F_p at depth_factor 1 - tolerance, the opacity drawn in front of
+// the observed surface.
 double line_of_sight_loss(const GaussianModel& model, const Camera& camera, const Pose& pose,
                           const cv::Mat1f& prior_depth, const RenderOutput& forward,
                           double tolerance, double scale = 1.0, ModelGrads* grads = nullptr);
+
+// Its other half (issue 11), DS-NeRF's ray termination: a pixel that observed a surface at D has
+// an opaque surface there, so its ray must be spent by (1 + tolerance) D. L = mean over the pixels
+// with a prior of T_p = 1 - F_p at depth_factor 1 + tolerance, the light left past the surface
+// (0 for a view without a prior). Without it a surface that a single training view sees can stay
+// half transparent, its colour made up by the background and its depth by Gaussians behind it,
+// and a held-out camera looks through it: most of the embedded OR's holes on covered pixels are
+// such surfaces (bench/splat_recon/README.md). Its gradient raises the opacity of everything in
+// front of (1 + tolerance) D, the free space included: the line-of-sight loss at an equal or
+// higher weight keeps the free space's opacity falling (T_front >= T_past in dF/dalpha).
+double surface_opacity_loss(const GaussianModel& model, const Camera& camera, const Pose& pose,
+                            const cv::Mat1f& prior_depth, const RenderOutput& forward,
+                            double tolerance, double scale = 1.0, ModelGrads* grads = nullptr);
 
 }  // namespace gslift

@@ -290,16 +290,23 @@ ReconstructResult reconstruct(const Capture& capture, const ReconstructOptions& 
     clock.charge(phases.losses);
     grads.reset(model);
     render_backward(model, target.camera, view.pose, settings, out, rgrads, grads);
-    const bool line_of_sight_step = options.line_of_sight_weight > 0 &&
-                                    step >= options.line_of_sight_start * options.iterations &&
-                                    step % std::max(options.line_of_sight_every, 1) == 0;
-    // Adds the line-of-sight loss of a render against its depth prior to the step's loss and grads.
+    const bool line_of_sight_step =
+        (options.line_of_sight_weight > 0 || options.surface_opacity_weight > 0) &&
+        step >= options.line_of_sight_start * options.iterations &&
+        step % std::max(options.line_of_sight_every, 1) == 0;
+    // Adds the line-of-sight and surface-opacity losses of a render against its depth prior to the
+    // step's loss and grads.
     const auto line_of_sight = [&](const Camera& camera, const Pose& pose, const cv::Mat1f& depth,
                                    const RenderOutput& forward) {
       clock.charge(phases.backward);
-      loss.line_of_sight +=
-          line_of_sight_loss(model, camera, pose, depth, forward, options.floaters.tolerance,
-                             options.line_of_sight_weight, &grads);
+      if (options.line_of_sight_weight > 0)
+        loss.line_of_sight +=
+            line_of_sight_loss(model, camera, pose, depth, forward, options.floaters.tolerance,
+                               options.line_of_sight_weight, &grads);
+      if (options.surface_opacity_weight > 0)
+        loss.surface_opacity +=
+            surface_opacity_loss(model, camera, pose, depth, forward, options.floaters.tolerance,
+                                 options.surface_opacity_weight, &grads);
       clock.charge(phases.losses);
     };
     if (line_of_sight_step && !target.depth.empty())
@@ -357,6 +364,7 @@ ReconstructResult reconstruct(const Capture& capture, const ReconstructOptions& 
                  options.anisotropy_weight * loss.anisotropy +
                  options.edge_extent_weight * loss.edge_extent +
                  options.line_of_sight_weight * loss.line_of_sight +
+                 options.surface_opacity_weight * loss.surface_opacity +
                  options.pseudo_weight * loss.pseudo;
     if (objective) loss.total += objective->weight * loss.features;
     clock.charge(phases.losses);
@@ -438,6 +446,7 @@ ReconstructResult reconstruct(const Capture& capture, const ReconstructOptions& 
     result.final_loss.anisotropy += history[i].anisotropy / tail;
     result.final_loss.edge_extent += history[i].edge_extent / tail;
     result.final_loss.line_of_sight += history[i].line_of_sight / tail;
+    result.final_loss.surface_opacity += history[i].surface_opacity / tail;
     result.final_loss.pseudo += history[i].pseudo / tail;
     result.final_loss.features += history[i].features / tail;
   }
@@ -499,6 +508,10 @@ const ParamTable<ReconstructOptions>& reconstruct_param_table() {
                "the line-of-sight loss joins every this many steps", 1)
           .add("line_of_sight_start", &O::line_of_sight_start,
                "fraction of the steps before the line-of-sight loss joins", 0, 1)
+          .add("surface_opacity_weight", &O::surface_opacity_weight,
+               "weight of the transmittance left past each training pixel's depth prior, on "
+               "the line-of-sight loss's steps; 0 = off",
+               0)
           .add("coarse_fraction", &O::coarse_fraction,
                "fraction of the steps trained at half resolution first; 0 = off", 0, 1)
           .add("densify", &O::densify, "clone/split/prune on the compressed schedule")
@@ -530,6 +543,10 @@ const ParamTable<ReconstructOptions>& reconstruct_param_table() {
                     .add("prune_behind", &F::behind,
                          "densification rounds prune Gaussians that draw more than this fraction "
                          "of their training-view weight behind the depth prior; 0 = off",
+                         0, 1)
+                    .add("prune_hidden", &F::hidden,
+                         "densification rounds prune Gaussians more than this fraction of whose "
+                         "footprint in the training views lies behind the depth prior; 0 = off",
                          0, 1)
                     .add("line_of_sight_rounds", &F::line_of_sight_rounds,
                          "prune_line_of_sight prunes only Gaussians that violate it in this many "

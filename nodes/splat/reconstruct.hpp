@@ -86,6 +86,9 @@ struct ReconstructOptions {
   double line_of_sight_weight = 0;
   int line_of_sight_every = 1;
   double line_of_sight_start = 0;
+  // Surface opacity (line_of_sight_loss.hpp): the transmittance each training pixel has left
+  // floaters.tolerance past its depth prior, on the line-of-sight loss's steps and views. 0 = off.
+  double surface_opacity_weight = 0;
   // Depth-warped pseudo-views (pseudo_views.hpp): every pseudo_every-th step also renders one of
   // the half-resolution views between two training cameras (in turn) and adds pseudo_weight x
   // (masked L1 + depth_weight x depth log-L1) against the warped training images. 0 = off.
@@ -125,7 +128,7 @@ const ParamTable<ReconstructOptions>& reconstruct_param_table();
 // Mean of each loss term over the last 10% of the steps (at least one step).
 struct LossSummary {
   double total = 0, photometric = 0, depth = 0, normal = 0, flatness = 0, opacity_entropy = 0,
-         anisotropy = 0, edge_extent = 0, pseudo = 0, line_of_sight = 0;
+         anisotropy = 0, edge_extent = 0, pseudo = 0, line_of_sight = 0, surface_opacity = 0;
   double features = 0;  // the FeatureObjective's loss (unweighted); 0 without one
 };
 

@@ -66,6 +66,8 @@ void run_reconstruct(NodeContext& ctx, ReconstructOptions o) {
   if (o.anisotropy_weight > 0) ctx.record("loss_anisotropy", r.final_loss.anisotropy);
   if (o.edge_extent_weight > 0) ctx.record("loss_edge_extent", r.final_loss.edge_extent);
   if (o.line_of_sight_weight > 0) ctx.record("loss_line_of_sight", r.final_loss.line_of_sight);
+  if (o.surface_opacity_weight > 0)
+    ctx.record("loss_surface_opacity", r.final_loss.surface_opacity);
   ctx.record("train_psnr", r.train_psnr);
   if (!std::isnan(r.test_psnr)) ctx.record("test_psnr", r.test_psnr);
   if (r.test_geometry) {

@@ -197,3 +197,58 @@ TEST_CASE(
   for (int hidden : {3, 5})
     CHECK(w.free_space[hidden] + w.on_surface[hidden] + w.unobserved[hidden] == 0);
 }
+
+TEST_CASE("footprint behind: a Gaussian hidden behind the observed surface is, whatever hides it") {
+  // The left half of the image observes a wall at 4 m, the right half an object at 1 m. Gaussian
+  // 0 (3 m) straddles the two halves: in front of the wall on the left, behind the object on the
+  // right. Gaussian 1 lies on the wall, Gaussian 2 (3 m) behind the object, and Gaussian 3, a
+  // large opaque disc at 0.5 m, hides Gaussian 1 from the camera.
+  const Camera cam = test::centred_pinhole(80, 40, 60);
+  const Pose pose;
+  cv::Mat1f depth(cam.height, cam.width, 4.f);
+  depth(cv::Rect(40, 0, 40, 40)) = 1.f;
+  GaussianModel m = centres({at(cam, 40.0, 20.0, 3.0), at(cam, 12.0, 20.0, 4.0),
+                             at(cam, 60.0, 20.0, 3.0), at(cam, 12.0, 20.0, 0.5)});
+  for (size_t i = 0; i < m.size(); ++i) {
+    const double z = m.means[i * 3 + 2], pixels = i == 3 ? 8.0 : 2.5;
+    for (int k = 0; k < 3; ++k) m.log_scales[i * 3 + k] = float(std::log(pixels * z / cam.fx));
+    const double opacity = i == 3 ? 0.99 : 0.8;
+    m.opacity_logits[i] = float(std::log(opacity / (1 - opacity)));
+  }
+  const std::vector<DepthObservation> views = {{&cam, &pose, depth}};
+  const FootprintDepth f = footprint_behind(m, views, 0.03);
+
+  // The footprint is the Gaussian's own opacity summed over its pixels, with nothing in front:
+  // Gaussian 1 draws little weight behind the disc, but its footprint is what it covers alone.
+  CHECK(line_of_sight_weights(m, views, 0.03).on_surface[1] < 0.1 * f.observed[1]);
+  CHECK(f.observed[1] == Approx(summed_opacity(m.subset({1}), cam, pose)).epsilon(1e-5));
+  CHECK(f.behind[1] == 0);
+  CHECK(f.behind[3] == 0);
+  CHECK(f.behind[2] == Approx(f.observed[2]));
+  CHECK(f.observed[2] > 1);
+  CHECK(f.behind[0] / f.observed[0] == Approx(0.5).margin(0.05));
+
+  // The pruner's rule, in one round.
+  const auto one_round = [&](double hidden) {
+    FreeSpacePruneOptions o;
+    o.tolerance = 0.03;
+    o.hidden = hidden;
+    CHECK(o.active());
+    return FreeSpacePruner(o).prune_mask(m, views);
+  };
+  CHECK(one_round(0.8) == std::vector<char>{0, 0, 1, 0});
+  CHECK(one_round(0.4) == std::vector<char>{1, 0, 1, 0});
+
+  // Over several views the footprints add up: a view that sees Gaussian 2 on its surface (its
+  // prior at 3 m everywhere) halves its fraction behind.
+  cv::Mat1f at_three(cam.height, cam.width, 3.f);
+  const std::vector<DepthObservation> two = {{&cam, &pose, depth}, {&cam, &pose, at_three}};
+  const FootprintDepth f2 = footprint_behind(m, two, 0.03);
+  CHECK(f2.behind[2] / f2.observed[2] == Approx(0.5));
+
+  // The same sums, bit for bit, on one thread.
+  tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
+  const FootprintDepth serial = footprint_behind(m, views, 0.03);
+  CHECK(serial.observed == f.observed);
+  CHECK(serial.behind == f.behind);
+}

@@ -1,6 +1,6 @@
-// The line-of-sight loss against hand-placed Gaussians in front of, straddling and on an observed
-// wall: its value from the rendered opacity, zero behind the surface, its gradient against finite
-// differences, and the same sums on one thread.
+// The line-of-sight and surface-opacity losses against hand-placed Gaussians in front of,
+// straddling and on an observed wall: their values from the rendered opacity, what lies behind the
+// surface left out, their gradients against finite differences, and the same sums on one thread.
 #include <cmath>
 
 #include <tbb/global_control.h>
@@ -33,6 +33,9 @@ struct Scene {
   }
   double loss(const GaussianModel& m, ModelGrads* grads = nullptr) const {
     return line_of_sight_loss(m, cam, pose, depth, forward(m), 0.03, 1.0, grads);
+  }
+  double surface_loss(const GaussianModel& m, ModelGrads* grads = nullptr) const {
+    return surface_opacity_loss(m, cam, pose, depth, forward(m), 0.03, 1.0, grads);
   }
   // Gaussian i centred on pixel (u, v) at depth z, isotropic scale s, opacity o.
   void place(GaussianModel& m, int i, double u, double v, double z, double s, double o) const {
@@ -78,6 +81,23 @@ TEST_CASE("line-of-sight loss: the opacity drawn in front of the observed surfac
   CHECK(none.means == std::vector<float>(3, 0.f));
   CHECK(none.opacity_logits == std::vector<float>(1, 0.f));
 
+  // The surface opacity: on the wall the Gaussian is in front of the far end of the margin, so
+  // the loss is the light it leaves, 1 - its opacity, over the pixels with a prior; behind the
+  // wall (4.5 m) it is drawn past the surface and leaves all of it, with no gradient.
+  double drawn_on_wall = 0;
+  const RenderOutput on = render(on_wall, scene.cam, scene.pose, alpha_only);
+  for (int y = 0; y < 30; ++y)
+    for (int x = 0; x < 40; ++x)
+      if (scene.depth(y, x) > 0) drawn_on_wall += on.alpha[size_t(y) * 40 + x];
+  CHECK(scene.surface_loss(on_wall) == Approx(1 - drawn_on_wall / observed).epsilon(1e-4));
+  GaussianModel behind_wall = one;
+  scene.place(behind_wall, 0, 10.5, 15.5, 4.5, 0.16, 0.7);
+  ModelGrads past;
+  past.reset(behind_wall);
+  CHECK(scene.surface_loss(behind_wall, &past) == 1);
+  CHECK(past.means == std::vector<float>(3, 0.f));
+  CHECK(past.opacity_logits == std::vector<float>(1, 0.f));
+
   // A view without any prior observes nothing: no loss and no gradient, whatever is drawn.
   const cv::Mat1f no_prior(30, 40, 0.f);
   ModelGrads unobserved;
@@ -85,6 +105,9 @@ TEST_CASE("line-of-sight loss: the opacity drawn in front of the observed surfac
   CHECK(line_of_sight_loss(one, scene.cam, scene.pose, no_prior, scene.forward(one), 0.03, 1.0,
                            &unobserved) == 0);
   CHECK(unobserved.means == std::vector<float>(3, 0.f));
+  CHECK(unobserved.opacity_logits == std::vector<float>(1, 0.f));
+  CHECK(surface_opacity_loss(one, scene.cam, scene.pose, no_prior, scene.forward(one), 0.03, 1.0,
+                             &unobserved) == 0);
   CHECK(unobserved.opacity_logits == std::vector<float>(1, 0.f));
 }
 
@@ -116,21 +139,39 @@ TEST_CASE("line-of-sight loss: gradient against central differences", "[splat][g
   // More opacity in front of the surface costs more.
   CHECK(g.opacity_logits[0] > 0);
 
-  const auto check = [&](std::vector<float> GaussianModel::*param,
+  using Loss = double (Scene::*)(const GaussianModel&, ModelGrads*) const;
+  const auto check = [&](Loss f, const ModelGrads& analytic,
+                         std::vector<float> GaussianModel::*param,
                          std::vector<float> ModelGrads::*grad, const char* name, double eps) {
     for (size_t k = 0; k < (m.*param).size(); ++k) {
       GaussianModel up = m, down = m;
       (up.*param)[k] += float(eps);
       (down.*param)[k] -= float(eps);
-      const double fd = (scene.loss(up) - scene.loss(down)) / (2 * eps);
-      INFO(name << "[" << k << "]: analytic " << (g.*grad)[k] << ", central difference " << fd);
-      CHECK((g.*grad)[k] == Approx(fd).margin(2e-5).epsilon(0.03));
+      const double fd = ((scene.*f)(up, nullptr) - (scene.*f)(down, nullptr)) / (2 * eps);
+      INFO(name << "[" << k << "]: analytic " << (analytic.*grad)[k] << ", central difference "
+                << fd);
+      CHECK((analytic.*grad)[k] == Approx(fd).margin(2e-5).epsilon(0.03));
     }
   };
-  check(&GaussianModel::means, &ModelGrads::means, "means", 1e-3);
-  check(&GaussianModel::log_scales, &ModelGrads::log_scales, "log_scales", 1e-3);
-  check(&GaussianModel::quats, &ModelGrads::quats, "quats", 1e-3);
-  check(&GaussianModel::opacity_logits, &ModelGrads::opacity_logits, "opacity_logits", 1e-3);
+  const auto check_all = [&](Loss f, const ModelGrads& analytic) {
+    check(f, analytic, &GaussianModel::means, &ModelGrads::means, "means", 1e-3);
+    check(f, analytic, &GaussianModel::log_scales, &ModelGrads::log_scales, "log_scales", 1e-3);
+    check(f, analytic, &GaussianModel::quats, &ModelGrads::quats, "quats", 1e-3);
+    check(f, analytic, &GaussianModel::opacity_logits, &ModelGrads::opacity_logits,
+          "opacity_logits", 1e-3);
+  };
+  check_all(&Scene::loss, g);
+
+  // The surface opacity: the Gaussian on the wall is now in front of the cut (4.12 m) with the
+  // others, and more opacity there costs less.
+  ModelGrads sg;
+  sg.reset(m);
+  const double surface = scene.surface_loss(m, &sg);
+  CHECK(surface > 0.5);
+  CHECK(surface < 1);
+  CHECK(sg.opacity_logits[2] < 0);
+  CHECK(sg.opacity_logits[0] < 0);
+  check_all(&Scene::surface_loss, sg);
 
   // Scaled: the gradient scales, the value does not; the same sums, bit for bit, on one thread.
   ModelGrads twice;
@@ -139,9 +180,12 @@ TEST_CASE("line-of-sight loss: gradient against central differences", "[splat][g
                            &twice) == loss);
   for (size_t k = 0; k < g.means.size(); ++k) CHECK(twice.means[k] == Approx(2 * g.means[k]));
   tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
-  ModelGrads serial;
+  ModelGrads serial, serial_surface;
   serial.reset(m);
+  serial_surface.reset(m);
   CHECK(scene.loss(m, &serial) == loss);
   CHECK(serial.means == g.means);
   CHECK(serial.log_scales == g.log_scales);
+  CHECK(scene.surface_loss(m, &serial_surface) == surface);
+  CHECK(serial_surface.means == sg.means);
 }
