@@ -9,7 +9,6 @@
 #include <cmath>
 #include <limits>
 #include <stdexcept>
-#include <string>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -81,36 +80,106 @@ struct TilePrior {
   }
 };
 
-// Per-Gaussian sums over the training views, the frame of both passes below: each view is
-// rendered (weights only), then tile_pass(s, t, prior, slots) runs over its tiles in parallel and
-// writes kParts numbers per entry of tile t's list into slots[entry.slot * kParts ...], with no
-// per-pixel lists; each Gaussian's slots are added to sums[part][i] in slot order, the same sums
-// at any thread count.
+// Adds one view's per-Gaussian sums to sums[part]: tile_pass(s, t, prior, slots) runs over the
+// view's tiles in parallel and writes kParts numbers per entry of tile t's list into
+// slots[entry.slot * kParts ...] (no per-pixel lists); each Gaussian's slots are then added in slot
+// order, the same sums at any thread count.
 template <int kParts, class TilePass>
+void add_view_sums(const RasterState& s, const cv::Mat1f& depth, float below, float above,
+                   const std::array<std::vector<double>*, kParts>& sums, TilePass&& tile_pass) {
+  UninitVector<float> slots(s.tile_gaussians.size() * kParts);
+  tbb::parallel_for(
+      tbb::blocked_range<int>(0, s.tile_count()), [&](const tbb::blocked_range<int>& r) {
+        for (int t = r.begin(); t != r.end(); ++t)
+          tile_pass(s, t, TilePrior(depth, tile_pixels(s, t), below, above), slots.data());
+      });
+  tbb::parallel_for(size_t(0), sums[0]->size(), [&](size_t i) {
+    for (uint32_t k = s.slot_offsets[i]; k < s.slot_offsets[i + 1]; ++k)
+      for (int part = 0; part < kParts; ++part)
+        (*sums[part])[i] += slots[size_t(k) * kParts + part];
+  });
+}
+
+// Per slot (one Gaussian's entry in one tile's list), its weight over the tile's pixels in four
+// parts: in free space, on the surface (behind it included), unobserved, behind. Summed while the
+// forward pass's blending runs again (blend_tile): a pruning round costs two blending passes per
+// view, not a render cache's three and its pairs.
+enum WeightPart { kFree, kOnSurface, kUnobserved, kBehind, kWeightParts };
+void line_of_sight_tile(const RasterState& s, int t, const TilePrior& prior, float* slots) {
+  const TileGaussian* list = s.tile_gaussians.data() + s.tile_offsets[t];
+  for (uint32_t j = 0; j < s.tile_offsets[t + 1] - s.tile_offsets[t]; ++j)
+    std::fill_n(&slots[size_t(list[j].slot) * kWeightParts], kWeightParts, 0.f);
+  TileBlend blend;
+  blend_tile(s, t, blend, [&](uint32_t j, int at, const float* w) {
+    const float z = s.projections[list[j].id].depth;
+    float part[kWeightParts] = {};
+    for (int x = 0; x < kLanes; ++x) {
+      const bool has = prior.observed[at + x] != 0.f, free = z < prior.lower[at + x];
+      part[kFree] += has && free ? w[x] : 0.f;
+      part[kOnSurface] += has && !free ? w[x] : 0.f;
+      part[kUnobserved] += has ? 0.f : w[x];
+      part[kBehind] += z > prior.upper[at + x] ? w[x] : 0.f;
+    }
+    float* slot = &slots[size_t(list[j].slot) * kWeightParts];
+    for (int k = 0; k < kWeightParts; ++k) slot[k] += part[k];
+  });
+}
+
+// Per slot, the entry's own opacity over the tile's pixels with a prior, and the part of it behind
+// the prior. Every entry of the list, past where blending would stop: the part of a footprint that
+// the surfaces in front hide is what this pass is for.
+enum FootprintPart { kObserved, kHidden, kFootprintParts };
+void footprint_tile(const RasterState& s, int t, const TilePrior& prior, float* slots) {
+  const PixelRect tile = tile_pixels(s, t);
+  const TileGaussian* list = s.tile_gaussians.data() + s.tile_offsets[t];
+  alignas(64) float gaussian[kLanes], alpha[kLanes];
+  for (uint32_t j = 0; j < s.tile_offsets[t + 1] - s.tile_offsets[t]; ++j) {
+    const TileGaussian& e = list[j];
+    const PixelRect rect = clip(e, tile);
+    const float z = s.projections[e.id].depth;
+    float part[kFootprintParts] = {};
+    for (int y = rect.y0; y < rect.y1; ++y) {
+      blend_row(e, y, tile.x0, tile.x0 + kLanes, s.min_alpha, gaussian, alpha);
+      const int at = (y - tile.y0) * kTileSize;
+#pragma GCC unroll 1  // one vector loop, not kLanes scalar copies
+      for (int x = 0; x < kLanes; ++x) {
+        const int px = tile.x0 + x;
+        const float a = (px >= rect.x0) & (px < rect.x1) & (alpha[x] >= 0.f) ? alpha[x] : 0.f;
+        part[kObserved] += prior.observed[at + x] != 0.f ? a : 0.f;
+        part[kHidden] += z > prior.upper[at + x] ? a : 0.f;
+      }
+    }
+    std::copy_n(part, kFootprintParts, &slots[size_t(e.slot) * kFootprintParts]);
+  }
+}
+
+// The line-of-sight weights and the footprints over the training views, from one render of each
+// view (weights only); either output may be null.
 void sum_over_views(const GaussianModel& model, const std::vector<DepthObservation>& views,
-                    double tolerance, const char* caller,
-                    const std::array<std::vector<double>*, kParts>& sums, TilePass&& tile_pass) {
+                    double tolerance, LineOfSightWeights* weights, FootprintDepth* footprint) {
   const size_t n = model.size();
-  for (std::vector<double>* sum : sums) sum->assign(n, 0.0);
+  if (weights)
+    for (auto* sum :
+         {&weights->free_space, &weights->on_surface, &weights->unobserved, &weights->behind})
+      sum->assign(n, 0.0);
+  if (footprint)
+    for (auto* sum : {&footprint->observed, &footprint->behind}) sum->assign(n, 0.0);
   RenderSettings weights_only;
   weights_only.rgb = false;
   const float below = static_cast<float>(1 - tolerance), above = static_cast<float>(1 + tolerance);
   for (const DepthObservation& v : views) {
     const RenderOutput forward = render(model, *v.camera, *v.pose, weights_only);
     if (forward.width != v.depth.cols || forward.height != v.depth.rows)
-      throw std::invalid_argument(std::string(caller) + ": a depth prior is not the view's size");
+      throw std::invalid_argument("line-of-sight tests: a depth prior is not the view's size");
     const RasterState& s = *forward.state;
-    UninitVector<float> slots(s.tile_gaussians.size() * kParts);
-    tbb::parallel_for(
-        tbb::blocked_range<int>(0, s.tile_count()), [&](const tbb::blocked_range<int>& r) {
-          for (int t = r.begin(); t != r.end(); ++t)
-            tile_pass(s, t, TilePrior(v.depth, tile_pixels(s, t), below, above), slots.data());
-        });
-    tbb::parallel_for(size_t(0), n, [&](size_t i) {
-      for (uint32_t k = s.slot_offsets[i]; k < s.slot_offsets[i + 1]; ++k)
-        for (int part = 0; part < kParts; ++part)
-          (*sums[part])[i] += slots[size_t(k) * kParts + part];
-    });
+    if (weights)
+      add_view_sums<kWeightParts>(
+          s, v.depth, below, above,
+          {&weights->free_space, &weights->on_surface, &weights->unobserved, &weights->behind},
+          line_of_sight_tile);
+    if (footprint)
+      add_view_sums<kFootprintParts>(s, v.depth, below, above,
+                                     {&footprint->observed, &footprint->behind}, footprint_tile);
   }
 }
 
@@ -119,68 +188,15 @@ void sum_over_views(const GaussianModel& model, const std::vector<DepthObservati
 LineOfSightWeights line_of_sight_weights(const GaussianModel& model,
                                          const std::vector<DepthObservation>& views,
                                          double tolerance) {
-  // Per slot (one Gaussian's entry in one tile's list), its weight over the tile's pixels in four
-  // parts: in free space, on the surface (behind it included), unobserved, behind. Summed while the
-  // forward pass's blending runs again (blend_tile): a pruning round costs two blending passes per
-  // view, not a render cache's three and its pairs.
-  enum Part { kFree, kOnSurface, kUnobserved, kBehind, kParts };
   LineOfSightWeights out;
-  sum_over_views<kParts>(model, views, tolerance, "line_of_sight_weights",
-                         {&out.free_space, &out.on_surface, &out.unobserved, &out.behind},
-                         [](const RasterState& s, int t, const TilePrior& prior, float* slots) {
-                           const TileGaussian* list = s.tile_gaussians.data() + s.tile_offsets[t];
-                           for (uint32_t j = 0; j < s.tile_offsets[t + 1] - s.tile_offsets[t]; ++j)
-                             std::fill_n(&slots[size_t(list[j].slot) * kParts], kParts, 0.f);
-                           TileBlend blend;
-                           blend_tile(s, t, blend, [&](uint32_t j, int at, const float* w) {
-                             const float z = s.projections[list[j].id].depth;
-                             float part[kParts] = {};
-                             for (int x = 0; x < kLanes; ++x) {
-                               const bool has = prior.observed[at + x] != 0.f,
-                                          free = z < prior.lower[at + x];
-                               part[kFree] += has && free ? w[x] : 0.f;
-                               part[kOnSurface] += has && !free ? w[x] : 0.f;
-                               part[kUnobserved] += has ? 0.f : w[x];
-                               part[kBehind] += z > prior.upper[at + x] ? w[x] : 0.f;
-                             }
-                             float* slot = &slots[size_t(list[j].slot) * kParts];
-                             for (int k = 0; k < kParts; ++k) slot[k] += part[k];
-                           });
-                         });
+  sum_over_views(model, views, tolerance, &out, nullptr);
   return out;
 }
 
 FootprintDepth footprint_behind(const GaussianModel& model,
                                 const std::vector<DepthObservation>& views, double tolerance) {
-  enum Part { kObserved, kBehind, kParts };
   FootprintDepth out;
-  sum_over_views<kParts>(
-      model, views, tolerance, "footprint_behind", {&out.observed, &out.behind},
-      [](const RasterState& s, int t, const TilePrior& prior, float* slots) {
-        // Every entry of the list, past where blending would stop: the part of a footprint that
-        // the surfaces in front hide is what this pass is for.
-        const PixelRect tile = tile_pixels(s, t);
-        const TileGaussian* list = s.tile_gaussians.data() + s.tile_offsets[t];
-        alignas(64) float gaussian[kLanes], alpha[kLanes];
-        for (uint32_t j = 0; j < s.tile_offsets[t + 1] - s.tile_offsets[t]; ++j) {
-          const TileGaussian& e = list[j];
-          const PixelRect rect = clip(e, tile);
-          const float z = s.projections[e.id].depth;
-          float part[kParts] = {};
-          for (int y = rect.y0; y < rect.y1; ++y) {
-            blend_row(e, y, tile.x0, tile.x0 + kLanes, s.min_alpha, gaussian, alpha);
-            const int at = (y - tile.y0) * kTileSize;
-#pragma GCC unroll 1  // one vector loop, not kLanes scalar copies
-            for (int x = 0; x < kLanes; ++x) {
-              const int px = tile.x0 + x;
-              const float a = (px >= rect.x0) & (px < rect.x1) & (alpha[x] >= 0.f) ? alpha[x] : 0.f;
-              part[kObserved] += prior.observed[at + x] != 0.f ? a : 0.f;
-              part[kBehind] += z > prior.upper[at + x] ? a : 0.f;
-            }
-          }
-          std::copy_n(part, kParts, &slots[size_t(e.slot) * kParts]);
-        }
-      });
+  sum_over_views(model, views, tolerance, nullptr, &out);
   return out;
 }
 
@@ -202,18 +218,19 @@ std::vector<char> FreeSpacePruner::prune_mask(const GaussianModel& model,
   if (o.free_space_views > 0 || o.min_seen_views > 0)
     prune = free_space_prune_mask(free_space_counts(model, views, o.tolerance), o);
   if (o.line_of_sight > 0 || o.behind > 0 || o.hidden > 0) {
-    std::vector<char> los(model.size(), 0);
-    if (o.line_of_sight > 0 || o.behind > 0)
-      los = line_of_sight_prune_mask(line_of_sight_weights(model, views, o.tolerance),
-                                     o.line_of_sight, o.behind);
-    if (o.hidden > 0) {
-      const FootprintDepth f = footprint_behind(model, views, o.tolerance);
-      for (size_t i = 0; i < los.size(); ++i)
-        los[i] = los[i] || f.behind[i] > o.hidden * f.observed[i];
-    }
+    // One render per view serves both the weights and the footprints.
+    const bool by_weight = o.line_of_sight > 0 || o.behind > 0;
+    LineOfSightWeights weights;
+    FootprintDepth footprint;
+    sum_over_views(model, views, o.tolerance, by_weight ? &weights : nullptr,
+                   o.hidden > 0 ? &footprint : nullptr);
+    std::vector<char> violates(model.size(), 0);
+    if (by_weight) violates = line_of_sight_prune_mask(weights, o.line_of_sight, o.behind);
+    for (size_t i = 0; i < violates.size() && o.hidden > 0; ++i)
+      violates[i] = violates[i] || footprint.behind[i] > o.hidden * footprint.observed[i];
     streak_.resize(model.size(), 0);
     for (size_t i = 0; i < prune.size(); ++i) {
-      streak_[i] = los[i] ? static_cast<uint8_t>(std::min(streak_[i] + 1, 255)) : 0;
+      streak_[i] = violates[i] ? static_cast<uint8_t>(std::min(streak_[i] + 1, 255)) : 0;
       prune[i] = prune[i] || streak_[i] >= o.line_of_sight_rounds;
     }
   }
