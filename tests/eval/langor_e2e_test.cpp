@@ -1,19 +1,17 @@
-// graphs/langor.yaml end to end on a small embedded operating room (320x240, shortened training),
-// through the library as `gslift run` does. Measured at seed 0: mIoU 50.8, mLocAcc 81.8, mAcc
-// 63.5 (08:40 UTC 2026-11-22), then 43.3 / 72.7 / 49.9 after upstream stages changed defaults
-// (09:05); about 12 s on a quiet 2-core machine. 14:10: 40.7 / 72.7 / 47.9 with label-aware box
-// clustering and HDBSCAN min_samples 3 (the previous defaults give 44.2 / 81.8 / 51.4 at this
-// reduced setting and seed; at the default setting the new ones gain 9.3 mIoU over seeds 0-4,
-// docs/langor.md). 2026-11-25 with the line-of-sight prior (recon's second half and two-round
-// pruning): 48.4 / 90.9 / 55.2 (38.2 / 90.9 / 44.6 with the pruning alone; 33.2 / 72.7 / 37.2
-// with the loss from step 0). 2026-11-27 with prune_behind 0.8: the same 48.4 / 90.9 / 55.2 (seeds
-// 1 and 2 moved 50.6 -> 41.5 and 40.4 -> 49.6: two Gaussians pruned at this length move the short
-// run's mIoU by 9 points either way). Then with the line-of-sight passes vectorised (the same
-// rules, float sums in another order): 41.8 / 90.9 / 48.3; prune_behind 0.7 with the loss at 0.8
-// gave 30.6 / 81.8 / 33.9 and was not adopted. With edge_extent_weight 0.1: 48.2 / 90.9 / 54.4
-// (seed 1: 38.6 -> 45.3 mIoU). With prune_hidden 0.9: 39.8 / 81.8 / 44.8. The floors keep a
-// margin below the measurements:
-// they catch a broken stage, not a small regression.
+// graphs/langor.yaml end to end on a small embedded operating room (320x240, 200 reconstruction
+// and 150 feature steps), through the library as `gslift run` does. The floors catch a broken
+// stage, not a small regression (bench/ and the five-seed sweeps in docs/langor.md measure those).
+//
+// Why the floors sit where they do: at this length the run is chaotic. Rounding alone moves it:
+// the same seed and graph gave mIoU / mLocAcc / mAcc 39.8 / 81.8 / 44.8 in the Release build
+// (-O3 -march=native) and 30.1 / 81.8 / 33.1 in CI's AddressSanitizer build (-O1, other float
+// sums), and eight runs with one param nudged by 1e-6 relative (recon.scale_weight, depth_weight,
+// normal_weight each way, instfeat.lambda, lift.sigma) spread mIoU over 32.9-42.4 and mAcc over
+// 35.8-47.8 (2026-11-27). Over those nine runs mIoU is 38.5 +- 4.2 and mAcc 43.3 +- 5.2, so the
+// floors are about 3.4 standard deviations below the mean; mLocAcc never went under 72.7. A broken
+// stage lands far below them: features trained 1 step give 1.0 / 18.2 / 1.0, a reconstruction of
+// 20 steps 0.5 / 45.5 / 0.5. (Earlier floors of 30 / 50 / 35 sat 2 deviations down and failed
+// the sanitizer build once prune_hidden moved the mean from 48 to 40.)
 #include "nodes/builtin.hpp"
 #include "runtime/executor.hpp"
 #include "tests/test_support.hpp"
@@ -40,9 +38,9 @@ TEST_CASE("langor graph on a small embedded OR reaches its accuracy floor") {
   const double macc = std::get<double>(records.at("mAcc"));
   WARN("mIoU " << miou << " mLocAcc " << locacc << " mAcc " << macc);
   CHECK(std::get<double>(records.at("queries")) >= 5);
-  CHECK(miou >= 30);
+  CHECK(miou >= 24);
   CHECK(locacc >= 50);
-  CHECK(macc >= 35);
+  CHECK(macc >= 26);
   CHECK(std::filesystem::exists(options.out_dir / "query/segmented.ply"));
   CHECK(std::filesystem::exists(options.out_dir / "eval/metrics.csv"));
 }
