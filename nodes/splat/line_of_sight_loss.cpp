@@ -12,8 +12,8 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
-#include "nodes/splat/projection.hpp"
 #include "nodes/splat/raster_state.hpp"
+#include "nodes/splat/tile_list_grads.hpp"
 
 namespace gslift {
 
@@ -57,13 +57,8 @@ double opacity_before_prior(const GaussianModel& model, const Camera& camera, co
       for (int p = 0; p < kTilePixels; ++p) loss += 1.0 - front.T[p];  // 0 where none in front
       tile_loss[t] = loss;
       if (!grads) continue;
-      // Per tile row, its last contribution + 1: the entries at or past it add nothing there.
-      uint32_t row_last[kTileSize], reached = 0;
-      for (int row = 0; row < kTileSize; ++row) {
-        row_last[row] =
-            *std::max_element(front.last + row * kTileSize, front.last + (row + 1) * kTileSize);
-        reached = std::max(reached, row_last[row]);
-      }
+      uint32_t row_last[kTileSize];
+      const uint32_t reached = rows_reached(front, row_last);
       for (uint32_t j = reached; j < count; ++j)
         std::fill_n(&slots[size_t(list[j].slot) * kPartials], kPartials, 0.f);
       // F = 1 - prod (1 - a_k): dF/da_k = T / (1 - a_k); a = o G, G = exp(power); a clamped
@@ -103,23 +98,8 @@ double opacity_before_prior(const GaussianModel& model, const Camera& camera, co
   loss /= static_cast<double>(observed);
   if (!grads) return loss;
 
-  // Per Gaussian, its slots summed in tile order, then through the projection.
-  const float k = static_cast<float>(scale / static_cast<double>(observed));
-  const ViewTransform view(camera, pose);
-  tbb::parallel_for(size_t(0), model.size(), [&](size_t i) {
-    float sum[kPartials] = {};
-    for (uint32_t slot = s.slot_offsets[i]; slot < s.slot_offsets[i + 1]; ++slot)
-      for (int c = 0; c < kPartials; ++c) sum[c] += slots[size_t(slot) * kPartials + c];
-    if (std::all_of(sum, sum + kPartials, [](float v) { return v == 0.f; })) return;
-    ProjectionGrads pg;
-    pg.mean2d = k * Eigen::Vector2f(sum[0], sum[1]);
-    pg.conic = k * Eigen::Vector3f(sum[2], sum[3], sum[4]);
-    project_gaussian_backward(view, &model.means[i * 3], &model.log_scales[i * 3],
-                              &model.quats[i * 4], pg, &grads->means[i * 3],
-                              &grads->log_scales[i * 3], &grads->quats[i * 4]);
-    const float o = 1.f / (1.f + std::exp(-model.opacity_logits[i]));
-    grads->opacity_logits[i] += k * sum[5] * o * (1 - o);
-  });
+  add_slot_grads(model, camera, pose, s, slots.data(), nullptr,
+                 static_cast<float>(scale / static_cast<double>(observed)), *grads);
   return loss;
 }
 

@@ -11,6 +11,7 @@
 
 #include "base/errors.hpp"
 #include "base/random.hpp"
+#include "nodes/splat/depth_distortion_loss.hpp"
 #include "nodes/splat/depth_normals.hpp"
 #include "nodes/splat/line_of_sight_loss.hpp"
 #include "nodes/splat/losses.hpp"
@@ -311,6 +312,12 @@ ReconstructResult reconstruct(const Capture& capture, const ReconstructOptions& 
     };
     if (line_of_sight_step && !target.depth.empty())
       line_of_sight(target.camera, view.pose, target.depth, out);
+    if (options.distortion_weight > 0 && step >= options.distortion_start * options.iterations) {
+      clock.charge(phases.backward);
+      loss.distortion = depth_distortion_loss(model, target.camera, view.pose, out,
+                                              options.distortion_weight, &grads);
+      clock.charge(phases.losses);
+    }
     if (!pseudo.empty() && step >= options.pseudo_start * options.iterations &&
         step % std::max(options.pseudo_every, 1) == 0) {
       const PseudoView& p = pseudo[(step / std::max(options.pseudo_every, 1)) % pseudo.size()];
@@ -365,7 +372,7 @@ ReconstructResult reconstruct(const Capture& capture, const ReconstructOptions& 
                  options.edge_extent_weight * loss.edge_extent +
                  options.line_of_sight_weight * loss.line_of_sight +
                  options.surface_opacity_weight * loss.surface_opacity +
-                 options.pseudo_weight * loss.pseudo;
+                 options.distortion_weight * loss.distortion + options.pseudo_weight * loss.pseudo;
     if (objective) loss.total += objective->weight * loss.features;
     clock.charge(phases.losses);
     history.push_back(loss);
@@ -447,6 +454,7 @@ ReconstructResult reconstruct(const Capture& capture, const ReconstructOptions& 
     result.final_loss.edge_extent += history[i].edge_extent / tail;
     result.final_loss.line_of_sight += history[i].line_of_sight / tail;
     result.final_loss.surface_opacity += history[i].surface_opacity / tail;
+    result.final_loss.distortion += history[i].distortion / tail;
     result.final_loss.pseudo += history[i].pseudo / tail;
     result.final_loss.features += history[i].features / tail;
   }
@@ -512,6 +520,12 @@ const ParamTable<ReconstructOptions>& reconstruct_param_table() {
                "weight of the transmittance left past each training pixel's depth prior, on "
                "the line-of-sight loss's steps; 0 = off",
                0)
+          .add("distortion_weight", &O::distortion_weight,
+               "weight of the depth distortion: the spread in log depth of each training pixel's "
+               "blending weights; 0 = off",
+               0)
+          .add("distortion_start", &O::distortion_start,
+               "fraction of the steps before the depth distortion joins", 0, 1)
           .add("coarse_fraction", &O::coarse_fraction,
                "fraction of the steps trained at half resolution first; 0 = off", 0, 1)
           .add("densify", &O::densify, "clone/split/prune on the compressed schedule")

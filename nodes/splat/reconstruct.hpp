@@ -89,6 +89,11 @@ struct ReconstructOptions {
   // Surface opacity (line_of_sight_loss.hpp): the transmittance each training pixel has left
   // floaters.tolerance past its depth prior, on the line-of-sight loss's steps and views. 0 = off.
   double surface_opacity_weight = 0;
+  // Depth distortion (depth_distortion_loss.hpp): the spread in log depth of each pixel's blending
+  // weights, on the step's own view from the first distortion_start fraction of the steps on.
+  // 0 = off.
+  double distortion_weight = 0;
+  double distortion_start = 0;
   // Depth-warped pseudo-views (pseudo_views.hpp): every pseudo_every-th step also renders one of
   // the half-resolution views between two training cameras (in turn) and adds pseudo_weight x
   // (masked L1 + depth_weight x depth log-L1) against the warped training images. 0 = off.
@@ -128,7 +133,8 @@ const ParamTable<ReconstructOptions>& reconstruct_param_table();
 // Mean of each loss term over the last 10% of the steps (at least one step).
 struct LossSummary {
   double total = 0, photometric = 0, depth = 0, normal = 0, flatness = 0, opacity_entropy = 0,
-         anisotropy = 0, edge_extent = 0, pseudo = 0, line_of_sight = 0, surface_opacity = 0;
+         anisotropy = 0, edge_extent = 0, pseudo = 0, line_of_sight = 0, surface_opacity = 0,
+         distortion = 0;
   double features = 0;  // the FeatureObjective's loss (unweighted); 0 without one
 };
 

@@ -68,6 +68,7 @@ void run_reconstruct(NodeContext& ctx, ReconstructOptions o) {
   if (o.line_of_sight_weight > 0) ctx.record("loss_line_of_sight", r.final_loss.line_of_sight);
   if (o.surface_opacity_weight > 0)
     ctx.record("loss_surface_opacity", r.final_loss.surface_opacity);
+  if (o.distortion_weight > 0) ctx.record("loss_distortion", r.final_loss.distortion);
   ctx.record("train_psnr", r.train_psnr);
   if (!std::isnan(r.test_psnr)) ctx.record("test_psnr", r.test_psnr);
   if (r.test_geometry) {

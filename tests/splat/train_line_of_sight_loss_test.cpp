@@ -6,30 +6,20 @@
 #include <tbb/global_control.h>
 
 #include "nodes/splat/line_of_sight_loss.hpp"
-#include "tests/pinhole.hpp"
+#include "tests/splat/pinhole_scene.hpp"
 #include "tests/test_support.hpp"
 
 using namespace gslift;
 
 namespace {
 
-// A 40x30 camera (focal 40) at the origin looking down +z; its prior observes a wall at 4 m on the
-// left (columns 0-19) and an object at 1.5 m on the right; the top-left 4x4 pixels have no prior.
-struct Scene {
-  Camera cam = test::centred_pinhole(40, 30, 40);
-  Pose pose;
+// The pinhole scene, with a prior that observes a wall at 4 m on the left (columns 0-19) and an
+// object at 1.5 m on the right; the top-left 4x4 pixels have no prior.
+struct Scene : test::PinholeScene {
   cv::Mat1f depth;
   Scene() : depth(30, 40, 4.f) {
     depth(cv::Rect(20, 0, 20, 30)) = 1.5f;
     depth(cv::Rect(0, 0, 4, 4)) = 0.f;
-  }
-  // Every contribution counted (min_alpha 0), so small changes never move one in or out.
-  RenderOutput forward(const GaussianModel& m) const {
-    RenderSettings s;
-    s.rgb = false;
-    s.alpha = true;
-    s.min_alpha = 0;
-    return render(m, cam, pose, s);
   }
   double loss(const GaussianModel& m, ModelGrads* grads = nullptr) const {
     return line_of_sight_loss(m, cam, pose, depth, forward(m), 0.03, 1.0, grads);
@@ -45,15 +35,6 @@ struct Scene {
       for (int x = 0; x < depth.cols; ++x)
         if (depth(y, x) > 0) sum += out.alpha[size_t(y) * depth.cols + x];
     return sum;
-  }
-  // Gaussian i centred on pixel (u, v) at depth z, isotropic scale s, opacity o.
-  void place(GaussianModel& m, int i, double u, double v, double z, double s, double o) const {
-    m.means[i * 3] = float((u - cam.cx) / cam.fx * z);
-    m.means[i * 3 + 1] = float((v - cam.cy) / cam.fy * z);
-    m.means[i * 3 + 2] = float(z);
-    for (int k = 0; k < 3; ++k) m.log_scales[i * 3 + k] = float(std::log(s));
-    m.quats[i * 4] = 1.f;
-    m.opacity_logits[i] = float(std::log(o / (1 - o)));
   }
 };
 
@@ -115,14 +96,7 @@ TEST_CASE("line-of-sight loss: gradient against central differences", "[splat][g
               0.5);  // straddles: in front of the wall, behind the object
   scene.place(m, 2, 8.7, 9.4, 3.99, 0.2, 0.8);    // on the wall, behind Gaussian 0
   scene.place(m, 3, 29.5, 20.1, 1.0, 0.03, 0.4);  // in front of the object
-  // Anisotropic and rotated, so that every quaternion and scale component has a gradient.
-  const float scales1[] = {0.15f, 0.06f, 0.1f};
-  for (int k = 0; k < 3; ++k) m.log_scales[3 + k] = std::log(scales1[k]);
-  const Eigen::Quaternionf q =
-      Eigen::Quaternionf(Eigen::AngleAxisf(0.6f, Eigen::Vector3f(0.3f, 0.2f, 1.f).normalized()));
-  m.quats[4] = q.w(), m.quats[5] = q.x(), m.quats[6] = q.y(), m.quats[7] = q.z();
-  m.quats[0] = 0.9f, m.quats[1] = 0.2f, m.quats[2] = -0.1f, m.quats[3] = 0.3f;
-  m.log_scales[0] = std::log(0.05f);  // Gaussian 0 flat along x
+  scene.twist(m);
 
   ModelGrads g;
   g.reset(m);
