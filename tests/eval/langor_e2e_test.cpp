@@ -2,16 +2,17 @@
 // and 150 feature steps), through the library as `gslift run` does. The floors catch a broken
 // stage, not a small regression (bench/ and the five-seed sweeps in docs/langor.md measure those).
 //
-// Why the floors sit where they do: at this length the run is chaotic. Rounding alone moves it:
-// the same seed and graph gave mIoU / mLocAcc / mAcc 39.8 / 81.8 / 44.8 in the Release build
-// (-O3 -march=native) and 30.1 / 81.8 / 33.1 in CI's AddressSanitizer build (-O1, other float
-// sums), and eight runs with one param nudged by 1e-6 relative (recon.scale_weight, depth_weight,
-// normal_weight each way, instfeat.lambda, lift.sigma) spread mIoU over 32.9-42.4 and mAcc over
-// 35.8-47.8 (2026-11-27). Over those nine runs mIoU is 38.5 +- 4.2 and mAcc 43.3 +- 5.2, so the
-// floors are about 3.4 standard deviations below the mean; mLocAcc never went under 72.7. A broken
-// stage lands far below them: features trained 1 step give 1.0 / 18.2 / 1.0, a reconstruction of
-// 20 steps 0.5 / 45.5 / 0.5. (Earlier floors of 30 / 50 / 35 sat 2 deviations down and failed
-// the sanitizer build once prune_hidden moved the mean from 48 to 40.)
+// Why the floors sit where they do: at this length the run is chaotic. Rounding alone moves it: the
+// same seed and graph gave mIoU / mLocAcc / mAcc 39.8 / 81.8 / 44.8 in the Release build (-O3
+// -march=native) and 30.1 / 81.8 / 33.1 in CI's AddressSanitizer build (-O1, other float sums; 31.1
+// / 81.8 / 34.3 in the same build on another host), and eight runs with one param nudged by 1e-6
+// relative (recon.scale_weight, depth_weight, normal_weight each way, instfeat.lambda, lift.sigma)
+// spread mIoU over 32.9-42.4 and mAcc over 35.8-47.8 (2026-11-27). Over those nine runs mIoU is
+// 38.5 +- 4.2 and mAcc 43.3 +- 5.2, so the floors are about 3.4 standard deviations below the mean;
+// mLocAcc never went under 72.7. A broken stage lands far below them: features trained 1 step give
+// 1.0 / 18.2 / 1.0, a reconstruction of 20 steps 0.5 / 45.5 / 0.5. (Earlier floors of 30 / 50 / 35
+// sat 2 deviations down and failed the sanitizer build once prune_hidden moved the mean from 48 to
+// 40.)
 #include "nodes/builtin.hpp"
 #include "runtime/executor.hpp"
 #include "tests/test_support.hpp"
