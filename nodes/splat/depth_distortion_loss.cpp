@@ -38,10 +38,9 @@ double depth_distortion_loss(const GaussianModel& model, const Camera& camera, c
   tbb::parallel_for(tbb::blocked_range<int>(0, tiles), [&](const tbb::blocked_range<int>& r) {
     TileBlend front;
     alignas(64) float A[kTilePixels], U[kTilePixels], L[kTilePixels];
-    alignas(64) float gaussian[kLanes], alpha[kLanes], du[kLanes];
+    alignas(64) float du[kLanes];
     for (int t = r.begin(); t != r.end(); ++t) {
       const TileGaussian* list = s.tile_gaussians.data() + s.tile_offsets[t];
-      const uint32_t count = s.tile_offsets[t + 1] - s.tile_offsets[t];
       const PixelRect tile = tile_pixels(s, t);
       std::fill_n(A, kTilePixels, 0.f);
       std::fill_n(U, kTilePixels, 0.f);
@@ -58,53 +57,44 @@ double depth_distortion_loss(const GaussianModel& model, const Camera& camera, c
       for (int p = 0; p < kTilePixels; ++p) loss += L[p];
       tile_loss[t] = loss;
       if (!grads) continue;
-      uint32_t row_last[kTileSize];
-      const uint32_t reached = rows_reached(front, row_last);
-      for (uint32_t j = reached; j < count; ++j) {
-        std::fill_n(&slots[size_t(list[j].slot) * kPartials], kPartials, 0.f);
-        depth_slots[list[j].slot] = 0.f;
-      }
       // Running per pixel: transmittance, the sums in front, and sum_{i<=k} g_i w_i.
       alignas(64) float T[kTilePixels], A_front[kTilePixels], U_front[kTilePixels], G[kTilePixels];
       std::fill_n(T, kTilePixels, 1.f);
       std::fill_n(A_front, kTilePixels, 0.f);
       std::fill_n(U_front, kTilePixels, 0.f);
       std::fill_n(G, kTilePixels, 0.f);
-      for (uint32_t j = 0; j < reached; ++j) {
-        const TileGaussian& e = list[j];
-        const float u = log_depth[e.id];
-        const PixelRect rect = clip(e, tile);
-        GeometryMoments moments;
-        std::fill_n(du, kLanes, 0.f);
-        for (int y = rect.y0; y < rect.y1; ++y) {
-          if (j >= row_last[y - tile.y0]) continue;
-          blend_row(e, y, tile.x0, tile.x0 + kLanes, s.min_alpha, gaussian, alpha);
-          const int at = (y - tile.y0) * kTileSize;
-          const float dy = e.my - (float(y) + 0.5f);
+      std::fill_n(du, kLanes, 0.f);
+      walk_contributions(
+          s, t, front, slots.data(),
+          [&](uint32_t j, const TileGaussian& e, const PixelRect& rect, int y, int at,
+              const float* gaussian, const float* alpha, GeometryMoments& moments) {
+            const float u = log_depth[e.id];
+            const float dy = e.my - (float(y) + 0.5f);
 #pragma GCC unroll 1  // one vector loop, not kLanes scalar copies
-          for (int x = 0; x < kLanes; ++x) {
-            const int p = at + x, px = tile.x0 + x;
-            const bool live =
-                (px >= rect.x0) & (px < rect.x1) & (alpha[x] >= 0.f) & (j < front.last[p]);
-            const float a = live ? alpha[x] : 0.f;
-            const float w = a * T[p];
-            const float g = u * (2.f * A_front[p] - A[p]) + U[p] - 2.f * U_front[p];
-            const float g_upto = G[p] + g * w;
-            const float dL_da = live & (alpha[x] < kMaxAlpha)
-                                    ? 2.f * (g * T[p] - (L[p] - g_upto) / (1.f - a))
-                                    : 0.f;
-            du[x] += 2.f * w * (2.f * A_front[p] + w - A[p]);
-            const float dx = e.mx - (float(px) + 0.5f);
-            moments.add(x, dx, dy, dL_da * a, dL_da * gaussian[x]);
-            G[p] = g_upto;
-            A_front[p] += w;
-            U_front[p] += w * u;
-            T[p] *= 1.f - a;
-          }
-        }
-        moments.reduce(e, &slots[size_t(e.slot) * kPartials]);
-        depth_slots[e.slot] = lane_sum(du) / s.projections[e.id].depth;  // du/dz = 1/z
-      }
+            for (int x = 0; x < kLanes; ++x) {
+              const int p = at + x, px = tile.x0 + x;
+              const bool live =
+                  (px >= rect.x0) & (px < rect.x1) & (alpha[x] >= 0.f) & (j < front.last[p]);
+              const float a = live ? alpha[x] : 0.f;
+              const float w = a * T[p];
+              const float g = u * (2.f * A_front[p] - A[p]) + U[p] - 2.f * U_front[p];
+              const float g_upto = G[p] + g * w;
+              const float dL_da = live & (alpha[x] < kMaxAlpha)
+                                      ? 2.f * (g * T[p] - (L[p] - g_upto) / (1.f - a))
+                                      : 0.f;
+              du[x] += 2.f * w * (2.f * A_front[p] + w - A[p]);
+              const float dx = e.mx - (float(px) + 0.5f);
+              moments.add(x, dx, dy, dL_da * a, dL_da * gaussian[x]);
+              G[p] = g_upto;
+              A_front[p] += w;
+              U_front[p] += w * u;
+              T[p] *= 1.f - a;
+            }
+          },
+          [&](uint32_t, const TileGaussian& e) {  // du/dz = 1/z; 0 where it drew nothing
+            depth_slots[e.slot] = lane_sum(du) / s.projections[e.id].depth;
+            std::fill_n(du, kLanes, 0.f);
+          });
     }
   });
   double loss = 0;

@@ -36,10 +36,8 @@ double opacity_before_prior(const GaussianModel& model, const Camera& camera, co
   UninitVector<float> slots(grads ? s.tile_gaussians.size() * kPartials : 0);
   tbb::parallel_for(tbb::blocked_range<int>(0, tiles), [&](const tbb::blocked_range<int>& r) {
     TileBlend front;
-    alignas(64) float cut[kTilePixels], gaussian[kLanes], alpha[kLanes];
+    alignas(64) float cut[kTilePixels];
     for (int t = r.begin(); t != r.end(); ++t) {
-      const TileGaussian* list = s.tile_gaussians.data() + s.tile_offsets[t];
-      const uint32_t count = s.tile_offsets[t + 1] - s.tile_offsets[t];
       const PixelRect tile = tile_pixels(s, t);
       for (int p = 0; p < kTilePixels; ++p) {
         const int x = tile.x0 + p % kTileSize, y = tile.y0 + p / kTileSize;
@@ -57,34 +55,25 @@ double opacity_before_prior(const GaussianModel& model, const Camera& camera, co
       for (int p = 0; p < kTilePixels; ++p) loss += 1.0 - front.T[p];  // 0 where none in front
       tile_loss[t] = loss;
       if (!grads) continue;
-      uint32_t row_last[kTileSize];
-      const uint32_t reached = rows_reached(front, row_last);
-      for (uint32_t j = reached; j < count; ++j)
-        std::fill_n(&slots[size_t(list[j].slot) * kPartials], kPartials, 0.f);
       // F = 1 - prod (1 - a_k): dF/da_k = T / (1 - a_k); a = o G, G = exp(power); a clamped
       // alpha is constant.
-      for (uint32_t j = 0; j < reached; ++j) {
-        const TileGaussian& e = list[j];
-        const PixelRect rect = clip(e, tile);
-        GeometryMoments moments;
-        for (int y = rect.y0; y < rect.y1; ++y) {
-          if (j >= row_last[y - tile.y0]) continue;
-          blend_row(e, y, tile.x0, tile.x0 + kLanes, s.min_alpha, gaussian, alpha);
-          const int at = (y - tile.y0) * kTileSize;
-          const float dy = e.my - (float(y) + 0.5f);
+      walk_contributions(
+          s, t, front, slots.data(),
+          [&](uint32_t j, const TileGaussian& e, const PixelRect& rect, int y, int at,
+              const float* gaussian, const float* alpha, GeometryMoments& moments) {
+            const float dy = e.my - (float(y) + 0.5f);
 #pragma GCC unroll 1  // one vector loop, not kLanes scalar copies
-          for (int x = 0; x < kLanes; ++x) {
-            const int px = tile.x0 + x;
-            const bool active = (px >= rect.x0) & (px < rect.x1) & (alpha[x] >= 0.f) &
-                                (j < front.last[at + x]) & (alpha[x] < kMaxAlpha);
-            const float a = active ? alpha[x] : 0.f;
-            const float dF_da = front.T[at + x] / (1.f - a);
-            const float dx = e.mx - (float(px) + 0.5f);
-            moments.add(x, dx, dy, active ? dF_da * a : 0.f, active ? dF_da * gaussian[x] : 0.f);
-          }
-        }
-        moments.reduce(e, &slots[size_t(e.slot) * kPartials]);
-      }
+            for (int x = 0; x < kLanes; ++x) {
+              const int px = tile.x0 + x;
+              const bool active = (px >= rect.x0) & (px < rect.x1) & (alpha[x] >= 0.f) &
+                                  (j < front.last[at + x]) & (alpha[x] < kMaxAlpha);
+              const float a = active ? alpha[x] : 0.f;
+              const float dF_da = front.T[at + x] / (1.f - a);
+              const float dx = e.mx - (float(px) + 0.5f);
+              moments.add(x, dx, dy, active ? dF_da * a : 0.f, active ? dF_da * gaussian[x] : 0.f);
+            }
+          },
+          [](uint32_t, const TileGaussian&) {});
     }
   });
   double loss = 0;

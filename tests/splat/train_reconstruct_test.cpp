@@ -26,6 +26,30 @@ ReconstructOptions tiny_options() {
   return o;
 }
 
+// A loss of a model's render (any channels) summed over the capture's training views.
+template <class Loss>
+double over_training_views(const Capture& capture, const GaussianModel& m, Loss loss) {
+  double sum = 0;
+  for (const View& v : capture.views)
+    if (!v.held_out) sum += loss(v, render(m, v.camera, v.pose, RenderSettings()));
+  return sum;
+}
+
+// The run with a loss term on, on one thread; the same run on two must not differ.
+ReconstructResult reconstruct_at_one_and_two_threads(const Capture& capture,
+                                                     const ReconstructOptions& o) {
+  ReconstructResult one;
+  {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 1);
+    one = reconstruct(capture, o);
+  }
+  tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 2);
+  const ReconstructResult two = reconstruct(capture, o);
+  CHECK(two.model.means == one.model.means);
+  CHECK(two.loss_history == one.loss_history);
+  return one;
+}
+
 }  // namespace
 
 TEST_CASE("a tiny reconstruction reaches a PSNR floor and lowers its loss") {
@@ -158,21 +182,14 @@ TEST_CASE("the line-of-sight loss lowers the opacity drawn in front of the depth
   o.floaters.tolerance = 0.03;
   // The loss over the training views of a trained model, as the loss defines it.
   const auto in_front = [&](const GaussianModel& m) {
-    double sum = 0;
-    for (const View& v : capture.views) {
-      if (v.held_out) continue;
-      const RenderOutput forward = render(m, v.camera, v.pose, RenderSettings());
-      sum += line_of_sight_loss(m, v.camera, v.pose, v.depth.load(), forward, 0.03);
-    }
-    return sum;
+    return over_training_views(capture, m, [&](const View& v, const RenderOutput& forward) {
+      return line_of_sight_loss(m, v.camera, v.pose, v.depth.load(), forward, 0.03);
+    });
   };
   const ReconstructResult off = reconstruct(capture, o);
   o.line_of_sight_weight = 0.6;
-  ReconstructResult on;
-  {
-    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 1);
-    on = reconstruct(capture, o);
-  }
+  // Deterministic at any thread count with the loss on too.
+  const ReconstructResult on = reconstruct_at_one_and_two_threads(capture, o);
   INFO("in front of the priors: " << in_front(off.model) << " without the loss, "
                                   << in_front(on.model) << " with it; train PSNR " << off.train_psnr
                                   << " / " << on.train_psnr);
@@ -182,11 +199,6 @@ TEST_CASE("the line-of-sight loss lowers the opacity drawn in front of the depth
   // The scene is made of Gaussians whose fronts lie in front of the prior (the blended depth)
   // by more than the 3% margin: the loss trims what the images show, measured 31.8 -> 29.3 dB.
   CHECK(on.train_psnr > 27.0);
-  // Deterministic at any thread count with the loss on too.
-  tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 2);
-  const ReconstructResult again = reconstruct(capture, o);
-  CHECK(again.model.means == on.model.means);
-  CHECK(again.loss_history == on.loss_history);
 }
 
 TEST_CASE("the depth distortion loss thins the layers the training views blend") {
@@ -195,21 +207,14 @@ TEST_CASE("the depth distortion loss thins the layers the training views blend")
   o.iterations = 150;
   // The loss over the training views of a trained model, as the loss defines it.
   const auto spread = [&](const GaussianModel& m) {
-    double sum = 0;
-    for (const View& v : capture.views) {
-      if (v.held_out) continue;
-      const RenderOutput forward = render(m, v.camera, v.pose, RenderSettings());
-      sum += depth_distortion_loss(m, v.camera, v.pose, forward);
-    }
-    return sum;
+    return over_training_views(capture, m, [&](const View& v, const RenderOutput& forward) {
+      return depth_distortion_loss(m, v.camera, v.pose, forward);
+    });
   };
   const ReconstructResult off = reconstruct(capture, o);
   o.distortion_weight = 10.0;
-  ReconstructResult on;
-  {
-    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 1);
-    on = reconstruct(capture, o);
-  }
+  // Deterministic at any thread count with the loss on too.
+  const ReconstructResult on = reconstruct_at_one_and_two_threads(capture, o);
   INFO("distortion over the training views: " << spread(off.model) << " without the loss, "
                                               << spread(on.model) << " with it; train PSNR "
                                               << off.train_psnr << " / " << on.train_psnr);
@@ -218,11 +223,6 @@ TEST_CASE("the depth distortion loss thins the layers the training views blend")
   // Measured: 0.038 -> 0.026 over the training views, train PSNR 31.8 -> 31.0 dB.
   CHECK(spread(on.model) < 0.8 * spread(off.model));
   CHECK(on.train_psnr > off.train_psnr - 1.5);
-  // Deterministic at any thread count with the loss on too.
-  tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 2);
-  const ReconstructResult again = reconstruct(capture, o);
-  CHECK(again.model.means == on.model.means);
-  CHECK(again.loss_history == on.loss_history);
 }
 
 TEST_CASE("pseudo-views join after pseudo_start of the steps, and not before") {
