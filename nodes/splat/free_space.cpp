@@ -8,6 +8,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <stdexcept>
 
 #include <tbb/blocked_range.h>
@@ -15,6 +16,7 @@
 
 #include "nodes/splat/raster_state.hpp"
 #include "nodes/splat/rasterizer.hpp"
+#include "nodes/splat/ray_depth.hpp"
 
 namespace gslift {
 
@@ -86,12 +88,13 @@ struct TilePrior {
 // order, the same sums at any thread count.
 template <int kParts, class TilePass>
 void add_view_sums(const RasterState& s, const cv::Mat1f& depth, float below, float above,
-                   const std::array<std::vector<double>*, kParts>& sums, TilePass&& tile_pass) {
+                   const RayDepths* ray, const std::array<std::vector<double>*, kParts>& sums,
+                   TilePass&& tile_pass) {
   UninitVector<float> slots(s.tile_gaussians.size() * kParts);
   tbb::parallel_for(
       tbb::blocked_range<int>(0, s.tile_count()), [&](const tbb::blocked_range<int>& r) {
         for (int t = r.begin(); t != r.end(); ++t)
-          tile_pass(s, t, TilePrior(depth, tile_pixels(s, t), below, above), slots.data());
+          tile_pass(s, t, TilePrior(depth, tile_pixels(s, t), below, above), ray, slots.data());
       });
   tbb::parallel_for(size_t(0), sums[0]->size(), [&](size_t i) {
     for (uint32_t k = s.slot_offsets[i]; k < s.slot_offsets[i + 1]; ++k)
@@ -105,20 +108,26 @@ void add_view_sums(const RasterState& s, const cv::Mat1f& depth, float below, fl
 // forward pass's blending runs again (blend_tile): a pruning round costs two blending passes per
 // view, not a render cache's three and its pairs.
 enum WeightPart { kFree, kOnSurface, kUnobserved, kBehind, kWeightParts };
-void line_of_sight_tile(const RasterState& s, int t, const TilePrior& prior, float* slots) {
+void line_of_sight_tile(const RasterState& s, int t, const TilePrior& prior, const RayDepths* ray,
+                        float* slots) {
   const TileGaussian* list = s.tile_gaussians.data() + s.tile_offsets[t];
   for (uint32_t j = 0; j < s.tile_offsets[t + 1] - s.tile_offsets[t]; ++j)
     std::fill_n(&slots[size_t(list[j].slot) * kWeightParts], kWeightParts, 0.f);
+  const PixelRect tile = tile_pixels(s, t);
   TileBlend blend;
   blend_tile(s, t, blend, [&](uint32_t j, int at, const float* w) {
-    const float z = s.projections[list[j].id].depth;
+    alignas(64) float z[kLanes];
+    if (ray)
+      ray->row(list[j].id, tile.y0 + at / kTileSize, tile.x0, z);
+    else
+      std::fill_n(z, kLanes, s.projections[list[j].id].depth);
     float part[kWeightParts] = {};
     for (int x = 0; x < kLanes; ++x) {
-      const bool has = prior.observed[at + x] != 0.f, free = z < prior.lower[at + x];
+      const bool has = prior.observed[at + x] != 0.f, free = z[x] < prior.lower[at + x];
       part[kFree] += has && free ? w[x] : 0.f;
       part[kOnSurface] += has && !free ? w[x] : 0.f;
       part[kUnobserved] += has ? 0.f : w[x];
-      part[kBehind] += z > prior.upper[at + x] ? w[x] : 0.f;
+      part[kBehind] += z[x] > prior.upper[at + x] ? w[x] : 0.f;
     }
     float* slot = &slots[size_t(list[j].slot) * kWeightParts];
     for (int k = 0; k < kWeightParts; ++k) slot[k] += part[k];
@@ -129,24 +138,26 @@ void line_of_sight_tile(const RasterState& s, int t, const TilePrior& prior, flo
 // the prior. Every entry of the list, past where blending would stop: the part of a footprint that
 // the surfaces in front hide is what this pass is for.
 enum FootprintPart { kObserved, kHidden, kFootprintParts };
-void footprint_tile(const RasterState& s, int t, const TilePrior& prior, float* slots) {
+void footprint_tile(const RasterState& s, int t, const TilePrior& prior, const RayDepths* ray,
+                    float* slots) {
   const PixelRect tile = tile_pixels(s, t);
   const TileGaussian* list = s.tile_gaussians.data() + s.tile_offsets[t];
-  alignas(64) float gaussian[kLanes], alpha[kLanes];
+  alignas(64) float gaussian[kLanes], alpha[kLanes], z[kLanes];
   for (uint32_t j = 0; j < s.tile_offsets[t + 1] - s.tile_offsets[t]; ++j) {
     const TileGaussian& e = list[j];
     const PixelRect rect = clip(e, tile);
-    const float z = s.projections[e.id].depth;
+    if (!ray) std::fill_n(z, kLanes, s.projections[e.id].depth);
     float part[kFootprintParts] = {};
     for (int y = rect.y0; y < rect.y1; ++y) {
       blend_row(e, y, tile.x0, tile.x0 + kLanes, s.min_alpha, gaussian, alpha);
+      if (ray) ray->row(e.id, y, tile.x0, z);
       const int at = (y - tile.y0) * kTileSize;
 #pragma GCC unroll 1  // one vector loop, not kLanes scalar copies
       for (int x = 0; x < kLanes; ++x) {
         const int px = tile.x0 + x;
         const float a = (px >= rect.x0) & (px < rect.x1) & (alpha[x] >= 0.f) ? alpha[x] : 0.f;
         part[kObserved] += prior.observed[at + x] != 0.f ? a : 0.f;
-        part[kHidden] += z > prior.upper[at + x] ? a : 0.f;
+        part[kHidden] += z[x] > prior.upper[at + x] ? a : 0.f;
       }
     }
     std::copy_n(part, kFootprintParts, &slots[size_t(e.slot) * kFootprintParts]);
@@ -156,7 +167,8 @@ void footprint_tile(const RasterState& s, int t, const TilePrior& prior, float* 
 // The line-of-sight weights and the footprints over the training views, from one render of each
 // view (weights only); either output may be null.
 void sum_over_views(const GaussianModel& model, const std::vector<DepthObservation>& views,
-                    double tolerance, LineOfSightWeights* weights, FootprintDepth* footprint) {
+                    double tolerance, bool ray_depth, LineOfSightWeights* weights,
+                    FootprintDepth* footprint) {
   const size_t n = model.size();
   if (weights)
     for (auto* sum :
@@ -172,13 +184,16 @@ void sum_over_views(const GaussianModel& model, const std::vector<DepthObservati
     if (forward.width != v.depth.cols || forward.height != v.depth.rows)
       throw std::invalid_argument("line-of-sight tests: a depth prior is not the view's size");
     const RasterState& s = *forward.state;
+    std::optional<RayDepths> ray;
+    if (ray_depth) ray.emplace(model, *v.camera, *v.pose, s.projections);
+    const RayDepths* r = ray ? &*ray : nullptr;
     if (weights)
       add_view_sums<kWeightParts>(
-          s, v.depth, below, above,
+          s, v.depth, below, above, r,
           {&weights->free_space, &weights->on_surface, &weights->unobserved, &weights->behind},
           line_of_sight_tile);
     if (footprint)
-      add_view_sums<kFootprintParts>(s, v.depth, below, above,
+      add_view_sums<kFootprintParts>(s, v.depth, below, above, r,
                                      {&footprint->observed, &footprint->behind}, footprint_tile);
   }
 }
@@ -187,16 +202,17 @@ void sum_over_views(const GaussianModel& model, const std::vector<DepthObservati
 
 LineOfSightWeights line_of_sight_weights(const GaussianModel& model,
                                          const std::vector<DepthObservation>& views,
-                                         double tolerance) {
+                                         double tolerance, bool ray_depth) {
   LineOfSightWeights out;
-  sum_over_views(model, views, tolerance, &out, nullptr);
+  sum_over_views(model, views, tolerance, ray_depth, &out, nullptr);
   return out;
 }
 
 FootprintDepth footprint_behind(const GaussianModel& model,
-                                const std::vector<DepthObservation>& views, double tolerance) {
+                                const std::vector<DepthObservation>& views, double tolerance,
+                                bool ray_depth) {
   FootprintDepth out;
-  sum_over_views(model, views, tolerance, nullptr, &out);
+  sum_over_views(model, views, tolerance, ray_depth, nullptr, &out);
   return out;
 }
 
@@ -222,7 +238,7 @@ std::vector<char> FreeSpacePruner::prune_mask(const GaussianModel& model,
     const bool by_weight = o.line_of_sight > 0 || o.behind > 0;
     LineOfSightWeights weights;
     FootprintDepth footprint;
-    sum_over_views(model, views, o.tolerance, by_weight ? &weights : nullptr,
+    sum_over_views(model, views, o.tolerance, o.ray_depth, by_weight ? &weights : nullptr,
                    o.hidden > 0 ? &footprint : nullptr);
     std::vector<char> violates(model.size(), 0);
     if (by_weight) violates = line_of_sight_prune_mask(weights, o.line_of_sight, o.behind);

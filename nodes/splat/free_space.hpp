@@ -63,6 +63,12 @@ struct FreeSpacePruneOptions {
   double hidden = 0;
   // Relative depth tolerance of every test: the depth prior's noise and the Gaussians' extent.
   double tolerance = 0.1;
+  // The weight and footprint tests (and reconstruct's line-of-sight loss) take each Gaussian's
+  // depth along each pixel's ray (its density maximum there, ray_depth.hpp) instead of its
+  // centre's depth: a flat Gaussian of a surface seen at a slant reaches in front of and behind
+  // its centre's depth by its extent times the slant, so at the centre's depth the margin above
+  // has to cover that as well as the prior's noise (issue 11: bench/splat_recon/README.md).
+  bool ray_depth = false;
   bool active() const {
     return free_space_views > 0 || min_seen_views > 0 || line_of_sight > 0 || behind > 0 ||
            hidden > 0;
@@ -74,7 +80,8 @@ std::vector<char> free_space_prune_mask(const FreeSpaceCounts& counts,
                                         const FreeSpacePruneOptions& options);
 
 // Per Gaussian, its blending weight w_i = alpha_i T_i summed over the pixels of the training views
-// that observed a depth D, split by where the Gaussian's camera depth z lies on each pixel's ray:
+// that observed a depth D, split by where the Gaussian's camera depth z (its centre's, or with
+// ray_depth its depth along the pixel's ray) lies on each pixel's ray:
 // `free_space` where z < (1 - tolerance) D (drawn in space that pixel saw through: the
 // line-of-sight prior of depth-supervised NeRFs), `on_surface` where not. Unlike the centre test
 // above it looks at the whole footprint: an object's Gaussian whose footprint reaches past the
@@ -89,7 +96,7 @@ struct LineOfSightWeights {
 };
 LineOfSightWeights line_of_sight_weights(const GaussianModel& model,
                                          const std::vector<DepthObservation>& views,
-                                         double tolerance);
+                                         double tolerance, bool ray_depth = false);
 
 // 1 for the Gaussians whose free-space weight exceeds `fraction` of their observed weight (free
 // space + on surface), or whose weight behind the surface exceeds `behind` of it; 0 = a side off.
@@ -99,19 +106,20 @@ std::vector<char> line_of_sight_prune_mask(const LineOfSightWeights& weights, do
 // Per Gaussian, its footprint over the pixels of the training views that observed a depth D: the
 // sum of its alpha there, with no transmittance (what it would cover if nothing stood in front of
 // it), and the part of it where the Gaussian lies behind the observed surface, z > (1 + tolerance)
-// D; both summed over the views. A Gaussian whose footprint lies behind the observed surfaces is
-// hidden from the cameras: they cannot place it, and what they see of it (a sliver at a
-// silhouette, with the little weight line_of_sight_weights measures, which lets it escape the
-// `behind` rule) fits wherever it stands in the space no camera sees, so a new camera finds it in
-// front of whatever is there. Summed over the views, not view by view: a Gaussian that one view
-// sees edge-on (a few pixels, on its surface) and the others not at all is as unconstrained along
-// that view's rays. Renders each view once and visits every tile-list entry, past where blending
-// stops. Deterministic at any thread count.
+// D (z as in line_of_sight_weights); both summed over the views. A Gaussian whose footprint lies
+// behind the observed surfaces is hidden from the cameras: they cannot place it, and what they see
+// of it (a sliver at a silhouette, with the little weight line_of_sight_weights measures, which
+// lets it escape the `behind` rule) fits wherever it stands in the space no camera sees, so a new
+// camera finds it in front of whatever is there. Summed over the views, not view by view: a
+// Gaussian that one view sees edge-on (a few pixels, on its surface) and the others not at all is
+// as unconstrained along that view's rays. Renders each view once and visits every tile-list entry,
+// past where blending stops. Deterministic at any thread count.
 struct FootprintDepth {
   std::vector<double> observed, behind;
 };
 FootprintDepth footprint_behind(const GaussianModel& model,
-                                const std::vector<DepthObservation>& views, double tolerance);
+                                const std::vector<DepthObservation>& views, double tolerance,
+                                bool ray_depth = false);
 
 // The rules above over a run's pruning rounds. The line-of-sight rule's streaks (the rounds
 // running in which each Gaussian violated it) live here and follow the model's rows through

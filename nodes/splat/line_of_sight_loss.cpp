@@ -13,6 +13,7 @@
 #include <tbb/parallel_for.h>
 
 #include "nodes/splat/raster_state.hpp"
+#include "nodes/splat/ray_depth.hpp"
 #include "nodes/splat/tile_list_grads.hpp"
 
 namespace gslift {
@@ -20,7 +21,7 @@ namespace gslift {
 double opacity_before_prior(const GaussianModel& model, const Camera& camera, const Pose& pose,
                             const cv::Mat1f& prior_depth, const RenderOutput& forward,
                             double depth_factor, double scale, ModelGrads* grads,
-                            size_t* observed_pixels) {
+                            size_t* observed_pixels, bool ray_depth) {
   if (!forward.state) throw std::invalid_argument("opacity_before_prior: the render has no state");
   const RasterState& s = *forward.state;
   if (s.width != prior_depth.cols || s.height != prior_depth.rows)
@@ -34,48 +35,62 @@ double opacity_before_prior(const GaussianModel& model, const Camera& camera, co
   std::vector<double> tile_loss(tiles, 0.0);
   std::vector<size_t> tile_observed(tiles, 0);  // pixels with a prior: the mean's denominator
   UninitVector<float> slots(grads ? s.tile_gaussians.size() * kPartials : 0);
-  tbb::parallel_for(tbb::blocked_range<int>(0, tiles), [&](const tbb::blocked_range<int>& r) {
-    TileBlend front;
-    alignas(64) float cut[kTilePixels];
-    for (int t = r.begin(); t != r.end(); ++t) {
-      const PixelRect tile = tile_pixels(s, t);
-      for (int p = 0; p < kTilePixels; ++p) {
-        const int x = tile.x0 + p % kTileSize, y = tile.y0 + p / kTileSize;
-        const float D = x < tile.x1 && y < tile.y1 ? prior_depth(y, x) : 0.f;
-        // No prior: a cut of 0 puts every Gaussian behind it (the near plane is > 0).
-        const bool has = D > 0 && std::isfinite(D);
-        cut[p] = has ? static_cast<float>(depth_factor * D) : 0.f;
-        tile_observed[t] += has;
-      }
-      // Alphas and early stop exactly as the forward pass blends, restricted to the Gaussians in
-      // front of each pixel's cut.
-      blend_tile(
-          s, t, front, [](uint32_t, int, const float*) {}, cut);
-      double loss = 0;
-      for (int p = 0; p < kTilePixels; ++p) loss += 1.0 - front.T[p];  // 0 where none in front
-      tile_loss[t] = loss;
-      if (!grads) continue;
-      // F = 1 - prod (1 - a_k): dF/da_k = T / (1 - a_k); a = o G, G = exp(power); a clamped
-      // alpha is constant.
-      walk_contributions(
-          s, t, front, slots.data(),
-          [&](uint32_t j, const TileGaussian& e, const PixelRect& rect, int y, int at,
-              const float* gaussian, const float* alpha, GeometryMoments& moments) {
-            const float dy = e.my - (float(y) + 0.5f);
+  // Per tile, given the entries' depths at each pixel (EntryDepth: their centres', or along each
+  // pixel's ray).
+  auto tiles_pass = [&](const auto& depth) {
+    tbb::parallel_for(tbb::blocked_range<int>(0, tiles), [&](const tbb::blocked_range<int>& r) {
+      TileBlend front;
+      alignas(64) float cut[kTilePixels];
+      for (int t = r.begin(); t != r.end(); ++t) {
+        const PixelRect tile = tile_pixels(s, t);
+        for (int p = 0; p < kTilePixels; ++p) {
+          const int x = tile.x0 + p % kTileSize, y = tile.y0 + p / kTileSize;
+          const float D = x < tile.x1 && y < tile.y1 ? prior_depth(y, x) : 0.f;
+          // No prior: a cut of 0 puts every Gaussian behind it (the near plane is > 0).
+          const bool has = D > 0 && std::isfinite(D);
+          cut[p] = has ? static_cast<float>(depth_factor * D) : 0.f;
+          tile_observed[t] += has;
+        }
+        // Alphas and early stop exactly as the forward pass blends, restricted to the Gaussians in
+        // front of each pixel's cut.
+        blend_tile(
+            s, t, front, [](uint32_t, int, const float*) {}, cut, depth);
+        double loss = 0;
+        for (int p = 0; p < kTilePixels; ++p) loss += 1.0 - front.T[p];  // 0 where none in front
+        tile_loss[t] = loss;
+        if (!grads) continue;
+        // F = 1 - prod (1 - a_k): dF/da_k = T / (1 - a_k); a = o G, G = exp(power); a clamped
+        // alpha is constant.
+        walk_contributions(
+            s, t, front, slots.data(),
+            [&](uint32_t j, const TileGaussian& e, const PixelRect& rect, int y, int at,
+                const float* gaussian, const float* alpha, GeometryMoments& moments) {
+              const float dy = e.my - (float(y) + 0.5f);
+              // In front of the cut: implied by j < last for centre depths (the lists' order),
+              // not for ray depths.
+              alignas(64) float z[kLanes];
+              depth.row(e.id, y, tile.x0, z);
 #pragma GCC unroll 1  // one vector loop, not kLanes scalar copies
-            for (int x = 0; x < kLanes; ++x) {
-              const int px = tile.x0 + x;
-              const bool active = (px >= rect.x0) & (px < rect.x1) & (alpha[x] >= 0.f) &
-                                  (j < front.last[at + x]) & (alpha[x] < kMaxAlpha);
-              const float a = active ? alpha[x] : 0.f;
-              const float dF_da = front.T[at + x] / (1.f - a);
-              const float dx = e.mx - (float(px) + 0.5f);
-              moments.add(x, dx, dy, active ? dF_da * a : 0.f, active ? dF_da * gaussian[x] : 0.f);
-            }
-          },
-          [](uint32_t, const TileGaussian&) {});
-    }
-  });
+              for (int x = 0; x < kLanes; ++x) {
+                const int px = tile.x0 + x;
+                const bool active = (px >= rect.x0) & (px < rect.x1) & (alpha[x] >= 0.f) &
+                                    (j < front.last[at + x]) & (z[x] < cut[at + x]) &
+                                    (alpha[x] < kMaxAlpha);
+                const float a = active ? alpha[x] : 0.f;
+                const float dF_da = front.T[at + x] / (1.f - a);
+                const float dx = e.mx - (float(px) + 0.5f);
+                moments.add(x, dx, dy, active ? dF_da * a : 0.f,
+                            active ? dF_da * gaussian[x] : 0.f);
+              }
+            },
+            [](uint32_t, const TileGaussian&) {});
+      }
+    });
+  };
+  if (ray_depth)
+    tiles_pass(RayDepths(model, camera, pose, s.projections));
+  else
+    tiles_pass(CentreDepth{s.projections});
   double loss = 0;
   size_t observed = 0;
   for (int t = 0; t < tiles; ++t) {
@@ -94,17 +109,17 @@ double opacity_before_prior(const GaussianModel& model, const Camera& camera, co
 
 double line_of_sight_loss(const GaussianModel& model, const Camera& camera, const Pose& pose,
                           const cv::Mat1f& prior_depth, const RenderOutput& forward,
-                          double tolerance, double scale, ModelGrads* grads) {
+                          double tolerance, double scale, ModelGrads* grads, bool ray_depth) {
   return opacity_before_prior(model, camera, pose, prior_depth, forward, 1 - tolerance, scale,
-                              grads);
+                              grads, nullptr, ray_depth);
 }
 
 double surface_opacity_loss(const GaussianModel& model, const Camera& camera, const Pose& pose,
                             const cv::Mat1f& prior_depth, const RenderOutput& forward,
-                            double tolerance, double scale, ModelGrads* grads) {
+                            double tolerance, double scale, ModelGrads* grads, bool ray_depth) {
   size_t observed = 0;
   const double opacity = opacity_before_prior(model, camera, pose, prior_depth, forward,
-                                              1 + tolerance, -scale, grads, &observed);
+                                              1 + tolerance, -scale, grads, &observed, ray_depth);
   return observed > 0 ? 1 - opacity : 0.0;
 }
 

@@ -25,17 +25,20 @@ namespace gslift {
 // 0.99, min_alpha and early stop) are the ones F is computed from. When grads is given, adds
 // scale * d(mean F)/d(means, log_scales, quats, opacity_logits) to it (sized for the model); a
 // clamped alpha has none, and the depth test is a step, with none. Parallel over tiles:
-// deterministic at any thread count. The two losses below are this at the two ends of the margin.
+// deterministic at any thread count. With ray_depth, z_i is each Gaussian's depth along the
+// pixel's ray (ray_depth.hpp) instead of its centre's. The two losses below are this at the two
+// ends of the margin.
 double opacity_before_prior(const GaussianModel& model, const Camera& camera, const Pose& pose,
                             const cv::Mat1f& prior_depth, const RenderOutput& forward,
                             double depth_factor, double scale = 1.0, ModelGrads* grads = nullptr,
-                            size_t* observed = nullptr);
+                            size_t* observed = nullptr, bool ray_depth = false);
 
 // The line-of-sight loss: L = mean F_p at depth_factor 1 - tolerance, the opacity drawn in front of
 // the observed surface.
 double line_of_sight_loss(const GaussianModel& model, const Camera& camera, const Pose& pose,
                           const cv::Mat1f& prior_depth, const RenderOutput& forward,
-                          double tolerance, double scale = 1.0, ModelGrads* grads = nullptr);
+                          double tolerance, double scale = 1.0, ModelGrads* grads = nullptr,
+                          bool ray_depth = false);
 
 // Its other half (issue 11), DS-NeRF's ray termination: a pixel that observed a surface at D has
 // an opaque surface there, so its ray must be spent by (1 + tolerance) D. L = mean over the pixels
@@ -48,6 +51,7 @@ double line_of_sight_loss(const GaussianModel& model, const Camera& camera, cons
 // higher weight keeps the free space's opacity falling (T_front >= T_past in dF/dalpha).
 double surface_opacity_loss(const GaussianModel& model, const Camera& camera, const Pose& pose,
                             const cv::Mat1f& prior_depth, const RenderOutput& forward,
-                            double tolerance, double scale = 1.0, ModelGrads* grads = nullptr);
+                            double tolerance, double scale = 1.0, ModelGrads* grads = nullptr,
+                            bool ray_depth = false);
 
 }  // namespace gslift

@@ -184,6 +184,17 @@ struct TileBlend {
   alignas(64) uint32_t last[kTilePixels];
 };
 
+// The depth of list entries for blend_tile's cut: each entry's centre depth at every pixel, the
+// depth the lists are sorted by.
+struct CentreDepth {
+  const std::vector<ProjectedGaussian>& projections;
+  float nearest(uint32_t id) const { return projections[id].depth; }
+  // The nearest depth an entry with this centre depth takes (increasing in it: the lists are
+  // sorted by centre depth, so the first entry whose bound lies behind every cut ends the pass).
+  static float nearest_at_centre_depth(float z) { return z; }
+  void row(uint32_t id, int, int, float* z) const { std::fill_n(z, kLanes, projections[id].depth); }
+};
+
 // Front-to-back blending of tile t (3DGS), entry by entry in depth order and each entry row by
 // row over its rectangle, which visits every pixel's contributions in the same order as a
 // per-pixel loop would; a pixel stops before the entry that would bring its T below 1e-4. For
@@ -191,12 +202,13 @@ struct TileBlend {
 // (x < kLanes), 0 where entry j does not contribute there; out.last[at + x] == j + 1 exactly
 // where it does. The forward pass and the render cache both blend through here, so their weights
 // agree bit for bit.
-// With `cut` (kTilePixels camera depths), tile pixel p blends only the entries in front of
-// cut[p] (a prefix of its list: the line-of-sight loss's opacity in front of a depth prior), and
-// the pass ends at the first entry behind every pixel's cut; a row no entry reaches is skipped.
-template <class OnRow>
+// With `cut` (kTilePixels camera depths), tile pixel p blends only the entries whose depth there
+// (EntryDepth::row) lies in front of cut[p] (the line-of-sight loss's opacity in front of a depth
+// prior); an entry or row whose nearest depth is behind every cut it meets is skipped, and the
+// pass ends at the first entry that EntryDepth::nearest_at_centre_depth puts behind every cut.
+template <class OnRow, class EntryDepth>
 inline void blend_tile(const RasterState& s, int t, TileBlend& out, OnRow&& on_row,
-                       const float* cut = nullptr) {
+                       const float* cut, const EntryDepth& depth) {
   const TileGaussian* list = s.tile_gaussians.data() + s.tile_offsets[t];
   const uint32_t count = s.tile_offsets[t + 1] - s.tile_offsets[t];
   const PixelRect tile = tile_pixels(s, t);
@@ -212,19 +224,21 @@ inline void blend_tile(const RasterState& s, int t, TileBlend& out, OnRow&& on_r
     }
   for (uint32_t j = 0; j < count && active > 0; ++j) {
     const TileGaussian& e = list[j];
-    const float z = cut ? s.projections[e.id].depth : 0.f;
-    if (cut && !(z < tile_cut)) break;
+    const float z = cut ? depth.nearest(e.id) : 0.f;
+    if (cut && !(depth.nearest_at_centre_depth(s.projections[e.id].depth) < tile_cut)) break;
+    if (cut && !(z < tile_cut)) continue;
     const PixelRect r = clip(e, tile);
     for (int y = r.y0; y < r.y1; ++y) {
       if (cut && !(z < row_cut[y - tile.y0])) continue;
-      alignas(64) float gaussian[kLanes], alpha[kLanes], w[kLanes];
+      alignas(64) float gaussian[kLanes], alpha[kLanes], w[kLanes], entry_depth[kLanes];
+      if (cut) depth.row(e.id, y, tile.x0, entry_depth);
       blend_row(e, y, tile.x0, tile.x0 + kLanes, s.min_alpha, gaussian, alpha);
       const int at = (y - tile.y0) * kTileSize;
       int stopped = 0;
 #pragma GCC unroll 1  // one vector loop, not kLanes scalar copies
       for (int x = 0; x < kLanes; ++x) {
         const int px = tile.x0 + x;
-        const bool in_front = !cut || z < cut[at + x];
+        const bool in_front = !cut || entry_depth[x] < cut[at + x];
         const bool live =
             (px >= r.x0) & (px < r.x1) & (alpha[x] >= 0.f) & (done[at + x] == 0.f) & in_front;
         const float T = out.T[at + x];
@@ -241,6 +255,13 @@ inline void blend_tile(const RasterState& s, int t, TileBlend& out, OnRow&& on_r
       on_row(j, at, static_cast<const float*>(w));
     }
   }
+}
+
+// blend_tile with no cut, or a cut against the entries' centre depths.
+template <class OnRow>
+inline void blend_tile(const RasterState& s, int t, TileBlend& out, OnRow&& on_row,
+                       const float* cut = nullptr) {
+  blend_tile(s, t, out, on_row, cut, CentreDepth{s.projections});
 }
 
 }  // namespace gslift

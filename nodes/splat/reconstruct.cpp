@@ -303,11 +303,11 @@ ReconstructResult reconstruct(const Capture& capture, const ReconstructOptions& 
       if (options.line_of_sight_weight > 0)
         loss.line_of_sight +=
             line_of_sight_loss(model, camera, pose, depth, forward, options.floaters.tolerance,
-                               options.line_of_sight_weight, &grads);
+                               options.line_of_sight_weight, &grads, options.floaters.ray_depth);
       if (options.surface_opacity_weight > 0)
-        loss.surface_opacity +=
-            surface_opacity_loss(model, camera, pose, depth, forward, options.floaters.tolerance,
-                                 options.surface_opacity_weight, &grads);
+        loss.surface_opacity += surface_opacity_loss(
+            model, camera, pose, depth, forward, options.floaters.tolerance,
+            options.surface_opacity_weight, &grads, options.floaters.ray_depth);
       clock.charge(phases.losses);
     };
     if (line_of_sight_step && !target.depth.empty())
@@ -566,6 +566,10 @@ const ParamTable<ReconstructOptions>& reconstruct_param_table() {
                          "prune_line_of_sight prunes only Gaussians that violate it in this many "
                          "pruning rounds running",
                          1, 255)
+                    .add("free_space_ray_depth", &F::ray_depth,
+                         "the free-space weight and footprint tests and the line-of-sight loss "
+                         "place each Gaussian at its density maximum along each pixel's ray, not "
+                         "at its centre's depth")
                     .add("free_space_tolerance", &F::tolerance,
                          "relative depth margin of the free-space, seen and line-of-sight tests", 0,
                          1))

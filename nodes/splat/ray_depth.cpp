@@ -1,0 +1,43 @@
+#include "nodes/splat/ray_depth.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include <tbb/parallel_for.h>
+#include <Eigen/Geometry>
+
+namespace gslift {
+
+RayDepths::RayDepths(const GaussianModel& model, const Camera& camera, const Pose& pose,
+                     const std::vector<ProjectedGaussian>& projections)
+    : fx_(static_cast<float>(camera.fx)),
+      fy_(static_cast<float>(camera.fy)),
+      cx_(static_cast<float>(camera.cx)),
+      cy_(static_cast<float>(camera.cy)),
+      coeffs_(model.size() * kCoeffs, 0.f) {
+  tbb::parallel_for(size_t(0), model.size(), [&](size_t i) {
+    if (projections[i].radius == 0) return;
+    const float* q = &model.quats[i * 4];
+    Eigen::Quaterniond quat(q[0], q[1], q[2], q[3]);
+    if (quat.norm() == 0) quat = Eigen::Quaterniond::Identity();
+    const Eigen::Matrix3d R = pose.R * quat.normalized().toRotationMatrix();
+    Eigen::Vector3d inv_var;
+    double largest = 0;
+    for (int k = 0; k < 3; ++k) {
+      const double s = std::exp(static_cast<double>(model.log_scales[i * 3 + k]));
+      inv_var[k] = 1 / (s * s);
+      largest = std::max(largest, s);
+    }
+    const Eigen::Matrix3d P = R * inv_var.asDiagonal() * R.transpose();
+    const Eigen::Vector3d m = pose.to_camera(
+        Eigen::Vector3d(model.means[i * 3], model.means[i * 3 + 1], model.means[i * 3 + 2]));
+    const Eigen::Vector3d a = P * m;
+    const double reach = std::min(3 * largest, kMaxRelative * m[2]);
+    const double c[kCoeffs] = {a[0],        a[1],         a[2],        P(0, 0),
+                               2 * P(0, 1), P(1, 1),      2 * P(0, 2), 2 * P(1, 2),
+                               P(2, 2),     m[2] - reach, m[2] + reach};
+    for (int k = 0; k < kCoeffs; ++k) coeffs_[i * kCoeffs + k] = static_cast<float>(c[k]);
+  });
+}
+
+}  // namespace gslift
