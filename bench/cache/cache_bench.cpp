@@ -12,6 +12,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "base/statistics.hpp"
 #include "bench/common/svg.hpp"
 #include "runtime/atomic_file.hpp"
 #include "runtime/child_process.hpp"
@@ -46,12 +47,6 @@ Timed run_langor(const fs::path& cache, const fs::path& out, const std::string& 
     if (n["id"] == "eval") t.miou = n["records"]["mIoU"].get<double>();
   }
   return t;
-}
-
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  const size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
 }  // namespace

@@ -43,13 +43,6 @@ std::vector<std::string> csv_fields(const std::string& line) {
   return out;
 }
 
-double median(std::vector<double> v) {
-  if (v.empty()) return NAN;
-  std::sort(v.begin(), v.end());
-  const size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
 // The figures summarised per variant: CSV column, name in the JSON, scale (fractions to %).
 struct Figure {
   const char* column;

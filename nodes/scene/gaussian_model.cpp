@@ -1,6 +1,13 @@
 #include "nodes/scene/gaussian_model.hpp"
 
+#include <Eigen/Geometry>
+
 namespace gslift {
+
+Eigen::Matrix3d GaussianModel::rotation(size_t i) const {
+  const float* q = &quats[i * 4];
+  return Eigen::Quaterniond(q[0], q[1], q[2], q[3]).normalized().toRotationMatrix();
+}
 
 void GaussianModel::resize(size_t n) {
   const size_t old = size();

@@ -9,6 +9,8 @@
 #include <utility>
 #include <vector>
 
+#include <Eigen/Core>
+
 #include "base/port_type.hpp"
 
 namespace gslift {
@@ -30,6 +32,9 @@ struct GaussianModel {
 
   size_t size() const { return opacity_logits.size(); }
   static int sh_coeffs(int degree) { return (degree + 1) * (degree + 1); }
+  // Gaussian i's rotation (its normalised quaternion; a zero quaternion is the identity): the
+  // columns are its scale axes in world space.
+  Eigen::Matrix3d rotation(size_t i) const;
   // Resizes every per-Gaussian array to n (new entries zero, quaternions identity).
   void resize(size_t n);
   // The Gaussians `indices` (in that order) as a model of their own, every array kept.

@@ -4,8 +4,6 @@
 #include <cmath>
 #include <numeric>
 
-#include <Eigen/Geometry>
-
 #include "base/random.hpp"
 
 namespace gslift {
@@ -123,9 +121,7 @@ DensityChange densify_and_prune(GaussianModel& model, const DensityStats& stats,
   for (size_t i : splits) {
     // Children sampled from N(mu, Sigma) of the parent (3DGS densify_and_split).
     RandomStream rng(stream_seed(seed, "densify.split", i));
-    const float* q = &model.quats[i * 4];
-    const Eigen::Matrix3d R =
-        Eigen::Quaterniond(q[0], q[1], q[2], q[3]).normalized().toRotationMatrix();
+    const Eigen::Matrix3d R = model.rotation(i);
     for (int c = 0; c < o.split_children; ++c) {
       Eigen::Vector3d z;
       for (int k = 0; k < 3; ++k) z[k] = rng.normal() * std::exp(model.log_scales[i * 3 + k]);

@@ -4,7 +4,6 @@
 #include <cmath>
 
 #include <tbb/parallel_for.h>
-#include <Eigen/Geometry>
 
 #include "nodes/splat/view_geometry.hpp"
 
@@ -28,9 +27,7 @@ double depth_edge_extent_loss(const GaussianModel& model,
   std::vector<double> per(n, 0.0);
   tbb::parallel_for(size_t(0), n, [&](size_t i) {
     const Eigen::Vector3d mean(model.means[i * 3], model.means[i * 3 + 1], model.means[i * 3 + 2]);
-    const float* q = &model.quats[i * 4];
-    const Eigen::Matrix3d R =
-        Eigen::Quaterniond(q[0], q[1], q[2], q[3]).normalized().toRotationMatrix();
+    const Eigen::Matrix3d R = model.rotation(i);
     const float* s = &model.log_scales[i * 3];
     for (size_t k = 0; k < views.size(); ++k) {
       const DepthObservation& v = views[k];

@@ -8,8 +8,8 @@
 #include <array>
 #include <cmath>
 #include <limits>
-#include <optional>
 #include <stdexcept>
+#include <type_traits>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -86,16 +86,17 @@ struct TilePrior {
 // view's tiles in parallel and writes kParts numbers per entry of tile t's list into
 // slots[entry.slot * kParts ...] (no per-pixel lists); each Gaussian's slots are then added in slot
 // order, the same sums at any thread count.
-template <int kParts, class TilePass>
+template <int kParts, class EntryDepth, class TilePass>
 void add_view_sums(const RasterState& s, const cv::Mat1f& depth, float below, float above,
-                   const RayDepths* ray, const std::array<std::vector<double>*, kParts>& sums,
-                   TilePass&& tile_pass) {
+                   const EntryDepth& entry_depth,
+                   const std::array<std::vector<double>*, kParts>& sums, TilePass&& tile_pass) {
   UninitVector<float> slots(s.tile_gaussians.size() * kParts);
-  tbb::parallel_for(
-      tbb::blocked_range<int>(0, s.tile_count()), [&](const tbb::blocked_range<int>& r) {
-        for (int t = r.begin(); t != r.end(); ++t)
-          tile_pass(s, t, TilePrior(depth, tile_pixels(s, t), below, above), ray, slots.data());
-      });
+  tbb::parallel_for(tbb::blocked_range<int>(0, s.tile_count()),
+                    [&](const tbb::blocked_range<int>& r) {
+                      for (int t = r.begin(); t != r.end(); ++t)
+                        tile_pass(s, t, TilePrior(depth, tile_pixels(s, t), below, above),
+                                  entry_depth, slots.data());
+                    });
   tbb::parallel_for(size_t(0), sums[0]->size(), [&](size_t i) {
     for (uint32_t k = s.slot_offsets[i]; k < s.slot_offsets[i + 1]; ++k)
       for (int part = 0; part < kParts; ++part)
@@ -108,8 +109,9 @@ void add_view_sums(const RasterState& s, const cv::Mat1f& depth, float below, fl
 // forward pass's blending runs again (blend_tile): a pruning round costs two blending passes per
 // view, not a render cache's three and its pairs.
 enum WeightPart { kFree, kOnSurface, kUnobserved, kBehind, kWeightParts };
-void line_of_sight_tile(const RasterState& s, int t, const TilePrior& prior, const RayDepths* ray,
-                        float* slots) {
+template <class EntryDepth>
+void line_of_sight_tile(const RasterState& s, int t, const TilePrior& prior,
+                        const EntryDepth& entry_depth, float* slots) {
   const TileGaussian* list = s.tile_gaussians.data() + s.tile_offsets[t];
   for (uint32_t j = 0; j < s.tile_offsets[t + 1] - s.tile_offsets[t]; ++j)
     std::fill_n(&slots[size_t(list[j].slot) * kWeightParts], kWeightParts, 0.f);
@@ -117,10 +119,7 @@ void line_of_sight_tile(const RasterState& s, int t, const TilePrior& prior, con
   TileBlend blend;
   blend_tile(s, t, blend, [&](uint32_t j, int at, const float* w) {
     alignas(64) float z[kLanes];
-    if (ray)
-      ray->row(list[j].id, tile.y0 + at / kTileSize, tile.x0, z);
-    else
-      std::fill_n(z, kLanes, s.projections[list[j].id].depth);
+    entry_depth.row(list[j].id, tile.y0 + at / kTileSize, tile.x0, z);
     float part[kWeightParts] = {};
     for (int x = 0; x < kLanes; ++x) {
       const bool has = prior.observed[at + x] != 0.f, free = z[x] < prior.lower[at + x];
@@ -138,19 +137,19 @@ void line_of_sight_tile(const RasterState& s, int t, const TilePrior& prior, con
 // the prior. Every entry of the list, past where blending would stop: the part of a footprint that
 // the surfaces in front hide is what this pass is for.
 enum FootprintPart { kObserved, kHidden, kFootprintParts };
-void footprint_tile(const RasterState& s, int t, const TilePrior& prior, const RayDepths* ray,
-                    float* slots) {
+template <class EntryDepth>
+void footprint_tile(const RasterState& s, int t, const TilePrior& prior,
+                    const EntryDepth& entry_depth, float* slots) {
   const PixelRect tile = tile_pixels(s, t);
   const TileGaussian* list = s.tile_gaussians.data() + s.tile_offsets[t];
   alignas(64) float gaussian[kLanes], alpha[kLanes], z[kLanes];
   for (uint32_t j = 0; j < s.tile_offsets[t + 1] - s.tile_offsets[t]; ++j) {
     const TileGaussian& e = list[j];
     const PixelRect rect = clip(e, tile);
-    if (!ray) std::fill_n(z, kLanes, s.projections[e.id].depth);
     float part[kFootprintParts] = {};
     for (int y = rect.y0; y < rect.y1; ++y) {
       blend_row(e, y, tile.x0, tile.x0 + kLanes, s.min_alpha, gaussian, alpha);
-      if (ray) ray->row(e.id, y, tile.x0, z);
+      entry_depth.row(e.id, y, tile.x0, z);
       const int at = (y - tile.y0) * kTileSize;
 #pragma GCC unroll 1  // one vector loop, not kLanes scalar copies
       for (int x = 0; x < kLanes; ++x) {
@@ -184,17 +183,18 @@ void sum_over_views(const GaussianModel& model, const std::vector<DepthObservati
     if (forward.width != v.depth.cols || forward.height != v.depth.rows)
       throw std::invalid_argument("line-of-sight tests: a depth prior is not the view's size");
     const RasterState& s = *forward.state;
-    std::optional<RayDepths> ray;
-    if (ray_depth) ray.emplace(model, *v.camera, *v.pose, s.projections);
-    const RayDepths* r = ray ? &*ray : nullptr;
-    if (weights)
-      add_view_sums<kWeightParts>(
-          s, v.depth, below, above, r,
-          {&weights->free_space, &weights->on_surface, &weights->unobserved, &weights->behind},
-          line_of_sight_tile);
-    if (footprint)
-      add_view_sums<kFootprintParts>(s, v.depth, below, above, r,
-                                     {&footprint->observed, &footprint->behind}, footprint_tile);
+    with_entry_depths(ray_depth, model, *v.camera, *v.pose, s, [&](const auto& entry_depth) {
+      using EntryDepth = std::decay_t<decltype(entry_depth)>;
+      if (weights)
+        add_view_sums<kWeightParts>(
+            s, v.depth, below, above, entry_depth,
+            {&weights->free_space, &weights->on_surface, &weights->unobserved, &weights->behind},
+            line_of_sight_tile<EntryDepth>);
+      if (footprint)
+        add_view_sums<kFootprintParts>(s, v.depth, below, above, entry_depth,
+                                       {&footprint->observed, &footprint->behind},
+                                       footprint_tile<EntryDepth>);
+    });
   }
 }
 

@@ -5,7 +5,6 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_reduce.h>
-#include <Eigen/Geometry>
 
 namespace gslift {
 
@@ -34,9 +33,7 @@ size_t clamp_extent_to_free_space(GaussianModel& model, const std::vector<DepthO
           const Eigen::Vector3d mean(model.means[i * 3], model.means[i * 3 + 1],
                                      model.means[i * 3 + 2]);
           if (in_observed_free_space(mean, views, options.tolerance)) continue;
-          const float* q = &model.quats[i * 4];
-          const Eigen::Matrix3d R =
-              Eigen::Quaterniond(q[0], q[1], q[2], q[3]).normalized().toRotationMatrix();
+          const Eigen::Matrix3d R = model.rotation(i);
           for (int a = 0; a < 3; ++a) {
             float& log_scale = model.log_scales[i * 3 + a];
             const auto overhangs = [&] {

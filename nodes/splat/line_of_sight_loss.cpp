@@ -37,7 +37,7 @@ double opacity_before_prior(const GaussianModel& model, const Camera& camera, co
   UninitVector<float> slots(grads ? s.tile_gaussians.size() * kPartials : 0);
   // Per tile, given the entries' depths at each pixel (EntryDepth: their centres', or along each
   // pixel's ray).
-  auto tiles_pass = [&](const auto& depth) {
+  with_entry_depths(ray_depth, model, camera, pose, s, [&](const auto& depth) {
     tbb::parallel_for(tbb::blocked_range<int>(0, tiles), [&](const tbb::blocked_range<int>& r) {
       TileBlend front;
       alignas(64) float cut[kTilePixels];
@@ -86,11 +86,7 @@ double opacity_before_prior(const GaussianModel& model, const Camera& camera, co
             [](uint32_t, const TileGaussian&) {});
       }
     });
-  };
-  if (ray_depth)
-    tiles_pass(RayDepths(model, camera, pose, s.projections));
-  else
-    tiles_pass(CentreDepth{s.projections});
+  });
   double loss = 0;
   size_t observed = 0;
   for (int t = 0; t < tiles; ++t) {

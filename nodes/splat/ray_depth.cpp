@@ -4,7 +4,6 @@
 #include <cmath>
 
 #include <tbb/parallel_for.h>
-#include <Eigen/Geometry>
 
 namespace gslift {
 
@@ -17,10 +16,7 @@ RayDepths::RayDepths(const GaussianModel& model, const Camera& camera, const Pos
       coeffs_(model.size() * kCoeffs, 0.f) {
   tbb::parallel_for(size_t(0), model.size(), [&](size_t i) {
     if (projections[i].radius == 0) return;
-    const float* q = &model.quats[i * 4];
-    Eigen::Quaterniond quat(q[0], q[1], q[2], q[3]);
-    if (quat.norm() == 0) quat = Eigen::Quaterniond::Identity();
-    const Eigen::Matrix3d R = pose.R * quat.normalized().toRotationMatrix();
+    const Eigen::Matrix3d R = pose.R * model.rotation(i);
     Eigen::Vector3d inv_var;
     double largest = 0;
     for (int k = 0; k < 3; ++k) {

@@ -50,4 +50,16 @@ class RayDepths {
   std::vector<float> coeffs_;
 };
 
+// Calls f(depth) with the depths of the entries of render state s (of `model` in this view) that
+// the free-space tests and the line-of-sight loss compare with the prior: RayDepths with
+// ray_depth, else CentreDepth. Both are blend_tile's EntryDepth.
+template <class F>
+void with_entry_depths(bool ray_depth, const GaussianModel& model, const Camera& camera,
+                       const Pose& pose, const RasterState& s, F&& f) {
+  if (ray_depth)
+    f(RayDepths(model, camera, pose, s.projections));
+  else
+    f(CentreDepth{s.projections});
+}
+
 }  // namespace gslift
