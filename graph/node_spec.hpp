@@ -23,7 +23,9 @@ struct NodeSpec {
   std::string doc;   // one line
   std::vector<PortSpec> inputs;
   std::vector<PortSpec> outputs;
-  std::vector<ParamSpec> params;
+  // Filled from the node's ParamTable when it is registered; {} so that a spec written without
+  // it is complete (-Wmissing-field-initializers).
+  std::vector<ParamSpec> params{};
   // False for a node whose results depend on more than its params, inputs and files (a network
   // service): the stage cache never stands in for it.
   bool cacheable = true;

@@ -11,7 +11,11 @@ struct Points {
   std::vector<float> means;
   std::vector<int32_t> ids;
   size_t add(double x, double y, double z, int32_t id) {
-    means.insert(means.end(), {float(x), float(y), float(z)});
+    // Three push_backs, not insert of a braced list: g++ 12 reports a false
+    // -Wstringop-overflow inside std::vector::insert for the latter.
+    means.push_back(float(x));
+    means.push_back(float(y));
+    means.push_back(float(z));
     ids.push_back(id);
     return ids.size() - 1;
   }
