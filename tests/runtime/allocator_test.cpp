@@ -35,10 +35,19 @@ long faults_of_one_step() {
 
 }  // namespace
 
+// g++ defines __SANITIZE_ADDRESS__ under -fsanitize=address; clang answers __has_feature.
+#if defined(__SANITIZE_ADDRESS__)
+#define GSLIFT_UNDER_ASAN 1
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define GSLIFT_UNDER_ASAN 1
+#endif
+#endif
+
 #if defined(__GLIBC__)
 TEST_CASE("after keep_freed_memory_in_process a second step reuses the first step's pages",
           "[runtime]") {
-#if defined(__SANITIZE_ADDRESS__)
+#if defined(GSLIFT_UNDER_ASAN)
   // AddressSanitizer replaces malloc with its own allocator (freed blocks go to its quarantine),
   // so glibc's settings that keep_freed_memory_in_process changes do not apply.
   WARN("SKIPPED: AddressSanitizer replaces glibc's malloc");
