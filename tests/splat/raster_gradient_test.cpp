@@ -255,11 +255,15 @@ TEST_CASE("raster: gradients with dense overlap", "[splat][raster]") {
   ModelGrads grads;
   grads.reset(scene.model);
   render_backward(scene.model, scene.camera, scene.pose, s, out, loss.weights, grads);
-  for (auto [param, grad] :
+  for (const auto& member :
        {std::pair{&GaussianModel::means, &ModelGrads::means},
         std::pair{&GaussianModel::log_scales, &ModelGrads::log_scales},
         std::pair{&GaussianModel::quats, &ModelGrads::quats},
         std::pair{&GaussianModel::opacity_logits, &ModelGrads::opacity_logits}}) {
+    // Plain variables, not a structured binding: C++17 lets no lambda capture one (clang
+    // refuses, g++ accepts it as an extension).
+    const auto param = member.first;
+    const auto grad = member.second;
     const std::vector<float> dir = random_vector((scene.model.*param).size(), rng);
     const double eps = 1e-3;
     double analytic = 0;
