@@ -653,7 +653,12 @@ int cmd_sweep(int argc, char** argv, const Registry& registry) {
     if (!graph) return exit_code::kInvalidGraph;
     seeds = {run_seed(*graph)};
   }
-  const std::vector<SweepPoint> points = sweep_points(axes, seeds);
+  std::vector<SweepPoint> points;
+  try {
+    points = sweep_points(axes, seeds);
+  } catch (const std::invalid_argument& e) {
+    throw UsageError(e.what());
+  }
   for (const auto& p : points)
     if (p.seed == seeds.front() && !load_checked(graph_file, registry, combination_options(p)))
       return exit_code::kInvalidGraph;
