@@ -48,32 +48,38 @@ inline bool is_control(std::string_view s, size_t i, size_t len) {
   return len == 2 && b == 0xC2 && static_cast<uint8_t>(s[i + 1]) <= 0x9F;
 }
 
-// What escape_bytes escapes besides ill-formed bytes: no control characters, all of them, or all
-// but newline and tab (for whole messages, whose own line breaks are meant).
-enum class Controls { Kept, Escaped, EscapedButLines };
+// What escape_bytes escapes.
+//   Json:     ill-formed bytes and NUL (JSON escapes control characters itself);
+//   Quote:    ill-formed bytes and every control character;
+//   Terminal: control characters but newline and tab, and the ill-formed bytes that are controls
+//             to an 8-bit terminal (NUL, 0x80-0x9F: 0x9B is CSI); other bytes stay as they are,
+//             so a Latin-1 path prints as the user's terminal shows it.
+enum class Mode { Json, Quote, Terminal };
 
-// `s` with each ill-formed byte, and each byte of a control character that `controls` escapes,
-// as the four characters "\xNN" (upper-case hex); stops before the sequence that starts at or
-// after byte `max_bytes` of `s`, never inside one.
-inline std::string escape_bytes(std::string_view s, Controls controls, size_t max_bytes) {
+// `s` with the bytes `mode` escapes as the four characters "\xNN" (upper-case hex); stops
+// before the sequence that starts at or after byte `max_bytes` of `s`, never inside one.
+inline std::string escape_bytes(std::string_view s, Mode mode, size_t max_bytes) {
   static const char* hex = "0123456789ABCDEF";
   std::string out;
   out.reserve(s.size() < max_bytes ? s.size() : max_bytes);
   for (size_t i = 0; i < s.size() && i < max_bytes;) {
     const size_t len = sequence_length(s, i);
-    const bool escaped_control =
-        len > 0 && controls != Controls::Kept && is_control(s, i, len) &&
-        !(controls == Controls::EscapedButLines && (s[i] == '\n' || s[i] == '\t'));
-    if (len > 0 && !escaped_control) {
-      out.append(s.substr(i, len));
-      i += len;
+    const auto b = static_cast<uint8_t>(s[i]);
+    bool escaped = len == 0;
+    if (len > 0 && mode != Mode::Json && is_control(s, i, len))
+      escaped = !(mode == Mode::Terminal && (b == '\n' || b == '\t'));
+    if (len == 0 && mode == Mode::Terminal) escaped = b == 0 || (b >= 0x80 && b <= 0x9F);
+    if (!escaped) {
+      const size_t n = len > 0 ? len : 1;
+      out.append(s.substr(i, n));
+      i += n;
       continue;
     }
     for (const size_t end = i + (len > 0 ? len : 1); i < end; ++i) {
-      const auto b = static_cast<uint8_t>(s[i]);
+      const auto c = static_cast<uint8_t>(s[i]);
       out += "\\x";
-      out += hex[b >> 4];
-      out += hex[b & 15];
+      out += hex[c >> 4];
+      out += hex[c & 15];
     }
   }
   return out;
@@ -87,7 +93,7 @@ inline std::string escape_bytes(std::string_view s, Controls controls, size_t ma
 // folder a user must look for. A backslash already in `s` is left alone, so the escape is for
 // reading, not a bijection.
 inline std::string escape_invalid_utf8(std::string_view s) {
-  return utf8_detail::escape_bytes(s, utf8_detail::Controls::Kept, std::string_view::npos);
+  return utf8_detail::escape_bytes(s, utf8_detail::Mode::Json, std::string_view::npos);
 }
 
 // How much of a quoted input `printable` keeps by default: enough to recognise a value, a
@@ -99,17 +105,17 @@ constexpr size_t kMaxQuotedBytes = 200;
 // `max_bytes` bytes, followed by "... (N bytes)" when it is longer. Every message that quotes
 // input (a file's line, a YAML value, a reply) quotes it through this.
 inline std::string printable(std::string_view s, size_t max_bytes = kMaxQuotedBytes) {
-  std::string out = utf8_detail::escape_bytes(s, utf8_detail::Controls::Escaped, max_bytes);
+  std::string out = utf8_detail::escape_bytes(s, utf8_detail::Mode::Quote, max_bytes);
   if (s.size() > max_bytes) out += "... (" + std::to_string(s.size()) + " bytes)";
   return out;
 }
 
-// A whole message as the command line prints it: like printable, but its own newlines and tabs
-// kept and nothing cut (the input it quotes was capped where it was quoted). The last guard
+// A whole message as the command line prints it: its control characters as "\xNN" but its own
+// newlines and tabs, raw bytes that an 8-bit terminal obeys (0x80-0x9F) escaped too, other bytes
+// as they are, nothing cut (the input it quotes was capped where it was quoted). The last guard
 // against an escape sequence from a file or a param reaching the terminal.
 inline std::string terminal_safe(std::string_view s) {
-  return utf8_detail::escape_bytes(s, utf8_detail::Controls::EscapedButLines,
-                                   std::string_view::npos);
+  return utf8_detail::escape_bytes(s, utf8_detail::Mode::Terminal, std::string_view::npos);
 }
 
 // `s` without ANSI terminal escape sequences (ESC '[' parameters final-byte, e.g. the colour codes

@@ -26,3 +26,14 @@ TEST_CASE("printable escapes control characters and caps the excerpt", "[utf8]")
   CHECK(printable("ab\xc3\xa9z", 3) == "ab\xc3\xa9... (5 bytes)");
   CHECK(printable("abc", 3) == "abc");
 }
+
+TEST_CASE("terminal_safe escapes what a terminal obeys and keeps the message's lines", "[utf8]") {
+  CHECK(terminal_safe("error: a\n  hint\tb") == "error: a\n  hint\tb");
+  CHECK(terminal_safe("value \x1b]0;title\x07 \x1b[2J") == "value \\x1B]0;title\\x07 \\x1B[2J");
+  CHECK(terminal_safe("a\xc2\x9b"
+                      "1m") == "a\\xC2\\x9B1m");  // C1 CSI as UTF-8
+  // Raw bytes: 0x9B is CSI to an 8-bit terminal; Latin-1 letters print as they are.
+  CHECK(terminal_safe("caf\xe9 \x9b"
+                      "2J") == "caf\xe9 \\x9B2J");
+  CHECK(terminal_safe(std::string("a\0b", 3)) == "a\\x00b");
+}
