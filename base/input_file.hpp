@@ -13,6 +13,7 @@
 #include <system_error>
 
 #include "base/errors.hpp"
+#include "base/utf8.hpp"
 
 namespace gslift {
 
@@ -82,7 +83,7 @@ inline std::filesystem::path path_inside(const std::filesystem::path& folder,
     throw InputError(where + ": file name contains a NUL byte");
   const std::filesystem::path p = folder / name;
   if (!allow_outside && !lies_inside(folder, p))
-    throw InputError(where + ": '" + name + "' points outside " + folder.string() +
+    throw InputError(where + ": '" + printable(name) + "' points outside " + folder.string() +
                      " (set the ingest param allow_outside_paths to follow it)");
   return p;
 }

@@ -63,6 +63,16 @@ std::string colmap_binary_model() {
   return cams + fuzz::kSplit + ims + fuzz::kSplit + pts;
 }
 
+// `inner` inside `levels` nested arrays, or objects {"a": ...}: issue 33's deeply nested
+// documents, which parsed fine and then overflowed the stack when dumped or copied
+// (base/json_read.hpp caps the depth). Made here rather than committed; each stays under the
+// 1 MB -max_len of bench/fuzz/run.sh, which would cut a larger seed short.
+std::string nested(size_t levels, const std::string& inner, bool objects = false) {
+  std::string s;
+  for (size_t i = 0; i < levels; ++i) s += objects ? "{\"a\":" : "[";
+  return s + inner + std::string(levels, objects ? '}' : ']');
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -72,8 +82,18 @@ int main(int argc, char** argv) {
   }
   const fs::path out = argv[1];
   const fs::path tmp = out / ".tmp";
-  for (const char* d : {"colmap_binary", "coco_rle", "mask_png", "depth_image", "ply", ".tmp"})
+  for (const char* d : {"colmap_binary", "coco_rle", "mask_png", "depth_image", "ply", "vlm_reply",
+                        "transforms_json", ".tmp"})
     fs::create_directories(out / d);
+
+  constexpr size_t kDeep = 200000;
+  fuzz::write_file(out / "vlm_reply/deep_arrays.txt", nested(kDeep, "1"));
+  fuzz::write_file(out / "vlm_reply/deep_objects.txt", nested(kDeep / 2, "1", /*objects=*/true));
+  fuzz::write_file(out / "transforms_json/deep_matrix.json",
+                   "{\"frames\": [{\"file_path\": \"images/r_0.png\", \"transform_matrix\": " +
+                       nested(kDeep, "0") + "}]}");
+  fuzz::write_file(out / "coco_rle/deep_counts.json",
+                   "[{\"size\": [6, 8], \"counts\": " + nested(kDeep, "1") + "}]");
 
   fuzz::write_file(out / "colmap_binary/model.bin", colmap_binary_model());
 

@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "base/errors.hpp"
+#include "base/json_read.hpp"
 
 namespace gslift::report {
 
@@ -26,7 +27,7 @@ json read_json(const fs::path& dir, const char* name) {
   text << in.rdbuf();
   if (!in && !in.eof()) throw InputError("cannot read " + file.string());
   try {
-    return json::parse(text.str());
+    return parse_json(text.str());
   } catch (const json::parse_error& e) {
     throw InputError(file.string() + " is not valid JSON: " + e.what());
   }

@@ -4,6 +4,8 @@
 #include <cstdio>
 #include <set>
 
+#include "base/utf8.hpp"
+
 namespace gslift::report {
 
 namespace {
@@ -44,7 +46,8 @@ void compare_maps(const std::string& prefix, const std::map<std::string, json>& 
 }
 
 std::string line(const Change& c) {
-  std::string s = "  " + c.what + ": " + c.a + " -> " + c.b;
+  // Values and names come from the runs' files: capped and with control characters escaped.
+  std::string s = "  " + printable(c.what) + ": " + printable(c.a) + " -> " + printable(c.b);
   if (c.numeric) {
     char buf[64];
     std::snprintf(buf, sizeof buf, " (%+.6g", c.delta);
@@ -133,8 +136,8 @@ std::string diff_text(const RunDiff& d, const RunRecord& a, const RunRecord& b) 
   const auto head = [](const char* mark, const RunRecord& r) {
     char buf[64];
     std::snprintf(buf, sizeof buf, "%.2f s", r.total_s);
-    return std::string(mark) + " " + r.dir.string() + " (" + r.graph_name + ", " + r.status + ", " +
-           buf + ", seed " + std::to_string(r.seed) + ")\n";
+    return std::string(mark) + " " + printable(r.dir.string()) + " (" + printable(r.graph_name) +
+           ", " + printable(r.status) + ", " + buf + ", seed " + std::to_string(r.seed) + ")\n";
   };
   std::string s = head("---", a) + head("+++", b);
   s += section("status", d.status);

@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cstdio>
 #include <fstream>
+#include <iterator>
 #include <limits>
 #include <map>
 #include <sstream>
@@ -18,6 +19,7 @@
 
 #include "base/hash.hpp"
 #include "base/input_file.hpp"
+#include "base/json_read.hpp"
 #include "runtime/atomic_file.hpp"
 #include "runtime/node.hpp"
 #include "runtime/run_record.hpp"
@@ -350,8 +352,9 @@ void merge_shard_summaries(const fs::path& out_root, const std::string& suffix) 
     if (name.rfind("_summary-", 0) != 0 || name.size() <= suffix.size() + 9 ||
         name.compare(name.size() - suffix.size(), suffix.size(), suffix) != 0)
       continue;
-    std::ifstream in(entry.path());
-    const json part = json::parse(in, nullptr, false);
+    std::ifstream in(entry.path(), std::ios::binary);
+    const json part = parse_json_or_discarded(
+        std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()));
     if (part.is_discarded() || !part.contains("captures")) {
       spdlog::warn("{}: not a shard summary, left out of _summary.json", entry.path().string());
       continue;

@@ -26,6 +26,8 @@
 #include <spdlog/spdlog.h>
 
 #include "base/input_file.hpp"
+#include "base/json_read.hpp"
+#include "base/utf8.hpp"
 #include "graph/loader.hpp"
 #include "graph/suggest.hpp"
 #include "report/report_page.hpp"
@@ -191,7 +193,7 @@ LoadOptions load_options(const Args& args) {
 }
 
 void print_diagnostics(const std::vector<Diagnostic>& diagnostics) {
-  for (const auto& d : diagnostics) std::fprintf(stderr, "%s\n", d.str().c_str());
+  for (const auto& d : diagnostics) std::fprintf(stderr, "%s\n", terminal_safe(d.str()).c_str());
 }
 
 // Loads and validates; prints every diagnostic; nullopt when the graph is invalid.
@@ -477,7 +479,7 @@ int cmd_run(int argc, char** argv, const Registry& registry) {
                opt.threads ? std::to_string(opt.threads) : std::string("auto"), opt.seed,
                opt.out_dir.string());
   const RunResult result = execute(*graph, registry, opt);
-  if (result.error) std::fprintf(stderr, "error: %s\n", result.error->str().c_str());
+  if (result.error) std::fprintf(stderr, "error: %s\n", terminal_safe(result.error->str()).c_str());
   std::printf("%s in %.2f s%s\nresults: %s\n", to_string(result.status), result.total_s,
               cache_summary(result).c_str(), results_line(opt.out_dir).c_str());
   return exit_code_of(result);
@@ -651,7 +653,12 @@ int cmd_sweep(int argc, char** argv, const Registry& registry) {
     if (!graph) return exit_code::kInvalidGraph;
     seeds = {run_seed(*graph)};
   }
-  const std::vector<SweepPoint> points = sweep_points(axes, seeds);
+  std::vector<SweepPoint> points;
+  try {
+    points = sweep_points(axes, seeds);
+  } catch (const std::invalid_argument& e) {
+    throw UsageError(e.what());
+  }
   for (const auto& p : points)
     if (p.seed == seeds.front() && !load_checked(graph_file, registry, combination_options(p)))
       return exit_code::kInvalidGraph;
@@ -692,12 +699,10 @@ int cmd_sweep(int argc, char** argv, const Registry& registry) {
     spdlog::info("sweep {}/{}: {}seed {}", i + 1, points.size(), label, run.point.seed);
     fs::create_directories(dir);
     const ChildRun r = run_child_process(child, (dir / "gslift.log").string());
-    std::ifstream record(dir / "run.json");
     try {
-      if (!record) throw std::runtime_error("no run.json");
-      run = sweep_run_from_record(nlohmann::json::parse(record), run);
-      if (headline.empty() && run.status == "ok")
-        headline = headline_metrics(nlohmann::json::parse(std::ifstream(dir / "run.json")));
+      const nlohmann::json record = parse_json(read_input_file(dir / "run.json", "run.json"));
+      run = sweep_run_from_record(record, run);
+      if (headline.empty() && run.status == "ok") headline = headline_metrics(record);
     } catch (const std::exception& e) {
       // The child died before writing its record (a crash, or a kill): the row says how.
       run.status = "failed";
@@ -751,7 +756,7 @@ int cmd_diff(int argc, char** argv, const Registry&) {
   const report::RunRecord a = report::read_run_record(args.positional[0]);
   const report::RunRecord b = report::read_run_record(args.positional[1]);
   const report::RunDiff diff = report::diff_runs(a, b);
-  std::printf("%s", report::diff_text(diff, a, b).c_str());
+  std::printf("%s", terminal_safe(report::diff_text(diff, a, b)).c_str());
   return diff.differs() ? exit_code::kRunsDiffer : exit_code::kOk;
 }
 
@@ -824,16 +829,16 @@ int cli_main(int argc, char** argv, const Registry& registry,
   try {
     return dispatch(argc, argv, registry, extra);
   } catch (const UsageError& e) {
-    std::fprintf(stderr, "gslift: %s\nsee 'gslift --help'\n", e.what());
+    std::fprintf(stderr, "gslift: %s\nsee 'gslift --help'\n", terminal_safe(e.what()).c_str());
     return exit_code::kUsage;
   } catch (const InputError& e) {
-    std::fprintf(stderr, "error: %s\n", e.what());
+    std::fprintf(stderr, "error: %s\n", terminal_safe(e.what()).c_str());
     return exit_code::kBadInput;
   } catch (const OutputError& e) {
-    std::fprintf(stderr, "error: %s\n", e.what());
+    std::fprintf(stderr, "error: %s\n", terminal_safe(e.what()).c_str());
     return exit_code::kCannotWrite;
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "internal error: %s\n", e.what());
+    std::fprintf(stderr, "internal error: %s\n", terminal_safe(e.what()).c_str());
     return exit_code::kInternal;
   }
 }

@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "base/statistics.hpp"
+#include "base/utf8.hpp"
 
 namespace gslift {
 
@@ -14,35 +15,54 @@ using nlohmann::json;
 GridAxis parse_grid(const std::string& text) {
   const auto eq = text.find('=');
   if (eq == std::string::npos || eq == 0 || eq + 1 == text.size())
-    throw std::invalid_argument("--grid expects NODE.PARAM=V1,V2,..., got '" + text + "'");
+    throw std::invalid_argument("--grid expects NODE.PARAM=V1,V2,..., got '" + printable(text) +
+                                "'");
   GridAxis axis;
   axis.param = text.substr(0, eq);
-  std::string value;
-  int depth = 0;
-  char quote = 0;
-  for (size_t i = eq + 1; i <= text.size(); ++i) {
-    const char c = i < text.size() ? text[i] : ',';
-    if (quote) {
-      quote = c == quote ? 0 : quote;
-    } else if (c == '"' || c == '\'') {
-      quote = c;
-    } else if (c == '[') {
-      ++depth;
-    } else if (c == ']') {
-      --depth;
-    } else if (c == ',' && depth == 0) {
-      if (value.empty())
-        throw std::invalid_argument("--grid " + text + ": an empty value in the list");
-      axis.values.push_back(value);
-      value.clear();
-      continue;
+  // Quotes and [] group only where they close: a quote or bracket that never does is a character
+  // of its value, as in --set ("capture.path=a'b" was no value at all). Each scan that ends inside
+  // a group marks the innermost opener as such a character and scans again ("[a,'b]" is one
+  // value).
+  std::set<size_t> literal;
+  for (;;) {
+    axis.values.clear();
+    std::string value;
+    std::vector<size_t> open;  // the positions of the open groups' openers, outermost first
+    char quote = 0;
+    for (size_t i = eq + 1; i <= text.size(); ++i) {
+      const char c = i < text.size() ? text[i] : ',';
+      if (literal.count(i) == 0) {
+        if (quote) {
+          if (c == quote) {
+            quote = 0;
+            open.pop_back();
+          }
+        } else if (c == '"' || c == '\'') {
+          quote = c;
+          open.push_back(i);
+        } else if (c == '[') {
+          open.push_back(i);
+        } else if (c == ']' && !open.empty()) {
+          open.pop_back();
+        } else if (c == ',' && open.empty()) {
+          if (value.empty())
+            throw std::invalid_argument("--grid " + printable(text) +
+                                        ": an empty value in the list");
+          axis.values.push_back(value);
+          value.clear();
+          continue;
+        }
+      }
+      value += c;
     }
-    value += c;
+    if (open.empty()) break;
+    literal.insert(open.back());
   }
   std::set<std::string> seen;
   for (const auto& v : axis.values)
     if (!seen.insert(v).second)
-      throw std::invalid_argument("--grid " + text + ": value '" + v + "' is listed twice");
+      throw std::invalid_argument("--grid " + printable(text) + ": value '" + printable(v) +
+                                  "' is listed twice");
   return axis;
 }
 
@@ -84,6 +104,19 @@ std::vector<uint64_t> parse_seeds(const std::string& text) {
 
 std::vector<SweepPoint> sweep_points(const std::vector<GridAxis>& axes,
                                      const std::vector<uint64_t>& seeds) {
+  std::set<std::string> params;
+  size_t runs = seeds.size();
+  for (const auto& axis : axes) {
+    if (!params.insert(axis.param).second)
+      throw std::invalid_argument("--grid " + printable(axis.param) +
+                                  " is given twice; list all its values in one --grid");
+    const size_t n = axis.values.size();  // saturating: 10^6 values on 4 axes overflow
+    runs = n > 0 && runs > kMaxSweepRuns / n ? kMaxSweepRuns + 1 : runs * n;
+  }
+  if (runs > kMaxSweepRuns)
+    throw std::invalid_argument("the grid and seeds make more than " +
+                                std::to_string(kMaxSweepRuns) +
+                                " runs; a sweep is limited to that many (split it)");
   std::vector<std::map<std::string, std::string>> combos = {{}};
   for (const auto& axis : axes) {
     std::vector<std::map<std::string, std::string>> next;

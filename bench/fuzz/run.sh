@@ -52,9 +52,11 @@ for spec in "${targets[@]}"; do
   # One log per record and target: a smoke run beside a long one must not write into its log.
   log="$build/logs/$(basename "$results")-$t.log"
   mkdir -p "$(dirname "$log")"
-  # -timeout: one input taking 25 s is a hang; -rss_limit_mb: 2 GB is an unbounded allocation.
+  # -timeout: one input taking 25 s is a hang; -rss_limit_mb: 2 GB is an unbounded allocation;
+  # -max_len: 1 MB, the size of make_seeds.cpp's deep-nesting seeds and room to grow them
+  # (libFuzzer otherwise starts from 4 KB and grows lengths slowly).
   TMPDIR="$scratch" timeout $((secs + 300)) "$bin" "$corpus" "$build/seeds/$t" \
-    -max_total_time="$secs" -timeout=25 -rss_limit_mb=2048 -print_final_stats=1 \
+    -max_total_time="$secs" -timeout=25 -rss_limit_mb=2048 -max_len=1048576 -print_final_stats=1 \
     -artifact_prefix="$artifacts/" >"$log" 2>&1
   rc=$?
   rm -rf "$scratch"

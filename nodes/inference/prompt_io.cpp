@@ -10,6 +10,8 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "base/errors.hpp"
+#include "base/json_read.hpp"
+#include "base/utf8.hpp"
 #include "nodes/scene/image_io.hpp"
 
 namespace gslift {
@@ -23,9 +25,16 @@ std::vector<cv::Point> pixel_list(const nlohmann::json& j, const char* key,
   if (!list.is_array()) throw InputError(where + ": '" + key + "' must be a list of [x, y] pixels");
   for (const auto& p : list) {
     if (!p.is_array() || p.size() != 2 || !p[0].is_number() || !p[1].is_number())
-      throw InputError(where + ": '" + key + "' holds " + p.dump() + ", not an [x, y] pixel");
-    out.emplace_back(static_cast<int>(std::floor(p[0].get<double>())),
-                     static_cast<int>(std::floor(p[1].get<double>())));
+      throw InputError(where + ": '" + key + "' holds " + printable(p.dump()) +
+                       ", not an [x, y] pixel");
+    // Converting a double outside int's range is undefined behaviour ([[1e308, 0]] became
+    // (-2147483648, 0)): such a pixel lies outside every image, and is refused as one.
+    const double x = std::floor(p[0].get<double>()), y = std::floor(p[1].get<double>());
+    constexpr double kLimit = 2147483648.0;  // 2^31
+    if (!(x >= -kLimit && x < kLimit && y >= -kLimit && y < kLimit))
+      throw InputError(where + ": '" + key + "' holds " + printable(p.dump()) +
+                       ", a pixel outside any image");
+    out.emplace_back(static_cast<int>(x), static_cast<int>(y));
   }
   return out;
 }
@@ -126,7 +135,7 @@ PromptSet read_prompt_file(const std::filesystem::path& path) {
     }
   } else {
     try {
-      j = nlohmann::json::parse(text.str());
+      j = parse_json(text.str());
     } catch (const nlohmann::json::exception& e) {
       throw InputError(path.string() + ": not JSON (" + e.what() + ")");
     }

@@ -1,6 +1,12 @@
 #include "nodes/inference/segment_session.hpp"
 
+#include <algorithm>
+#include <cerrno>
 #include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
 #include <iostream>
 #include <map>
 #include <memory>
@@ -9,6 +15,8 @@
 #include <nlohmann/json.hpp>
 
 #include "base/errors.hpp"
+#include "base/json_read.hpp"
+#include "base/utf8.hpp"
 #include "nodes/inference/filter_3d.hpp"
 #include "nodes/inference/prompt_io.hpp"
 #include "nodes/inference/query_files.hpp"
@@ -29,7 +37,8 @@ double ms_since(Clock::time_point t0) {
 }
 
 std::vector<int> requested_views(const nlohmann::json& j, const Capture& capture, const Prompt& p) {
-  if (capture.find_view(p.view) < 0) throw InputError("the capture has no view '" + p.view + "'");
+  if (capture.find_view(p.view) < 0)
+    throw InputError("the capture has no view '" + printable(p.view) + "'");
   if (!j.contains("views")) return {capture.find_view(p.view)};
   std::vector<int> views;
   if (j["views"] == "all") {
@@ -39,10 +48,51 @@ std::vector<int> requested_views(const nlohmann::json& j, const Capture& capture
   if (!j["views"].is_array()) throw InputError("\"views\" must be a list of view names or \"all\"");
   for (const auto& name : j["views"]) {
     const int v = name.is_string() ? capture.find_view(name.get<std::string>()) : -1;
-    if (v < 0) throw InputError("the capture has no view " + name.dump());
+    if (v < 0) throw InputError("the capture has no view " + printable(name.dump()));
     views.push_back(v);
   }
   return views;
+}
+
+// The longest prompt line read: a prompt is a few hundred bytes (mask prompts name a PNG file),
+// and a line read whole without a bound ended the session when it outgrew memory.
+constexpr size_t kMaxPromptLine = size_t(1) << 20;
+
+// How much of an error message a reply carries (a parse error quotes the token it stopped at).
+constexpr size_t kMaxErrorBytes = 1000;
+
+// Reads the next line of `in` (without its '\n') into `line`, keeping its first kMaxPromptLine
+// bytes and skipping the rest. Returns the line's whole length, or -1 at the end of the input
+// (or at a read error: the caller checks in.bad()).
+int64_t read_prompt_line(std::istream& in, std::string& line) {
+  line.clear();
+  int64_t length = 0;
+  char chunk[1 << 16];
+  for (;;) {
+    in.getline(chunk, sizeof chunk);
+    const auto got = static_cast<size_t>(in.gcount());
+    const bool ended = !in.fail() && !in.eof();  // the '\n' was read (and counted in gcount)
+    const size_t stored = ended ? got - 1 : got;
+    if (line.size() < kMaxPromptLine)
+      line.append(chunk, std::min(stored, kMaxPromptLine - line.size()));
+    length += static_cast<int64_t>(stored);
+    if (ended) return length;
+    if (in.eof() || in.bad()) return length > 0 ? length : -1;
+    in.clear();  // the chunk filled up: the line goes on
+  }
+}
+
+// Two names whose files would be one (query_file_stem: "", "." and ".." are all "query";
+// "/a/x/P" and "../../a/x/p" are both "a_x_p") must not overwrite each other silently: the
+// first name to write a stem into an output folder keeps it for the session.
+void claim_file_stem(std::map<std::string, std::string>& owners, const std::string& dir,
+                     const std::string& name) {
+  const std::string key = dir + '\0' + query_file_stem(name);
+  const auto [it, inserted] = owners.emplace(key, name);
+  if (!inserted && it->second != name)
+    throw InputError("the name \"" + printable(name) + "\" writes the same files as \"" +
+                     printable(it->second) + "\" (" + query_file_stem(name) + ") in " +
+                     printable(dir) + "; rename one of them");
 }
 
 }  // namespace
@@ -51,15 +101,22 @@ int run_segment_session(const GaussianModel& model, const Capture& capture,
                         const PromptOptions& options, std::istream& in, std::ostream& out) {
   PromptSegmenter segmenter(model, capture, options);
   std::map<int, std::unique_ptr<SelectionMasker>> mask_views;  // built on first use
+  std::map<std::string, std::string> stem_owners;              // claim_file_stem
   int answered = 0;
   std::string text;
-  for (int line = 1; std::getline(in, text); ++line) {
-    if (text.find_first_not_of(" \t\r") == std::string::npos) continue;
+  int line = 1;
+  for (int64_t length; (length = read_prompt_line(in, text)) >= 0; ++line) {
+    if (static_cast<size_t>(length) <= kMaxPromptLine &&
+        text.find_first_not_of(" \t\r") == std::string::npos)
+      continue;
     nlohmann::json reply;
     try {
+      if (static_cast<size_t>(length) > kMaxPromptLine)
+        throw InputError("the line is " + std::to_string(length) + " bytes long, over the " +
+                         std::to_string(kMaxPromptLine) + "-byte limit of a prompt; skipped");
       nlohmann::json j;
       try {
-        j = nlohmann::json::parse(text);
+        j = parse_json(text);
       } catch (const nlohmann::json::exception& e) {
         throw InputError(std::string("not JSON: ") + e.what());
       }
@@ -102,6 +159,7 @@ int run_segment_session(const GaussianModel& model, const Capture& capture,
       if (j.contains("output")) {
         const std::filesystem::path dir = j["output"].get<std::string>();
         std::filesystem::create_directories(dir);
+        claim_file_stem(stem_owners, std::filesystem::weakly_canonical(dir).string(), p.name);
         if (j.value("ply", false)) {
           GaussianModel labelled = model;
           labelled.instance_ids.assign(model.size(), -1);
@@ -121,11 +179,24 @@ int run_segment_session(const GaussianModel& model, const Capture& capture,
       }
       ++answered;
     } catch (const std::exception& e) {
-      reply = {{"ok", false}, {"line", line}, {"error", e.what()}};
+      // Printable: a message may quote the line's bytes, and a reply must stay valid UTF-8.
+      reply = {{"ok", false}, {"line", line}, {"error", printable(e.what(), kMaxErrorBytes)}};
     }
     out << reply.dump() << std::endl;
   }
+  if (in.bad())
+    throw InputError("reading the prompts failed after line " + std::to_string(line - 1));
   return answered;
+}
+
+// The value of a numeric option, which must be all of `text` and finite (std::stod took "nan",
+// "1e308" and "0.5abc"); std::invalid_argument (a usage error) otherwise.
+double option_number(const std::string& option, const std::string& text) {
+  char* end = nullptr;
+  const double v = std::strtod(text.c_str(), &end);
+  if (text.empty() || end != text.c_str() + text.size() || !std::isfinite(v))
+    throw std::invalid_argument(option + " takes a number, not '" + printable(text) + "'");
+  return v;
 }
 
 int segment_main(int argc, char** argv) {
@@ -156,11 +227,20 @@ int segment_main(int argc, char** argv) {
       try {
         if (arg == "--input")
           input = value;
-        else if (arg == "--tau")
-          options.tau = std::stod(value);
-        else if (arg == "--downscale")
-          capture_options.downscale = std::stoi(value);
-        else
+        else if (arg == "--tau") {
+          // A threshold on a cosine similarity: 1 or more selects nothing, 0 or less everything.
+          options.tau = option_number(arg, value);
+          if (!(options.tau > 0 && options.tau < 1))
+            throw std::invalid_argument("--tau must lie between 0 and 1 (exclusive), not " +
+                                        printable(value));
+        } else if (arg == "--downscale") {
+          const double d = option_number(arg, value);
+          if (d != std::floor(d) || d < 1 || d > kMaxDownscale)
+            throw std::invalid_argument("--downscale must be a whole number from 1 to " +
+                                        std::to_string(kMaxDownscale) + ", not " +
+                                        printable(value));
+          capture_options.downscale = static_cast<int>(d);
+        } else
           throw std::invalid_argument("unknown option " + arg);
       } catch (const std::exception& e) {
         std::cerr << "gslift segment: " << e.what() << " (see gslift segment --help)\n";
@@ -178,6 +258,11 @@ int segment_main(int argc, char** argv) {
     const GaussianModel model = read_ply(model_path);
     const Capture capture = load_capture(resolve_capture_path(input), capture_options);
     run_segment_session(model, capture, options, std::cin, std::cout);
+    // std::cin reads through stdio: a read error (stdin a folder, an I/O error) ends its lines
+    // like the end of the input does, and only ferror tells the two apart.
+    if (std::ferror(stdin))
+      throw InputError(std::string("reading the prompts from stdin failed: ") +
+                       std::strerror(errno));
   } catch (const InputError& e) {
     std::cerr << "gslift segment: " << e.what() << "\n";
     return exit_code::kBadInput;

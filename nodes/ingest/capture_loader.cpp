@@ -108,9 +108,9 @@ std::vector<ViewFiles> detected_views(const fs::path& path, const CaptureOptions
 }
 
 Capture load_capture_files(const fs::path& input, const CaptureOptions& options) {
-  if (options.downscale < 1)
-    throw InputError(input.string() + ": downscale must be >= 1, got " +
-                     std::to_string(options.downscale));
+  if (options.downscale < 1 || options.downscale > kMaxDownscale)
+    throw InputError(input.string() + ": downscale must be from 1 to " +
+                     std::to_string(kMaxDownscale) + ", got " + std::to_string(options.downscale));
   const fs::path path = input.filename() == "capture.yaml" ? input.parent_path() : input;
   Capture capture;
   capture.root = fs::is_regular_file(path) ? path.parent_path() : path;
@@ -158,7 +158,7 @@ const ParamTable<CaptureOptions>& capture_param_table() {
                "COLMAP: leave out images the model lists but the images folder lacks, with a "
                "warning, instead of failing")
           .add("downscale", &O::downscale,
-               "integer image downscale on load; intrinsics are scaled to match", 1, 64)
+               "integer image downscale on load; intrinsics are scaled to match", 1, kMaxDownscale)
           .add("undistort", &O::undistort,
                "undistort images of cameras with distortion on load, so views are ideal "
                "pinholes; off keeps the images and Camera::distortion as captured")

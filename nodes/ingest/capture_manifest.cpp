@@ -4,6 +4,7 @@
 
 #include "base/errors.hpp"
 #include "base/input_file.hpp"
+#include "base/utf8.hpp"
 
 namespace gslift {
 
@@ -16,7 +17,8 @@ CaptureManifest read_capture_manifest(const std::filesystem::path& root, bool al
     const YAML::Node y = YAML::Load(read_input_file(file, "capture.yaml"));
     const std::string format = y["format"] ? y["format"].as<std::string>() : "";
     if (format != "gslift.capture/v1")
-      throw InputError(where + ": format must be gslift.capture/v1, got '" + format + "'");
+      throw InputError(where + ": format must be gslift.capture/v1, got '" + printable(format) +
+                       "'");
     if (y["name"]) m.name = y["name"].as<std::string>();
     if (y["model"]) m.model = y["model"].as<std::string>();
     if (y["images"]) m.images = y["images"].as<std::string>();

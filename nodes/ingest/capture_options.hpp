@@ -5,6 +5,10 @@
 
 namespace gslift {
 
+// The largest CaptureOptions::downscale: beyond it a view of any real capture shrinks to a few
+// pixels, and every prompt or training step on it fails.
+constexpr int kMaxDownscale = 64;
+
 struct CaptureOptions {
   // Hold out every n-th view (index % n == 0, the NeRF/LLFF protocol) when the capture does not
   // name its test views (capture.yaml held_out). 0 = no held-out views.
@@ -15,7 +19,7 @@ struct CaptureOptions {
   // always skipped with a warning, as instant-ngp does.
   bool skip_missing_images = false;
   // Integer downscale factor applied when images are loaded (area filter for RGB, nearest for
-  // depth and label maps); intrinsics are scaled to match (Camera::scaled).
+  // depth and label maps); intrinsics are scaled to match (Camera::scaled). 1 to kMaxDownscale.
   int downscale = 1;
   // Undistort images of cameras with distortion coefficients when they are loaded (bilinear for
   // RGB, nearest for depth and label maps; pixels mapped from outside the image are 0) and give

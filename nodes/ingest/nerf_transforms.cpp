@@ -9,6 +9,7 @@
 
 #include "base/errors.hpp"
 #include "base/input_file.hpp"
+#include "base/json_read.hpp"
 #include "nodes/scene/image_io.hpp"
 
 namespace gslift {
@@ -69,7 +70,7 @@ std::vector<ViewFiles> read_nerf_transforms(const fs::path& json_file, bool allo
   const std::string text = read_input_file(json_file, "transforms file");
   json top;
   try {
-    top = json::parse(text);
+    top = parse_json(text);
   } catch (const json::exception& e) {
     throw InputError(json_file.string() + ": invalid JSON: " + e.what());
   }

@@ -6,6 +6,7 @@
 
 #include "base/errors.hpp"
 #include "base/input_file.hpp"
+#include "base/utf8.hpp"
 
 namespace gslift {
 
@@ -27,7 +28,7 @@ T parse_number(const std::string& token, const std::string& where, const std::st
   T v{};
   in >> v;
   if (in.fail() || in.peek() != std::char_traits<char>::eof())
-    throw InputError(where + ": " + what + " must be " + kind + ", got '" + token + "'");
+    throw InputError(where + ": " + what + " must be " + kind + ", got '" + printable(token) + "'");
   return v;
 }
 

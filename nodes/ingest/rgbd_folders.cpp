@@ -7,6 +7,7 @@
 
 #include "base/errors.hpp"
 #include "base/input_file.hpp"
+#include "base/json_read.hpp"
 #include "nodes/ingest/numeric_text.hpp"
 #include "nodes/scene/image_io.hpp"
 
@@ -38,7 +39,7 @@ std::vector<ViewFiles> read_replica_views(const fs::path& folder) {
   Camera cam;
   double scale = 0;
   try {
-    const auto j = nlohmann::json::parse(text).at("camera");
+    const auto j = parse_json(text).at("camera");
     // As 64-bit integers and checked before narrowing: get<int> wraps 1e10.
     const long long w = j.at("w").get<long long>(), h = j.at("h").get<long long>();
     check_image_size(w, h, params.string());

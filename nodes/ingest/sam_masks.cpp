@@ -6,6 +6,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "base/errors.hpp"
+#include "base/json_read.hpp"
 #include "nodes/ingest/coco_rle.hpp"
 
 namespace gslift {
@@ -16,7 +17,7 @@ using nlohmann::json;
 json parse_list(const std::string& text, const std::string& where) {
   json j;
   try {
-    j = json::parse(text);
+    j = parse_json(text);
   } catch (const json::exception& e) {
     throw InputError(where + ": invalid JSON: " + e.what());
   }

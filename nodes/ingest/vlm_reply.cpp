@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "base/errors.hpp"
+#include "base/json_read.hpp"
 
 namespace gslift {
 namespace {
@@ -63,7 +64,7 @@ std::vector<Box> parse_vlm_reply(const std::string& text, const VlmFrame& frame,
   const std::string where = source + " (round " + std::to_string(round) + ")";
   json reply;
   try {
-    reply = json::parse(first_json_value(unfenced(text), where));
+    reply = parse_json(first_json_value(unfenced(text), where));
   } catch (const json::exception& e) {
     throw InputError(where + ": invalid JSON: " + e.what());
   }

@@ -11,6 +11,7 @@
 
 #include "base/errors.hpp"
 #include "base/input_file.hpp"
+#include "base/utf8.hpp"
 #include "runtime/atomic_file.hpp"
 
 namespace gslift {
@@ -187,7 +188,7 @@ GaussianModel read_ply(const std::filesystem::path& path) {
       if (format == "binary_little_endian")
         binary = true;
       else if (format != "ascii")
-        throw InputError(where + "unsupported PLY format '" + format +
+        throw InputError(where + "unsupported PLY format '" + printable(format) +
                          "' (need binary_little_endian or ascii)");
     } else if (key == "element") {
       Element e;
@@ -196,7 +197,7 @@ GaussianModel read_ply(const std::filesystem::path& path) {
       // Digits only: ">> size_t" would wrap "-1" to 2^64 - 1 and read "1e10" as 1.
       if (!words || count.empty() || count.size() > 19 ||
           count.find_first_not_of("0123456789") != std::string::npos)
-        throw InputError(where + "malformed PLY line '" + line + "'");
+        throw InputError(where + "malformed PLY line '" + printable(line) + "'");
       e.count = std::stoull(count);
       elements.push_back(e);
     } else if (key == "property") {
@@ -210,10 +211,10 @@ GaussianModel read_ply(const std::filesystem::path& path) {
       words >> name;
       Property p{name};
       if (!parse_scalar(type, &p.type))
-        throw InputError(where + "unknown PLY property type '" + type + "'");
+        throw InputError(where + "unknown PLY property type '" + printable(type) + "'");
       elements.back().properties.push_back(p);
     } else {
-      throw InputError(where + "unexpected PLY header line '" + line + "'");
+      throw InputError(where + "unexpected PLY header line '" + printable(line) + "'");
     }
   }
   if (elements.empty() || elements.front().name != "vertex")

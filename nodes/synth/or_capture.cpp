@@ -1,6 +1,8 @@
 #include "nodes/synth/or_capture.hpp"
 
 #include <atomic>
+#include <climits>
+#include <limits>
 #include <locale>
 #include <sstream>
 #include <stdexcept>
@@ -10,8 +12,10 @@
 #include <nlohmann/json.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "base/utf8.hpp"
 #include "nodes/ingest/colmap_model.hpp"
 #include "nodes/ingest/sam_masks.hpp"
+#include "nodes/scene/camera.hpp"
 #include "nodes/scene/image_io.hpp"
 #include "nodes/synth/bvh.hpp"
 #include "nodes/synth/depth_prior_simulator.hpp"
@@ -169,7 +173,8 @@ OrCaptureSettings make_settings(const std::vector<std::pair<std::string, std::st
     if (name == "preset") s.preset = parse_enum(value, preset_names(), "preset");
   }
   s.knobs = preset_knobs(s.preset);
-  auto integer = [](const std::string& name, const std::string& value) {
+  // Range-checked before narrowing: --width 4294967456 wrapped to 160 in an int.
+  auto integer = [](const std::string& name, const std::string& value, long long max) {
     size_t used = 0;
     long long v = 0;
     try {
@@ -177,27 +182,38 @@ OrCaptureSettings make_settings(const std::vector<std::pair<std::string, std::st
     } catch (const std::exception&) {
       used = 0;
     }
-    if (used == 0 || used != value.size() || v < 0) {
-      throw std::invalid_argument(name + ": '" + value + "' is not a non-negative integer");
-    }
+    if (used == 0 || used != value.size() || v < 0)
+      throw std::invalid_argument(name + ": '" + printable(value) +
+                                  "' is not a non-negative integer");
+    if (v > max)
+      throw std::invalid_argument(name + ": " + value + " is over the limit of " +
+                                  std::to_string(max));
     return v;
   };
+  constexpr long long kMaxInt = std::numeric_limits<int>::max();
   for (const auto& [name, value] : entries) {
     if (name == "preset") continue;
     if (name == "seed") {
-      s.scene.seed = static_cast<uint64_t>(integer(name, value));
+      s.scene.seed = static_cast<uint64_t>(integer(name, value, LLONG_MAX));
     } else if (name == "phase") {
       s.scene.phase = parse_or_phase(value);
     } else if (name == "views") {
-      s.scene.views = static_cast<int>(integer(name, value));
+      s.scene.views = static_cast<int>(integer(name, value, kMaxInt));
     } else if (name == "width") {
-      s.scene.width = static_cast<int>(integer(name, value));
+      s.scene.width = static_cast<int>(integer(name, value, kMaxImagePixels));
     } else if (name == "height") {
-      s.scene.height = static_cast<int>(integer(name, value));
+      s.scene.height = static_cast<int>(integer(name, value, kMaxImagePixels));
     } else {
       set_knob(s.knobs, name, value);
     }
   }
+  // gslift reads no image over kMaxImagePixels, so it generates none either (9000 x 9000 was
+  // written; 100000 x 100000 ended in OpenCV's allocation error).
+  if (s.scene.width < 1 || s.scene.height < 1 ||
+      static_cast<long long>(s.scene.width) * s.scene.height > kMaxImagePixels)
+    throw std::invalid_argument("width x height: " + std::to_string(s.scene.width) + " x " +
+                                std::to_string(s.scene.height) + " is not from 1 x 1 to " +
+                                std::to_string(kMaxImagePixels) + " pixels");
   return s;
 }
 

@@ -5,6 +5,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "base/utf8.hpp"
+
 namespace gslift::synth {
 
 const EnumNames<SynthPreset>& preset_names() {
@@ -112,7 +114,8 @@ double parse_number(const ParamSpec& info, const std::string& text) {
   double v = 0;
   in >> v;
   if (text.empty() || in.fail() || !(in >> std::ws).eof()) {
-    throw std::invalid_argument("synth knob " + info.name + ": '" + text + "' is not a number");
+    throw std::invalid_argument("synth knob " + info.name + ": '" + printable(text) +
+                                "' is not a number");
   }
   if (v < *info.min || v > *info.max) {
     std::ostringstream msg;

@@ -3,11 +3,13 @@
 #include <cerrno>
 #include <cstdlib>
 #include <fstream>
+#include <iterator>
 #include <sstream>
 
 #include <nlohmann/json.hpp>
 
 #include "base/errors.hpp"
+#include "base/json_read.hpp"
 #include "nodes/text/normalise_text.hpp"
 
 namespace gslift {
@@ -57,7 +59,8 @@ void load_json(std::istream& in, const std::string& file,
                std::map<std::string, Eigen::VectorXf>& table, int& dim) {
   nlohmann::json doc;
   try {
-    doc = nlohmann::json::parse(in);
+    doc = parse_json(
+        std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()));
   } catch (const nlohmann::json::parse_error& e) {
     throw InputError(file + ": " + e.what());
   }

@@ -3,6 +3,8 @@
 #include <nlohmann/json.hpp>
 
 #include "base/errors.hpp"
+#include "base/json_read.hpp"
+#include "base/utf8.hpp"
 
 namespace gslift {
 
@@ -44,12 +46,12 @@ std::string build_chat_request(const ChatRequest& request) {
 }
 
 std::string chat_reply_content(const std::string& body, const std::string& source) {
-  const nlohmann::json j = nlohmann::json::parse(body, nullptr, /*allow_exceptions=*/false);
+  const nlohmann::json j = parse_json_or_discarded(body);
   if (j.is_discarded())
-    throw InputError(source + ": the response is not JSON (" + std::to_string(body.size()) +
-                     " bytes: " + body.substr(0, 80) + ")");
+    throw InputError(source + ": the response is not JSON: " + printable(body, 80));
   if (j.is_object() && j.contains("error"))
-    throw InputError(source + ": the server answered with an error: " + j["error"].dump());
+    throw InputError(source +
+                     ": the server answered with an error: " + printable(j["error"].dump()));
   const nlohmann::json* content = nullptr;
   if (j.is_object() && j.contains("choices") && j["choices"].is_array() && !j["choices"].empty()) {
     const auto& choice = j["choices"][0];

@@ -295,6 +295,22 @@ nodes:
   CHECK(bad.code == exit_code::kInvalidGraph);
   CHECK(bad.output.find("did you mean 'value'") != std::string::npos);
   CHECK_FALSE(fs::exists(dir / "bad" / "runs"));
+
+  // Grids that cannot be a sweep are usage errors before anything runs: a param on two axes
+  // (the second replaced the first silently) and 10^6 grid points (5.5 GB of plan, then exit 70).
+  const auto twice =
+      run_command(kBinary + " sweep " + quoted(graph) +
+                  " --grid a.value=1 --grid a.value=2 --out " + quoted(dir / "twice"));
+  CHECK(twice.code == exit_code::kUsage);
+  CHECK(twice.output.find("--grid a.value is given twice") != std::string::npos);
+  std::string thousand = "0";
+  for (int i = 1; i < 1000; ++i) thousand += "," + std::to_string(i);
+  const auto huge =
+      run_command(kBinary + " sweep " + quoted(graph) + " --grid a.value=" + thousand +
+                  " --grid f.value=" + thousand + " --out " + quoted(dir / "huge"));
+  CHECK(huge.code == exit_code::kUsage);
+  CHECK(huge.output.find("more than 10000 runs") != std::string::npos);
+  CHECK_FALSE(fs::exists(dir / "huge" / "runs"));
 }
 
 TEST_CASE("two runs sharing a cache folder at once both finish and leave whole entries", "[cli]") {

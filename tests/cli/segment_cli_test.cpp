@@ -65,4 +65,18 @@ TEST_CASE("gslift segment answers a scripted session line by line", "[cli]") {
   CHECK(run_command(binary + " segment").code == exit_code::kUsage);
   CHECK(run_command(binary + " segment '" + (dir / "model.ply").string() + "'").code ==
         exit_code::kUsage);
+  // Bad option values are usage errors: they exited 70 (nan, 1e308), selected everything (-1) or
+  // were accepted and failed every prompt (downscale 100000).
+  const std::string session = binary + " segment '" + (dir / "model.ply").string() + "' --input '" +
+                              (dir / "capture").string() + "'";
+  for (const char* bad : {"--tau nan", "--tau 1e308", "--tau -1", "--tau 0.5x", "--tau 1",
+                          "--downscale 100000", "--downscale 1.5", "--downscale 0"}) {
+    INFO(bad);
+    CHECK(run_command(session + " " + bad + " < /dev/null").code == exit_code::kUsage);
+  }
+  // A read error on stdin (here a folder) is not the end of the prompts.
+  const auto failed = run_command(session + " < '" + dir.string() + "'");
+  CHECK(failed.code == exit_code::kBadInput);
+  CHECK_THAT(failed.output,
+             Catch::Matchers::Contains("reading the prompts from stdin failed: Is a directory"));
 }

@@ -15,7 +15,9 @@
 #include "nodes/ingest/capture_loader.hpp"
 #include "nodes/ingest/coco_rle.hpp"
 #include "nodes/ingest/colmap_model.hpp"
+#include "nodes/ingest/nerf_transforms.hpp"
 #include "nodes/ingest/sam_masks.hpp"
+#include "nodes/ingest/vlm_reply.hpp"
 #include "nodes/scene/image_io.hpp"
 #include "nodes/splat/initialise.hpp"
 #include "nodes/splat/ply_io.hpp"
@@ -224,6 +226,31 @@ TEST_CASE("unreadable depth, SAM and VLM entries are errors naming them, not 'mi
   fs::create_symlink(capture / "nowhere.txt", capture / "vlm/cam_00/round_0.txt");
   CHECK_THROWS_WITH(load_vlm_boxes(c, VlmLoadOptions{}, nullptr),
                     Contains("round_0.txt: input file does not exist"));
+}
+
+TEST_CASE("JSON nested 100,000 levels deep is an InputError naming the file, not a crash",
+          "[hostile]") {
+  // Issue 33: these parsed, then overflowed the stack when the value was copied or dumped.
+  std::string objects;
+  for (int i = 0; i < 100000; ++i) objects += "{\"a\":";
+  objects += "1" + std::string(100000, '}');
+  const std::string arrays = std::string(200000, '[') + "0" + std::string(200000, ']');
+  VlmFrame frame;
+  frame.image_width = 64;
+  frame.image_height = 48;
+  CHECK_THROWS_WITH(parse_vlm_reply(objects, frame, 0, "vlm/cam_00/round_0.txt"),
+                    Contains("vlm/cam_00/round_0.txt (round 0): invalid JSON") &&
+                        Contains("nested more than 256 levels"));
+  CHECK_THROWS_WITH(
+      parse_sam_auto_masks("[{\"size\": [6, 8], \"counts\": " + arrays + "}]",
+                           "sam_auto/cam_00.json"),
+      Contains("sam_auto/cam_00.json: invalid JSON") && Contains("nested more than 256 levels"));
+  const fs::path dir = test::scratch_dir("hostile_deep_json");
+  write_bytes(dir / "transforms.json",
+              R"({"frames": [{"file_path": "r_0.png", "transform_matrix": )" + arrays + "}]}");
+  CHECK_THROWS_WITH(
+      read_nerf_transforms(dir / "transforms.json"),
+      Contains("transforms.json: invalid JSON") && Contains("nested more than 256 levels"));
 }
 
 TEST_CASE("names that leave the capture folder are refused unless allowed", "[hostile]") {

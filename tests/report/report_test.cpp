@@ -87,6 +87,19 @@ TEST_CASE("a folder that is not a readable run is bad input naming the path", "[
   check_input_error([&] { read_sweep_record(dir); }, (dir / "sweep.json").string());
 }
 
+TEST_CASE("a run.json param nested 100,000 levels deep is bad input, not a stack overflow",
+          "[report]") {
+  const fs::path dir = copy_fixture("run", "report_deep_param");
+  std::string text = read_text(dir / "run.json");
+  const std::string param = "\"factor\": 2.0";
+  const auto at = text.find(param);
+  REQUIRE(at != std::string::npos);
+  text.replace(at, param.size(),
+               "\"factor\": " + std::string(100000, '[') + "2" + std::string(100000, ']'));
+  std::ofstream(dir / "run.json", std::ios::binary) << text;
+  check_input_error([&] { read_run_record(dir); }, "nested more than 256 levels");
+}
+
 TEST_CASE("number_text and value_text print values as a person reads them", "[report]") {
   CHECK(number_text(57616.0) == "57616");
   CHECK(number_text(142140952.0) == "142140952");

@@ -22,6 +22,8 @@ TEST_CASE("embedded specs parse into settings; bad specs name the problem") {
   CHECK_THROWS_AS(parse_embedded_spec("kitchen"), InputError);
   CHECK_THROWS_WITH(parse_embedded_spec("or?seed"), Catch::Contains("name=value"));
   CHECK_THROWS_WITH(parse_embedded_spec("or?vlm_miss_rate=2"), Catch::Contains("vlm_miss_rate"));
+  CHECK_THROWS_WITH(parse_embedded_spec("or?width=100000&height=100000"),
+                    Catch::Contains("embedded:or?width=100000&height=100000: width x height"));
 }
 
 TEST_CASE("the cache folder is keyed by every setting") {

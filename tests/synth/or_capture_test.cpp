@@ -150,6 +150,17 @@ TEST_CASE("settings: preset first, explicit knobs win, bad values are named") {
   CHECK_THROWS_WITH(make_settings({{"seed", "-3"}}), Catch::Contains("seed"));
   CHECK_THROWS_WITH(make_or_scene(make_settings({{"views", "9"}}).scene),
                     Catch::Contains("views must be 4..8"));
+  // Sizes are checked before narrowing (4294967456 wrapped to 160) and against gslift's own
+  // 2^26-pixel image limit (9000 x 9000 was generated; 100000 x 100000 failed inside OpenCV).
+  CHECK_THROWS_WITH(make_settings({{"width", "4294967456"}}),
+                    Catch::Contains("width: 4294967456 is over the limit of 67108864"));
+  CHECK_THROWS_WITH(make_settings({{"views", "4294967300"}}), Catch::Contains("views"));
+  CHECK_THROWS_WITH(make_settings({{"width", "9000"}, {"height", "9000"}}),
+                    Catch::Contains("9000 x 9000 is not from 1 x 1 to 67108864 pixels"));
+  CHECK_THROWS_WITH(make_settings({{"width", "100000"}, {"height", "100000"}}),
+                    Catch::Contains("100000 x 100000"));
+  CHECK_THROWS_WITH(make_settings({{"height", "0"}}), Catch::Contains("x 0 is not"));
+  CHECK(make_settings({{"width", "8192"}, {"height", "8192"}}).scene.width == 8192);
 }
 
 TEST_CASE("gslift synth command: usage errors and a written capture") {
