@@ -47,9 +47,10 @@ struct Kind {
 };
 
 // Compares the analytic gradient of every parameter with a central difference; the error over
-// the whole parameter block, relative to the gradient's norm, must stay well under 1e-2.
-void check_gradients(const test::RasterScene& scene, const RenderSettings& settings,
-                     uint32_t seed) {
+// the whole parameter block, relative to the gradient's norm, must stay under `tolerance` (float
+// rounding of the difference quotient; a wrong term gives errors of 1e-2 and more).
+void check_gradients(const test::RasterScene& scene, const RenderSettings& settings, uint32_t seed,
+                     double tolerance = 2e-3) {
   const RenderOutput out = render(scene.model, scene.camera, scene.pose, settings);
   std::mt19937 rng(seed);
   LinearLoss loss;
@@ -111,7 +112,7 @@ void check_gradients(const test::RasterScene& scene, const RenderSettings& setti
     if (norm2 == 0) {
       for (float g : analytic) REQUIRE(g == 0.f);
     } else {
-      CHECK(std::sqrt(err2) < 2e-3 * std::sqrt(norm2));
+      CHECK(std::sqrt(err2) < tolerance * std::sqrt(norm2));
     }
   }
 }
@@ -192,7 +193,9 @@ TEST_CASE("raster: gradients of each channel match central differences", "[splat
   SECTION("normalised depth") {
     RenderSettings s = only(false, true, false, false, false);
     s.normalize_depth = true;
-    check_gradients(scene, s, 4);
+    // d / alpha at pixels with alpha down to 0.05 scales the quotient's rounding by up to 20:
+    // 4.2e-3 for the means under clang's rounding (below 2e-3 under g++'s).
+    check_gradients(scene, s, 4, 6e-3);
   }
   SECTION("normal") {
     check_gradients(scene, only(false, false, true, false, false), 5);
