@@ -56,6 +56,23 @@ int main(int argc, char** argv) {
     for (const auto& q : queries) warm.push_back(time_query(matcher, q.text));
   const QuerySetScore score = score_query_set(matcher, queries);
 
+  // Words that name nothing in an operating room: their best cosine is what match_threshold must
+  // stay above.
+  nlohmann::json unrelated = nlohmann::json::object();
+  for (const char* text : {"toaster", "banana", "guitar", "elephant", "sailboat", "the red car",
+                           "a bird on the roof", "snow"}) {
+    const ClassMatch best = matcher.rank(text).front();
+    unrelated[text] = {{"nearest", best.name}, {"score", best.score}};
+    if (print_misses)
+      std::printf("  unrelated: %.2f %s -> %s\n", best.score, text, best.name.c_str());
+  }
+  nlohmann::json answers = nlohmann::json::array();
+  for (size_t i = 0; i < queries.size(); ++i)
+    answers.push_back({{"query", queries[i].text},
+                       {"split", queries[i].split},
+                       {"expected", queries[i].expected},
+                       {"top1", score.answers[i].name},
+                       {"score", score.answers[i].score}});
   const double first_ms = 1e3 * median(first), warm_ms = 1e3 * median(warm);
   const double first_max_ms = 1e3 * *std::max_element(first.begin(), first.end());
   nlohmann::json out = {{"encoder", encoder.name()},
@@ -69,6 +86,9 @@ int main(int argc, char** argv) {
                           {"top1", score.test_top1},
                           {"accuracy", score.test_accuracy()}}},
                         {"misses", score.misses},
+                        {"answers", answers},
+                        {"unrelated", unrelated},
+                        {"match_threshold", matcher.threshold()},
                         {"load_s", load_s},
                         {"query_ms",
                          {{"first_median", first_ms},
@@ -111,7 +131,11 @@ int main(int argc, char** argv) {
   std::printf("dev %d/%d  test %d/%d  query median %.3f ms first (max %.3f), %.3f ms warm\n",
               score.dev_top1, score.dev_total, score.test_top1, score.test_total, first_ms,
               first_max_ms, warm_ms);
-  if (print_misses)
+  if (print_misses) {
     for (const auto& m : score.misses) std::printf("  %s\n", m.c_str());
+    for (size_t i = 0; i < queries.size(); ++i)
+      std::printf("  %s: %.2f %s\n", queries[i].split.c_str(), score.answers[i].score,
+                  queries[i].text.c_str());
+  }
   return 0;
 }

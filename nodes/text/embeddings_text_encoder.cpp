@@ -41,7 +41,8 @@ std::string embeddings_url(const std::string& url) {
 std::filesystem::path embeddings_cache_file(const std::filesystem::path& cache_root,
                                             const std::string& url, const std::string& model) {
   std::string safe;
-  for (const char c : model) safe.push_back(std::isalnum(static_cast<unsigned char>(c)) ? c : '_');
+  for (const char c : model)
+    safe.push_back(std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '.' ? c : '_');
   char digest[17];
   std::snprintf(digest, sizeof digest, "%016llx",
                 static_cast<unsigned long long>(fnv1a64(embeddings_url(url) + "\n" + model)));

@@ -78,16 +78,21 @@ void raise(std::map<std::string, float>& terms, const std::string& term, float w
 }
 
 // A word of a class name or alias, and the hyphen-free parts of a hyphenated one ("c-arm").
-void add_name_word(std::map<std::string, float>& terms, const std::string& word) {
+void add_name_word(LexicalClass& c, const std::string& word) {
   WordNet& wn = WordNet::instance();
   const std::string lemma = wn.lemma(word);
-  raise(terms, lemma, kNameTerm);
+  raise(c.terms, lemma, kNameTerm);
   for (const WordSense& sense : wn.senses(lemma, kSenses, 2)) {
     for (const std::string& s : sense.synonyms)
-      if (s.find(' ') == std::string::npos) raise(terms, s, kSynonymTerm);
+      if (s.find(' ') == std::string::npos) raise(c.wordnet_terms, s, kSynonymTerm);
     for (const std::string& h : sense.hypernyms)
-      if (h.find(' ') == std::string::npos) raise(terms, h, kHypernymTerm);
+      if (h.find(' ') == std::string::npos) raise(c.wordnet_terms, h, kHypernymTerm);
   }
+}
+
+float lookup(const std::map<std::string, float>& terms, const std::string& term) {
+  const auto it = terms.find(term);
+  return it == terms.end() ? 0.f : it->second;
 }
 
 // Query word -> (expansion, weight), step 3.
@@ -144,14 +149,14 @@ LexicalIndex build_lexical_index(const Vocabulary& vocabulary) {
     for (const std::string& n : names) {
       c.exact_keys.push_back(exact_key(n));
       for (const std::string& w : content_words(n)) {
-        add_name_word(c.terms, w);
+        add_name_word(c, w);
         if (w.find('-') != std::string::npos) {
           std::string part;
           for (const char ch : w + "-")
             if (ch != '-') {
               part.push_back(ch);
             } else if (!part.empty()) {
-              add_name_word(c.terms, part);
+              add_name_word(c, part);
               part.clear();
             }
         }
@@ -192,11 +197,10 @@ std::vector<float> lexical_scores(const LexicalIndex& index, const std::string& 
     }
     const std::map<std::string, float> expanded = expansions(lemma);
     for (size_t k = 0; k < k_count; ++k) {
-      const auto& terms = in_head ? index.classes[k].terms : index.classes[k].context_terms;
-      float best = 0;
-      for (const auto& [term, w] : expanded)
-        if (const auto it = terms.find(term); it != terms.end())
-          best = std::max(best, w * it->second);
+      const LexicalClass& c = index.classes[k];
+      const auto& own = in_head ? c.terms : c.context_terms;
+      float best = std::max(lookup(own, lemma), in_head ? lookup(c.wordnet_terms, lemma) : 0.f);
+      for (const auto& [term, w] : expanded) best = std::max(best, w * lookup(own, term));
       scores[k] += weight * best;
     }
     total_weight += weight;

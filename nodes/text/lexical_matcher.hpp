@@ -12,7 +12,11 @@
 //     (0.8) and direct hypernyms (0.5: surgeon -> doctor), and the lemmas of its description and
 //     contexts (0.35; people also get "person"). Each query word expands to itself (1), its WordNet
 //     synonyms (0.8), hypernyms up to two levels (0.6) and the words of its first gloss (0.3).
-//     A word's match with a class is the best product of an expansion weight and a term weight.
+//     A word's match with a class is the best product of an expansion weight and a term weight,
+//     over one WordNet hop at most: the word itself against any term, an expansion of it against
+//     the class's own words only (else "toaster" -> supporter = assistant would link them). A
+//     modifier is matched against the contexts' words only: it says where the thing is or what it
+//     is with ("the person lying on the table"), it does not name the class.
 //  4. A class's score is the weighted mean of its word matches; when the head phrase names a
 //     person (WordNet: a kind of person) object classes are halved, and when it names an artifact
 //     people are.
@@ -30,8 +34,9 @@ struct LexicalClass {
   std::string name;
   bool person = false;
   std::vector<std::string> exact_keys;         // name and aliases without case, spaces or hyphens
-  std::map<std::string, float> terms;          // lemma -> weight (step 3), every term
-  std::map<std::string, float> context_terms;  // the description's and contexts' only
+  // lemma -> weight (step 3): the name's, aliases' and contexts' own words; the WordNet synonyms
+  // and hypernyms of the name and alias words; the contexts' words alone.
+  std::map<std::string, float> terms, wordnet_terms, context_terms;
 };
 
 struct LexicalIndex {

@@ -42,6 +42,7 @@ QuerySetScore score_query_set(const VocabularyMatcher& matcher,
   QuerySetScore s;
   for (const LabelledQuery& q : queries) {
     const ClassMatch best = matcher.rank(q.text).front();
+    s.answers.push_back(best);
     const bool right = best.name == q.expected;
     const bool dev = q.split == "dev";
     (dev ? s.dev_total : s.test_total) += 1;

@@ -25,6 +25,7 @@ struct QuerySetScore {
   int dev_total = 0, dev_top1 = 0, test_total = 0, test_top1 = 0;
   // Test and dev queries whose top-1 class was wrong: "query -> got (score), expected".
   std::vector<std::string> misses;
+  std::vector<ClassMatch> answers;  // per query, in order: its top-1 class
   double dev_accuracy() const { return dev_total ? double(dev_top1) / dev_total : 0; }
   double test_accuracy() const { return test_total ? double(test_top1) / test_total : 0; }
 };
