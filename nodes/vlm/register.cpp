@@ -83,6 +83,24 @@ std::string round_name(int k) {
   return "round_" + std::to_string(k) + ".txt";
 }
 
+void map_labels(NodeContext& ctx, const Vocabulary& vocabulary, BoxSet& boxes) {
+  std::shared_ptr<const TextEncoder> encoder;
+  if (ctx.has_input("encoder"))
+    encoder = ctx.input<TextEncoder>("encoder");
+  else
+    encoder = std::make_shared<const LexicalTextEncoder>(vocabulary);
+  const LabelMappingReport mapping =
+      map_box_labels(boxes, VocabularyMatcher(*encoder, vocabulary.class_names()));
+  std::string mapped, unmapped;
+  for (const auto& m : mapping.mapped) mapped += (mapped.empty() ? "" : "; ") + m;
+  for (const auto& m : mapping.unmapped) {
+    unmapped += (unmapped.empty() ? "" : "; ") + m;
+    spdlog::warn("vlm.query: label kept as its own class: {}", m);
+  }
+  if (!mapped.empty()) ctx.record("labels_mapped", mapped);
+  if (!unmapped.empty()) ctx.record("labels_unmapped", unmapped);
+}
+
 void run_vlm_query(NodeContext& ctx, VlmQueryParams p) {
   const Capture& capture = *ctx.input<Capture>("capture");
   const Vocabulary& vocabulary = *ctx.input<Vocabulary>("prompt");
@@ -127,22 +145,9 @@ void run_vlm_query(NodeContext& ctx, VlmQueryParams p) {
     count += parsed.boxes.boxes.size();
     boxes.views[views[i]] = std::move(parsed.boxes);
   }
-  // Free labels onto the vocabulary, through the wired encoder or the offline lexical one.
-  std::shared_ptr<const TextEncoder> encoder;
-  if (ctx.has_input("encoder"))
-    encoder = ctx.input<TextEncoder>("encoder");
-  else
-    encoder = std::make_shared<const LexicalTextEncoder>(vocabulary);
-  const LabelMappingReport mapping =
-      map_box_labels(boxes, VocabularyMatcher(*encoder, vocabulary.class_names()));
-  std::string mapped, unmapped;
-  for (const auto& m : mapping.mapped) mapped += (mapped.empty() ? "" : "; ") + m;
-  for (const auto& m : mapping.unmapped) {
-    unmapped += (unmapped.empty() ? "" : "; ") + m;
-    spdlog::warn("vlm.query: label kept as its own class: {}", m);
-  }
-  if (!mapped.empty()) ctx.record("labels_mapped", mapped);
-  if (!unmapped.empty()) ctx.record("labels_unmapped", unmapped);
+  // Free labels onto the vocabulary, through the wired encoder or the offline lexical one (a
+  // prompt without classes has nothing to map onto).
+  if (!vocabulary.entities.empty()) map_labels(ctx, vocabulary, boxes);
   ctx.record("boxes", static_cast<double>(count));
   ctx.record("requests", static_cast<double>(views.size() * o.rounds));
   ctx.record("rounds_unparsed", static_cast<double>(unparsed));

@@ -33,7 +33,8 @@ struct CannedResponse {
   size_t stream_bytes = 0;
   bool declare_length = false;  // with stream_bytes: send Content-Length: stream_bytes first
   bool echo_headers = false;
-  std::function<std::string(const std::string& body)> respond;  // the body, from the request's
+  std::function<std::string(const std::string& body)> respond =
+      nullptr;  // the body, from the request's
 };
 
 class LoopbackServer {
