@@ -29,7 +29,8 @@ std::string text_field(const std::string& source, const YAML::Node& entry, const
 EntityContext parse_entity(const std::string& source, const YAML::Node& entry,
                            std::set<std::string>& names) {
   if (!entry.IsMap()) throw InputError(where(source, entry) + ": a class must be a mapping");
-  static const std::set<std::string> known{"name", "kind", "spatial", "behaviour", "appearance"};
+  static const std::set<std::string> known{"name",       "kind",    "spatial",    "behaviour",
+                                           "appearance", "aliases", "description"};
   std::set<std::string> seen;  // yaml-cpp keeps the last of duplicate keys silently
   for (const auto& kv : entry) {
     const std::string key = kv.first.as<std::string>();
@@ -57,6 +58,16 @@ EntityContext parse_entity(const std::string& source, const YAML::Node& entry,
   } else if (entry["behaviour"]) {
     throw InputError(where(source, entry["behaviour"]) + ": " + what +
                      " is an object; behaviour context is for people only");
+  }
+  if (entry["description"]) e.description = text_field(source, entry, "description", what);
+  if (const YAML::Node aliases = entry["aliases"]) {
+    if (!aliases.IsSequence())
+      throw InputError(where(source, aliases) + ": " + what + ": aliases must be a list");
+    for (const YAML::Node& a : aliases) {
+      if (!a.IsScalar() || a.Scalar().empty())
+        throw InputError(where(source, a) + ": " + what + ": an alias must be a non-empty text");
+      e.aliases.push_back(a.Scalar());
+    }
   }
   return e;
 }

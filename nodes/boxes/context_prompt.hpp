@@ -8,6 +8,8 @@
 //       spatial: ...                # required
 //       behaviour: ...              # required for people, not allowed for objects
 //       appearance: ...             # required
+//       aliases: [lead surgeon]     # optional: other names, for matching the user's words
+//       description: ...            # optional: a short plain description, likewise
 #pragma once
 
 #include <filesystem>

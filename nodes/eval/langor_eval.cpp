@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <optional>
 #include <sstream>
 
 #include "base/errors.hpp"
@@ -39,6 +40,25 @@ std::vector<Row> table_rows(const LangorSummary& s) {
 
 }  // namespace
 
+std::optional<size_t> query_for_class(const TextQueryResults& predictions,
+                                      const std::string& class_name) {
+  const auto& q = predictions.queries;
+  if (const auto named = std::find(q.begin(), q.end(), class_name); named != q.end())
+    return static_cast<size_t>(named - q.begin());
+  const auto& c = predictions.query_classes;
+  if (const auto landed = std::find(c.begin(), c.end(), class_name); landed != c.end())
+    return static_cast<size_t>(landed - c.begin());
+  return std::nullopt;
+}
+
+std::vector<std::string> langor_unqueried_classes(const TextQueryResults& predictions,
+                                                  const Capture& capture) {
+  std::vector<std::string> out;
+  for (const auto& [class_id, name] : capture.classes)
+    if (class_id != 0 && !query_for_class(predictions, name)) out.push_back(name);
+  return out;
+}
+
 std::vector<QueryScore> score_langor(const TextQueryResults& predictions, const Capture& capture,
                                      const LangorEvalOptions& options) {
   std::vector<QueryScore> scores;
@@ -58,12 +78,9 @@ std::vector<QueryScore> score_langor(const TextQueryResults& predictions, const 
       if (answers == predictions.views.end())
         throw InputError("eval.langor: no predictions for the held-out view '" + view.name +
                          "' (run the text query with views: test or all)");
-      const auto q = std::find(predictions.queries.begin(), predictions.queries.end(), name);
-      if (q == predictions.queries.end())
-        throw InputError("eval.langor: no query '" + name +
-                         "' among the predictions (the query "
-                         "set must be the capture's class names)");
-      const size_t qi = static_cast<size_t>(q - predictions.queries.begin());
+      const std::optional<size_t> found = query_for_class(predictions, name);
+      if (!found) continue;  // not asked about: left out (langor_unqueried_classes)
+      const size_t qi = *found;
       const cv::Mat1b& pred = answers->masks[qi];
       const cv::Mat1f& rel = answers->relevancy[qi];
       if (pred.size() != gt.size() || rel.size() != gt.size())
@@ -83,6 +100,14 @@ std::vector<QueryScore> score_langor(const TextQueryResults& predictions, const 
   if (evaluated_views == 0)
     throw InputError("eval.langor: the capture '" + capture.name +
                      "' has no held-out view with a ground-truth semantic map");
+  if (scores.empty()) {
+    std::string queries;
+    for (const auto& q : predictions.queries) queries += (queries.empty() ? "'" : ", '") + q + "'";
+    throw InputError(
+        "eval.langor: no query names or lands on a class present in the held-out "
+        "views (queries: " +
+        queries + ")");
+  }
   return scores;
 }
 

@@ -1,5 +1,7 @@
 #include "nodes/eval/register.hpp"
 
+#include <spdlog/spdlog.h>
+
 #include <cstdio>
 
 #include "nodes/eval/binary_segmentation.hpp"
@@ -15,8 +17,17 @@ namespace gslift {
 namespace {
 
 void run_langor_eval(NodeContext& ctx, const LangorEvalOptions& o) {
-  const LangorSummary s = summarise_langor(
-      score_langor(*ctx.input<TextQueryResults>("predictions"), *ctx.input<Capture>("capture"), o));
+  const auto& predictions = *ctx.input<TextQueryResults>("predictions");
+  const auto& capture = *ctx.input<Capture>("capture");
+  const LangorSummary s = summarise_langor(score_langor(predictions, capture, o));
+  // With the user's queries only the classes they stand for are scored: say which were not.
+  std::string unqueried;
+  for (const auto& c : langor_unqueried_classes(predictions, capture))
+    unqueried += (unqueried.empty() ? "" : ", ") + c;
+  if (!unqueried.empty()) {
+    ctx.record("classes_not_queried", unqueried);
+    spdlog::warn("eval.langor: no query stands for {}: left out of the metrics", unqueried);
+  }
   ctx.record("queries", static_cast<double>(s.queries));
   ctx.record("classes", static_cast<double>(s.classes.size()));
   ctx.record("mIoU", s.miou);

@@ -65,10 +65,17 @@ std::string query_file_stem(const std::string& query) {
 void write_query_files(const TextQueryResults& results, const Capture& capture,
                        const std::filesystem::path& dir) {
   nlohmann::json queries = nlohmann::json::array();
-  for (size_t q = 0; q < results.queries.size(); ++q)
-    queries.push_back({{"query", results.queries[q]},
-                       {"file_stem", query_file_stem(results.queries[q])},
-                       {"instances", results.instances[q]}});
+  for (size_t q = 0; q < results.queries.size(); ++q) {
+    nlohmann::json entry = {{"query", results.queries[q]},
+                            {"file_stem", query_file_stem(results.queries[q])},
+                            {"instances", results.instances[q]}};
+    if (q < results.query_classes.size()) {
+      entry["class"] = results.query_classes[q].empty() ? nlohmann::json(nullptr)
+                                                        : nlohmann::json(results.query_classes[q]);
+      entry["class_score"] = results.query_class_scores[q];
+    }
+    queries.push_back(std::move(entry));
+  }
   write_file_atomically(dir / "queries.json", queries.dump(2) + "\n");
   for (const auto& answers : results.views) {
     const int vi = capture.find_view(answers.view);

@@ -4,6 +4,9 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdio>
+
+#include <spdlog/spdlog.h>
 
 #include "nodes/inference/filter_3d.hpp"
 #include "nodes/inference/label_inference.hpp"
@@ -13,6 +16,7 @@
 #include "nodes/inference/selection_output.hpp"
 #include "nodes/inference/text_query.hpp"
 #include "nodes/splat/ply_io.hpp"
+#include "nodes/text/vocabulary_match.hpp"
 #include "runtime/atomic_file.hpp"
 
 namespace gslift {
@@ -76,6 +80,20 @@ void run_text_query(NodeContext& ctx, TextQueryNodeOptions o) {
   size_t answered = 0;
   for (const auto& s : results.instances) answered += s.empty() ? 0 : 1;
   ctx.record("queries_with_instances", static_cast<double>(answered));
+  // Which class each query stood for; a query near none is said so, with the nearest classes.
+  std::string landed;
+  for (size_t q = 0; q < o.queries.size(); ++q) {
+    char score[32];
+    std::snprintf(score, sizeof score, "%.2f", results.query_class_scores[q]);
+    const std::string& c = results.query_classes[q];
+    landed +=
+        (q ? "; " : "") + o.queries[q] + " -> " + (c.empty() ? "none" : c) + " (" + score + ")";
+    if (c.empty())
+      spdlog::warn("inference.text_query: {}",
+                   VocabularyMatcher(*ctx.input<TextEncoder>("encoder"), o.answer.vocabulary)
+                       .explain_miss(o.queries[q]));
+  }
+  ctx.record("query_classes", landed);
   const auto dir = ctx.out_dir();
   if (!dir.empty()) {
     write_query_files(results, *capture, dir);

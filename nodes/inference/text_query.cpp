@@ -8,6 +8,7 @@
 
 #include "base/errors.hpp"
 #include "nodes/splat/rasterizer.hpp"
+#include "nodes/text/vocabulary_match.hpp"
 
 namespace gslift {
 namespace {
@@ -109,6 +110,16 @@ void select_instances(const InstanceSet& instances, const TextEncoder& encoder,
       instances.semantics.rows() > 0 ? instances.semantics : Eigen::MatrixXf(0, encoder.dim());
   const Eigen::MatrixXf negatives = encode_rows(encoder, options.negatives);
   const size_t q_count = results.queries.size();
+  results.query_classes.assign(q_count, "");
+  results.query_class_scores.assign(q_count, 0.f);
+  if (!options.vocabulary.empty()) {
+    const VocabularyMatcher matcher(encoder, options.vocabulary);
+    for (size_t q = 0; q < q_count; ++q) {
+      const ClassMatch best = matcher.rank(results.queries[q]).front();
+      results.query_class_scores[q] = best.score;
+      if (best.score >= matcher.threshold()) results.query_classes[q] = best.name;
+    }
+  }
   results.relevancy.clear();
   for (const auto& q : results.queries)
     results.relevancy.push_back(
@@ -119,10 +130,12 @@ void select_instances(const InstanceSet& instances, const TextEncoder& encoder,
       results.instances.push_back(relevancy_selection(r, options.relevancy_threshold));
     return;
   }
-  // Closed set over the queries followed by the extra vocabulary entries that are not queries.
+  // Closed set over the queries followed by the extra vocabulary entries that no query stands for.
   std::vector<std::string> vocabulary = results.queries;
   for (const auto& v : options.vocabulary)
-    if (std::find(vocabulary.begin(), vocabulary.end(), v) == vocabulary.end())
+    if (std::find(vocabulary.begin(), vocabulary.end(), v) == vocabulary.end() &&
+        std::find(results.query_classes.begin(), results.query_classes.end(), v) ==
+            results.query_classes.end())
       vocabulary.push_back(v);
   auto selected = closed_set_selection(semantics, encode_rows(encoder, vocabulary), negatives,
                                        options.softmax_scale);

@@ -82,6 +82,9 @@ struct TextQueryOptions {
   bool normalise_relevancy = false;
   std::vector<std::string> negatives = canonical_negatives();
   // Extra closed-set vocabulary entries that compete with the queries (e.g. every class name).
+  // A query that lands on an entry (nodes/text/vocabulary_match.hpp: its nearest entry, at the
+  // encoder's match_threshold or above) stands for it: the entry leaves the closed set, so
+  // "nurse" selects the circulating nurse instead of losing it to the class name itself.
   std::vector<std::string> vocabulary;
 };
 
@@ -90,7 +93,8 @@ struct TextQueryOptions {
 // vocabulary are not params).
 const ParamTable<TextQueryOptions>& text_query_param_table();
 
-// Selection only (no rendering): instances and their relevancies for every query. Throws
+// Selection only (no rendering): instances and their relevancies for every query, and the
+// vocabulary entry each query lands on (results.query_classes). Throws
 // InputError when the instances' semantics do not match the encoder's width.
 void select_instances(const InstanceSet& instances, const TextEncoder& encoder,
                       const TextQueryOptions& options, TextQueryResults& results);

@@ -19,6 +19,9 @@ class TextEncoder {
   virtual int dim() const = 0;
   // Short description for run records, e.g. "hashing-384" or "table:<file>".
   virtual std::string name() const = 0;
+  // The cosine similarity from which a text counts as meaning a class (nodes/text/
+  // vocabulary_match.hpp): what an encoder's unrelated texts stay below.
+  virtual float match_threshold() const { return 0.5f; }
 };
 
 GSLIFT_PORT_TYPE(TextEncoder, "TextEncoder");

@@ -16,6 +16,10 @@ struct TextQueryResults {
   std::vector<std::string> queries;
   std::vector<std::vector<int>> instances;  // per query: the selected instances
   std::vector<Eigen::VectorXf> relevancy;   // per query: relevancy of every instance
+  // Per query: the class of the closed-set vocabulary it lands on (nodes/text/vocabulary_match.hpp)
+  // and the cosine it lands with; "" and the nearest class's cosine when none is near.
+  std::vector<std::string> query_classes;
+  std::vector<float> query_class_scores;
   struct ViewAnswers {
     std::string view;                  // view name in the capture
     std::vector<cv::Mat1b> masks;      // per query, 255 = selected

@@ -15,6 +15,10 @@ struct EntityContext {
   std::string spatial;     // where the entity is in the room
   std::string behaviour;   // what the person does; empty for objects
   std::string appearance;  // what it looks like
+  // Optional, for matching the user's words onto the class (nodes/text/lexical_matcher.hpp), not
+  // sent to the VLM: other names for it and a short plain description.
+  std::vector<std::string> aliases;
+  std::string description;
 };
 
 struct Vocabulary {

@@ -2,10 +2,13 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <mutex>
 #include <thread>
 
 #include <curl/curl.h>
+
+#include "base/errors.hpp"
 
 namespace gslift {
 namespace {
@@ -95,6 +98,47 @@ HttpResult post_with_retries(const std::function<HttpResult()>& attempt, int ret
   }
   if (attempts_made) *attempts_made = made;
   return result;
+}
+
+std::string redact(std::string text, const std::string& secret) {
+  if (secret.empty()) return text;
+  for (size_t at = text.find(secret); at != std::string::npos; at = text.find(secret, at))
+    text.replace(at, secret.size(), "[api key]");
+  return text;
+}
+
+std::string post_json(const JsonEndpoint& endpoint, const std::string& body,
+                      const std::string& where, int* attempts) {
+  std::vector<std::string> headers;
+  if (!endpoint.api_key.empty()) headers.push_back("Authorization: Bearer " + endpoint.api_key);
+  int made = 0;
+  HttpResult result = post_with_retries(
+      [&] {
+        return http_post_json(endpoint.url, body, headers, endpoint.timeout_s,
+                              endpoint.max_body_bytes);
+      },
+      endpoint.retries, endpoint.backoff_s, &made);
+  if (attempts) *attempts = made;
+  // Before anything is cut or parsed, so that no part of the key survives.
+  result.body = redact(std::move(result.body), endpoint.api_key);
+  result.error = redact(std::move(result.error), endpoint.api_key);
+  const std::string tries = " after " + std::to_string(made) + " attempt(s)";
+  if (result.too_large) throw InputError(where + ": " + result.error + " (not retried)");
+  if (result.transport_failed)
+    throw InputError(where + ": " + (result.timed_out ? "timed out" : "request failed") + tries +
+                     ": " + result.error);
+  if (result.status >= 400)
+    throw InputError(where + ": HTTP " + std::to_string(result.status) + tries + ": " +
+                     result.body.substr(0, 200));
+  return std::move(result.body);
+}
+
+std::string api_key_from_env(const std::string& node, const std::string& name) {
+  if (name.empty()) return {};
+  const char* key = std::getenv(name.c_str());
+  if (!key || !*key)
+    throw InputError(node + ": environment variable " + name + " (param api_key_env) is not set");
+  return key;
 }
 
 }  // namespace gslift

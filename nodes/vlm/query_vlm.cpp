@@ -19,19 +19,6 @@ uint64_t request_seed(uint64_t seed, size_t view, int round) {
   return stream_seed(seed, view, static_cast<uint64_t>(round)) >> 33;
 }
 
-namespace {
-
-// The API key never leaves in a message or a stored reply, even from a server that echoes the
-// request's headers back (some proxies do on errors).
-std::string redact(std::string text, const std::string& secret) {
-  if (secret.empty()) return text;
-  for (size_t at = text.find(secret); at != std::string::npos; at = text.find(secret, at))
-    text.replace(at, secret.size(), "[api key]");
-  return text;
-}
-
-}  // namespace
-
 std::vector<std::vector<VlmRoundReply>> query_vlm(const std::vector<VlmImage>& images,
                                                   const std::string& prompt,
                                                   const VlmQueryOptions& options,
@@ -39,8 +26,12 @@ std::vector<std::vector<VlmRoundReply>> query_vlm(const std::vector<VlmImage>& i
   const int rounds = std::max(options.rounds, 0);
   std::vector<std::vector<VlmRoundReply>> replies(images.size(),
                                                   std::vector<VlmRoundReply>(rounds));
-  std::vector<std::string> headers;
-  if (!options.api_key.empty()) headers.push_back("Authorization: Bearer " + options.api_key);
+  JsonEndpoint endpoint;
+  endpoint.url = options.url;
+  endpoint.api_key = options.api_key;
+  endpoint.timeout_s = options.timeout_s;
+  endpoint.retries = options.retries;
+  endpoint.backoff_s = options.backoff_s;
   const size_t requests = images.size() * rounds;
   // Of the requests that failed, the first in (view, round) order is reported, whichever finished
   // first.
@@ -65,24 +56,10 @@ std::vector<std::vector<VlmRoundReply>> query_vlm(const std::vector<VlmImage>& i
       request.max_tokens = options.max_tokens;
       request.seed = request_seed(options.seed, v, k);
       const std::string body = build_chat_request(request);
-      int attempts = 0;
-      HttpResult result = post_with_retries(
-          [&] { return http_post_json(options.url, body, headers, options.timeout_s); },
-          options.retries, options.backoff_s, &attempts);
-      // Before anything is cut or parsed, so that no part of the key survives.
-      result.body = redact(std::move(result.body), options.api_key);
-      result.error = redact(std::move(result.error), options.api_key);
-      const std::string tries = " after " + std::to_string(attempts) + " attempt(s)";
       try {
-        if (result.too_large)
-          throw InputError(where + ": " + result.error + " (not retried; a chat reply is text)");
-        if (result.transport_failed)
-          throw InputError(where + ": " + (result.timed_out ? "timed out" : "request failed") +
-                           tries + ": " + result.error);
-        if (result.status >= 400)
-          throw InputError(where + ": HTTP " + std::to_string(result.status) + tries + ": " +
-                           result.body.substr(0, 200));
-        replies[v][k].content = chat_reply_content(result.body, where);
+        int attempts = 0;
+        const std::string reply = post_json(endpoint, body, where, &attempts);
+        replies[v][k].content = chat_reply_content(reply, where);
         replies[v][k].attempts = attempts;
       } catch (const InputError& e) {
         errors[r] = e.what();

@@ -1,7 +1,7 @@
 #include "nodes/vlm/register.hpp"
 
-#include <cstdlib>
 #include <filesystem>
+#include <memory>
 
 #include <spdlog/spdlog.h>
 #include <opencv2/imgcodecs.hpp>
@@ -11,6 +11,9 @@
 #include "nodes/scene/boxes.hpp"
 #include "nodes/scene/capture.hpp"
 #include "nodes/scene/vocabulary.hpp"
+#include "nodes/text/label_mapping.hpp"
+#include "nodes/text/lexical_text_encoder.hpp"
+#include "nodes/vlm/http_post.hpp"
 #include "nodes/vlm/query_vlm.hpp"
 #include "runtime/atomic_file.hpp"
 
@@ -80,18 +83,30 @@ std::string round_name(int k) {
   return "round_" + std::to_string(k) + ".txt";
 }
 
+void map_labels(NodeContext& ctx, const Vocabulary& vocabulary, BoxSet& boxes) {
+  std::shared_ptr<const TextEncoder> encoder;
+  if (ctx.has_input("encoder"))
+    encoder = ctx.input<TextEncoder>("encoder");
+  else
+    encoder = std::make_shared<const LexicalTextEncoder>(vocabulary);
+  const LabelMappingReport mapping =
+      map_box_labels(boxes, VocabularyMatcher(*encoder, vocabulary.class_names()));
+  std::string mapped, unmapped;
+  for (const auto& m : mapping.mapped) mapped += (mapped.empty() ? "" : "; ") + m;
+  for (const auto& m : mapping.unmapped) {
+    unmapped += (unmapped.empty() ? "" : "; ") + m;
+    spdlog::warn("vlm.query: label kept as its own class: {}", m);
+  }
+  if (!mapped.empty()) ctx.record("labels_mapped", mapped);
+  if (!unmapped.empty()) ctx.record("labels_unmapped", unmapped);
+}
+
 void run_vlm_query(NodeContext& ctx, VlmQueryParams p) {
   const Capture& capture = *ctx.input<Capture>("capture");
   const Vocabulary& vocabulary = *ctx.input<Vocabulary>("prompt");
   VlmQueryOptions& o = p.query;
   o.seed = ctx.seed();
-  if (!p.api_key_env.empty()) {
-    const char* key = std::getenv(p.api_key_env.c_str());
-    if (!key || !*key)
-      throw InputError("vlm.query: environment variable " + p.api_key_env +
-                       " (param api_key_env) is not set");
-    o.api_key = key;
-  }
+  o.api_key = api_key_from_env("vlm.query", p.api_key_env);
   VlmFrame frame;
   frame.coords = p.coords;
   frame.input_width = p.input_width;
@@ -130,6 +145,9 @@ void run_vlm_query(NodeContext& ctx, VlmQueryParams p) {
     count += parsed.boxes.boxes.size();
     boxes.views[views[i]] = std::move(parsed.boxes);
   }
+  // Free labels onto the vocabulary, through the wired encoder or the offline lexical one (a
+  // prompt without classes has nothing to map onto).
+  if (!vocabulary.entities.empty()) map_labels(ctx, vocabulary, boxes);
   ctx.record("boxes", static_cast<double>(count));
   ctx.record("requests", static_cast<double>(views.size() * o.rounds));
   ctx.record("rounds_unparsed", static_cast<double>(unparsed));
@@ -145,7 +163,11 @@ void register_vlm_nodes(Registry& registry) {
       "ask a live OpenAI-compatible VLM server for grounding boxes, several rounds per view; "
       "stores the raw replies and parses them like ingest.vlm",
       {{"capture", PortTypeName<Capture>::value, "the views to show the VLM"},
-       {"prompt", PortTypeName<Vocabulary>::value, "the grounding prompt (boxes.prompt)"}},
+       {"prompt", PortTypeName<Vocabulary>::value, "the grounding prompt (boxes.prompt)"},
+       {"encoder", PortTypeName<TextEncoder>::value,
+        "maps labels outside the vocabulary onto it; unwired: the lexical encoder over the "
+        "prompt's vocabulary",
+        true}},
       {{"boxes", PortTypeName<BoxSet>::value,
         "every round's boxes per view, XYXY pixels, with round and reply position (as "
         "ingest.vlm)"}}};

@@ -5,7 +5,8 @@
 // faults of issue 16: `reset` aborts the connection (RST) instead of answering, `stream_bytes`
 // sends that many bytes of body (with no Content-Length unless `declare_length`) until the client
 // stops reading, and `echo_headers` answers with the request's headers as the body (a proxy that
-// echoes the Authorization header back).
+// echoes the Authorization header back). A `respond` function answers from the request body
+// instead (the embeddings stand-in, tests/text: one vector per input, whatever the inputs are).
 #pragma once
 
 #include <arpa/inet.h>
@@ -15,6 +16,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <functional>
 #include <mutex>
 #include <stdexcept>
 #include <string>
@@ -31,6 +33,8 @@ struct CannedResponse {
   size_t stream_bytes = 0;
   bool declare_length = false;  // with stream_bytes: send Content-Length: stream_bytes first
   bool echo_headers = false;
+  std::function<std::string(const std::string& body)> respond =
+      nullptr;  // the body, from the request's
 };
 
 class LoopbackServer {
@@ -60,13 +64,17 @@ class LoopbackServer {
     thread_.join();
   }
 
-  std::string url() const {
-    return "http://127.0.0.1:" + std::to_string(port_) + "/v1/chat/completions";
-  }
+  std::string url() const { return base_url() + "/v1/chat/completions"; }
+  std::string base_url() const { return "http://127.0.0.1:" + std::to_string(port_); }
 
   std::vector<std::string> bodies() const {
     std::lock_guard<std::mutex> lock(mutex_);
     return bodies_;
+  }
+  // Each request's headers, request line first ("POST /v1/embeddings HTTP/1.1").
+  std::vector<std::string> headers() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return headers_;
   }
 
  private:
@@ -80,6 +88,7 @@ class LoopbackServer {
       {
         std::lock_guard<std::mutex> lock(mutex_);
         bodies_.push_back(body);
+        headers_.push_back(headers);
       }
       const CannedResponse& r = script_[std::min(n++, script_.size() - 1)];
       if (r.hang) {
@@ -98,7 +107,7 @@ class LoopbackServer {
         ::close(client);
         continue;
       }
-      const std::string& text = r.echo_headers ? headers : r.body;
+      const std::string text = r.respond ? r.respond(body) : r.echo_headers ? headers : r.body;
       const std::string reply = "HTTP/1.1 " + std::to_string(r.status) +
                                 " Canned\r\nContent-Type: application/json\r\nContent-Length: " +
                                 std::to_string(text.size()) + "\r\nConnection: close\r\n\r\n" +
@@ -161,6 +170,7 @@ class LoopbackServer {
   std::thread thread_;
   mutable std::mutex mutex_;
   std::vector<std::string> bodies_;
+  std::vector<std::string> headers_;
 };
 
 }  // namespace gslift::test
