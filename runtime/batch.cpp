@@ -449,14 +449,15 @@ BatchSummary run_batch(const std::vector<ManifestEntry>& manifest, const fs::pat
     CaptureOutcome outcome;
     try {
       outcome = run_capture_once(e, out_root, run_capture, cancel);
-    } catch (const OutputError&) {
-      throw;  // the results root cannot be written: the next capture would fail alike
     } catch (const std::exception& ex) {
-      // This capture cannot be run (its folder cannot be made or moved, ...): it fails alone.
+      // This capture cannot be run (its folder cannot be made or moved, ...): it fails alone;
+      // when its results cannot be written (a full disk: its marker, after the child wrote its
+      // files) the batch stops below, as the next capture would fail alike.
       outcome.name = e.name;
       outcome.path = e.path;
       outcome.status = CaptureStatus::Failed;
       outcome.error = ex.what();
+      outcome.cannot_write = dynamic_cast<const OutputError*>(&ex) != nullptr;
     }
     if (outcome.status == CaptureStatus::Failed)
       spdlog::error("capture {} failed: {}", e.name, outcome.error);
