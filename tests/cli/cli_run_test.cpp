@@ -401,7 +401,7 @@ TEST_CASE("a capture that aborts its process fails alone with the signal, the ba
           "[cli]") {
   // Each capture is a `gslift run` child process (issue 33): debug.write aborts the process on an
   // input naming "abort", as a library's assertion would. In one process it took the batch down.
-  const fs::path dir = test::scratch_dir("cli_batch_abort");
+  const fs::path dir = test::scratch_dir("cli_batch_crash");
   const fs::path graph = write_text(dir / "write.yaml", "nodes:\n  w: {type: debug.write}\n");
   const fs::path manifest = write_text(dir / "m.txt", "or_1\nabort_2\nor_3\n");
   const fs::path out = dir / "out";
