@@ -73,6 +73,19 @@ inline bool lies_inside(const std::filesystem::path& folder, const std::filesyst
   return true;
 }
 
+// The one containment check of ingest: every file and folder it opens in a capture goes through
+// this (or path_inside, which does). `file` is refused unless it lies inside `folder` (symlinks
+// followed) or `allow_outside` (the ingest param allow_outside_paths) says the capture is
+// trusted; `where` names what pointed there.
+inline const std::filesystem::path& require_inside(const std::filesystem::path& folder,
+                                                   const std::filesystem::path& file,
+                                                   bool allow_outside, const std::string& where) {
+  if (!allow_outside && !lies_inside(folder, file))
+    throw InputError(where + ": '" + file.string() + "' points outside " + folder.string() +
+                     " (set the ingest param allow_outside_paths to follow it)");
+  return file;
+}
+
 // `folder / name` for a name read from a capture file (`where`: "file:line" or "file (what)"),
 // refused unless it stays inside `folder` or `allow_outside` (the ingest param
 // allow_outside_paths) says the capture is trusted.

@@ -9,6 +9,8 @@
 
 namespace gslift::report {
 
+namespace fs = std::filesystem;
+
 std::string html_escape(const std::string& text) {
   std::string out;
   out.reserve(text.size());
@@ -162,8 +164,30 @@ a { color: #2f6db5; }
 )css";
 }  // namespace
 
+const char* const kContentSecurityPolicy =
+    "default-src 'none'; img-src 'self' data: file:; style-src 'unsafe-inline'; "
+    "base-uri 'none'; form-action 'none'; frame-ancestors 'none'";
+
+std::string relative_href(const fs::path& relative) {
+  static const char* hex = "0123456789ABCDEF";
+  std::string out = "./";
+  for (unsigned char c : relative.generic_string()) {
+    if (std::isalnum(c) || c == '-' || c == '.' || c == '_' || c == '~' || c == '/') {
+      out += static_cast<char>(c);
+    } else {
+      out += '%';
+      out += hex[c >> 4];
+      out += hex[c & 15];
+    }
+  }
+  return out;
+}
+
 std::string html_page(const std::string& title, const std::string& body) {
   return "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
+         "<meta http-equiv=\"Content-Security-Policy\" content=\"" +
+         std::string(kContentSecurityPolicy) +
+         "\">\n"
          "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n"
          "<title>" +
          html_escape(title) + "</title>\n<style>" + kStyle + "</style>\n</head>\n<body>\n<main>\n" +

@@ -11,6 +11,11 @@ namespace gslift::report {
 // Text for HTML content and attribute values (& < > " ' escaped).
 std::string html_escape(const std::string& text);
 
+// A link to a file beside the page: "./" and the relative path with every byte but
+// [A-Za-z0-9-._~/] percent-encoded, so that no folder name (`javascript:alert(1)`, `//host`, one
+// with '#' or '?') can make it a link to a script, another site or another part of the page.
+std::string relative_href(const std::filesystem::path& relative);
+
 // RFC 4648 base64 with padding.
 std::string base64(const std::string& bytes);
 
@@ -30,7 +35,11 @@ std::string picture_mime(const std::filesystem::path& file);
 // "12.3 KB", "4.5 MB".
 std::string size_text(uintmax_t bytes);
 
-// A complete page: <!DOCTYPE html>, the style sheet, `title` and `body`.
+// The Content-Security-Policy of every page: its own style and pictures (embedded or beside it)
+// and nothing else: no script, no frames, no forms, no other base URL.
+extern const char* const kContentSecurityPolicy;
+
+// A complete page: <!DOCTYPE html>, kContentSecurityPolicy, the style sheet, `title` and `body`.
 std::string html_page(const std::string& title, const std::string& body);
 
 }  // namespace gslift::report

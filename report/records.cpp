@@ -169,6 +169,29 @@ RunRecord read_run_record(const fs::path& dir) {
   return r;
 }
 
+namespace {
+
+// gslift report writes each run's report.html into its folder: a sweep.json (from anywhere)
+// whose runs[].dir is absolute, climbs out with "..", or is a symlink out must not make it write
+// elsewhere.
+void check_inside_sweep(const fs::path& sweep_dir, const std::string& run_dir) {
+  const fs::path rel(run_dir);
+  bool inside = !run_dir.empty() && rel.is_relative() && !rel.has_root_name();
+  for (const auto& part : rel.lexically_normal()) inside = inside && part != "..";
+  std::error_code ec, ec2;
+  const fs::path root = fs::weakly_canonical(sweep_dir, ec);
+  const fs::path target = fs::weakly_canonical(sweep_dir / rel, ec2);
+  if (inside && !ec && !ec2) {
+    const fs::path up = target.lexically_relative(root);
+    inside = !up.empty() && *up.begin() != "..";
+  }
+  if (!inside)
+    throw InputError((sweep_dir / "sweep.json").string() + ": run folder '" + run_dir +
+                     "' is not inside the sweep folder");
+}
+
+}  // namespace
+
 bool is_sweep_dir(const fs::path& dir) {
   std::error_code ec;
   return fs::is_regular_file(dir / "sweep.json", ec);
@@ -188,6 +211,7 @@ SweepRecord read_sweep_record(const fs::path& dir) {
     for (const json& r : member(j, "runs")) {
       SweepRun run;
       run.dir = member(r, "dir").get<std::string>();
+      check_inside_sweep(dir, run.dir);
       if (r.contains("params")) run.params = string_map(r.at("params"));
       run.seed = r.value("seed", uint64_t{0});
       run.status = member(r, "status").get<std::string>();

@@ -145,7 +145,7 @@ std::string pictures_and_files(const RunRecord& run, const ReportOptions& option
     for (const fs::path& rel : files) {
       std::error_code ec;
       const uintmax_t bytes = fs::file_size(run.dir / rel, ec);
-      const std::string link = "<a href=\"" + esc(rel.generic_string()) + "\"><code>" +
+      const std::string link = "<a href=\"" + esc(relative_href(rel)) + "\"><code>" +
                                esc(rel.generic_string()) + "</code></a>";
       const std::string mime = picture_mime(rel);
       if (mime.empty()) {
@@ -161,7 +161,7 @@ std::string pictures_and_files(const RunRecord& run, const ReportOptions& option
       const PixelSize px = picture_size(data);
       const std::string dims = px.width ? std::to_string(px.width) + "×" + std::to_string(px.height)
                                         : std::string("size unknown");
-      std::string src = esc(rel.generic_string());
+      std::string src = esc(relative_href(rel));
       if (options.embed_pictures) {
         src = "data:" + mime + ";base64," + base64(data);
         used += data.size();
@@ -272,7 +272,7 @@ std::string run_report_html(const RunRecord& run, const ReportOptions& options,
   return html_page("gslift report: " + run.graph_name, b);
 }
 
-std::string sweep_report_html(const SweepRecord& sweep, ReportStats* stats) {
+std::string sweep_report_html(const SweepRecord& sweep) {
   // The varied params: the grid's, else every param a run names.
   std::vector<std::string> varied;
   for (const auto& [name, values] : sweep.grid) varied.push_back(name);
@@ -448,9 +448,8 @@ std::string sweep_report_html(const SweepRecord& sweep, ReportStats* stats) {
                 esc(params_text(r.params)) + "</span></summary>";
     try {
       const RunRecord run = read_run_record(sweep.dir / r.dir);
-      sections += "<p><a href=\"" + esc(fs::path(r.dir).generic_string()) +
-                  "/report.html\">the run's own report</a> (graph, timeline, pictures)</p>" +
-                  node_table(run);
+      sections += "<p><a href=\"" + esc(relative_href(fs::path(r.dir) / "report.html")) +
+                  "\">the run's own report</a> (graph, timeline, pictures)</p>" + node_table(run);
       if (!run.error.empty()) sections += "<div class=\"error\">" + esc(run.error) + "</div>";
     } catch (const InputError& e) {
       sections += "<p class=\"note\">no run record: " + esc(e.what()) + "</p>";
@@ -477,7 +476,7 @@ fs::path write_report(const fs::path& dir, const ReportOptions& options, ReportS
         // A run that left no record (it failed before writing one): its row says so.
       }
     }
-    write_file_atomically(page, sweep_report_html(sweep, stats));
+    write_file_atomically(page, sweep_report_html(sweep));
   } else {
     write_file_atomically(page, run_report_html(read_run_record(dir), options, stats));
   }

@@ -31,7 +31,7 @@ std::string run_report_html(const RunRecord& run, const ReportOptions& options,
                             ReportStats* stats = nullptr);
 
 // The page for a sweep folder; each run's section links to RUN/report.html.
-std::string sweep_report_html(const SweepRecord& sweep, ReportStats* stats = nullptr);
+std::string sweep_report_html(const SweepRecord& sweep);
 
 // Reads DIR (a sweep when it holds sweep.json, else a run), writes DIR/report.html (for a sweep
 // also each run's report.html, its pictures linked) and returns the page's path. Throws InputError

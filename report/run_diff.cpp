@@ -1,5 +1,6 @@
 #include "report/run_diff.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <set>
@@ -72,11 +73,16 @@ std::string section(const char* title, const std::vector<Change>& changes) {
 }  // namespace
 
 bool is_time_record(const std::string& key) {
-  const auto ends = [&](const char* suffix) {
-    const std::string s = suffix;
-    return key.size() >= s.size() && key.compare(key.size() - s.size(), s.size(), s) == 0;
-  };
-  return key == "seconds" || ends("_seconds") || ends("_s") || ends("_ms");
+  // A word of the name (split at '_', '.', '/') that is a unit of time, wherever it sits:
+  // "seconds", "wall_s", "ms_per_view", "select_ms_median".
+  static const std::set<std::string> units = {"s", "ms", "us", "ns", "sec", "secs", "seconds"};
+  size_t start = 0;
+  while (start <= key.size()) {
+    const size_t end = std::min(key.find_first_of("_./", start), key.size());
+    if (units.count(key.substr(start, end - start))) return true;
+    start = end + 1;
+  }
+  return false;
 }
 
 RunDiff diff_runs(const RunRecord& a, const RunRecord& b) {

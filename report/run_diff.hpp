@@ -36,7 +36,8 @@ struct RunDiff {
 
 RunDiff diff_runs(const RunRecord& a, const RunRecord& b);
 
-// Whether a record measures time, by its name: "seconds", or ending in _seconds, _s or _ms.
+// Whether a record measures time, by its name: one of its words (split at _ . /) is a unit of
+// time (s, ms, us, ns, sec, secs, seconds), wherever it sits: "wall_s", "select_ms_median".
 bool is_time_record(const std::string& key);
 
 // The diff as the command prints it: a header naming both runs, then one section per kind of

@@ -5,7 +5,9 @@
 
 #include <filesystem>
 #include <functional>
+#include <string>
 #include <string_view>
+#include <vector>
 
 namespace gslift {
 
@@ -20,11 +22,25 @@ void write_atomically(const std::filesystem::path& target,
 // the bytes cannot all be written; the temporary is removed.
 void write_file_atomically(const std::filesystem::path& target, std::string_view bytes);
 
-// Whether a file name is one of write_atomically's temporaries: <stem>.tmp-<pid>-<n><ext>.
-bool is_atomic_temporary(const std::filesystem::path& name);
+// The longest file name ext4, XFS, Btrfs and tmpfs take (NAME_MAX), in bytes.
+constexpr size_t kMaxNameBytes = 255;
 
-// Removes the temporaries a killed process (SIGKILL, power loss) left under dir, recursively, and
-// returns how many. Only for a folder no other process is writing (gslift run's --out).
-size_t remove_stale_temporaries(const std::filesystem::path& dir);
+// `name`, shortened when `name` plus `extra_bytes` more would not fit kMaxNameBytes: then its
+// first bytes (never half a UTF-8 character), '~' and 16 hex digits of the whole name's hash, so
+// two long names that differ only at their ends stay apart. A name derived from a legal one
+// (a temporary, a `.partial` folder) needs this: it is longer than what it derives from.
+std::string fitting_name(const std::string& name, size_t extra_bytes);
+
+// Whether a file name is one of write_atomically's temporaries, <stem>.gslift.tmp-<pid>-<n><ext>,
+// and the process id it names (0 when it is not one).
+int atomic_temporary_pid(const std::filesystem::path& name);
+
+// Removes the temporaries a killed gslift process (SIGKILL, power loss) left in `out` and, at any
+// depth, in out/<f> for each f in `folders` (the folders a run writes: its nodes' ids), and
+// returns how many. Removes only regular files named as write_atomically names them whose process
+// is gone, never a symlink's target or a folder gslift does not write, so another live run into
+// the same folder and the user's own files are left alone.
+size_t remove_stale_temporaries(const std::filesystem::path& out,
+                                const std::vector<std::string>& folders);
 
 }  // namespace gslift

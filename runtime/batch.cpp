@@ -21,6 +21,8 @@
 #include "base/input_file.hpp"
 #include "base/json_read.hpp"
 #include "runtime/atomic_file.hpp"
+#include "runtime/child_process.hpp"
+#include "runtime/exit_codes.hpp"
 #include "runtime/node.hpp"
 #include "runtime/run_record.hpp"
 #include "runtime/utc_time.hpp"
@@ -44,7 +46,24 @@ std::string output_name(std::string path) {
   std::string name = fs::path(path).filename().string();
   for (char& c : name)
     if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '.' || c == '_' || c == '-')) c = '_';
-  return name.empty() || name == "." || name == ".." ? "capture" : name;
+  // A manifest line that is no path ("embedded:...") may be longer than a file name may be.
+  return name.empty() || name == "." || name == ".." ? "capture" : fitting_name(name, 0);
+}
+
+// The last non-empty line of a child's log: the error it printed before it exited.
+std::string last_log_line(const fs::path& log) {
+  std::ifstream in(log);
+  std::string line, last;
+  while (std::getline(in, line))
+    if (!trim(line).empty()) last = trim(line);
+  return last;
+}
+
+RunError::Kind error_kind(const std::string& text) {
+  for (auto k : {RunError::Kind::BadInput, RunError::Kind::NodeFailed, RunError::Kind::Cancelled,
+                 RunError::Kind::Output})
+    if (text == to_string(k)) return k;
+  return RunError::Kind::NodeFailed;
 }
 
 }  // namespace
@@ -190,6 +209,49 @@ std::vector<ManifestEntry> discover_captures(const fs::path& dir, const fs::path
   return out;
 }
 
+RunResult child_run_result(const ChildRun& child, const fs::path& run_dir, const fs::path& log) {
+  RunResult result;
+  const bool exited = child.started && WIFEXITED(child.status);
+  const int code = exited ? WEXITSTATUS(child.status) : -1;
+  try {
+    // "running" is the record of a child that died before its end: its exit says more.
+    const json record = parse_json(read_input_file(run_dir / "run.json", "run record"));
+    const json& run = record.at("run");
+    const std::string status = run.at("status").get<std::string>();
+    if (exited && status != "running") {
+      result.status = status == "ok" && code == exit_code::kOk ? RunStatus::Ok
+                      : status == "interrupted"                ? RunStatus::Interrupted
+                                                               : RunStatus::Failed;
+      if (result.ok()) return result;
+      const json& error = run.at("error");
+      RunError e;
+      if (error.is_object()) {
+        e.kind = error_kind(error.value("kind", std::string()));
+        e.node = error.value("node", std::string());
+        e.type = error.value("type", std::string());
+        if (error.contains("loc") && error["loc"].is_string()) e.loc.file = error["loc"];
+        e.message = error.value("message", std::string());
+      } else {
+        e.message = "exit code " + std::to_string(code);
+      }
+      result.error = e;
+      return result;
+    }
+  } catch (const std::exception&) {
+    // No record, or not one: the exit status tells.
+  }
+  result.status = code == exit_code::kInterrupted ? RunStatus::Interrupted : RunStatus::Failed;
+  RunError e;
+  e.kind = code == exit_code::kCannotWrite ? RunError::Kind::Output
+           : code == exit_code::kBadInput  ? RunError::Kind::BadInput
+                                           : RunError::Kind::NodeFailed;
+  e.message = "gslift run " + child_exit_text(child);
+  const std::string said = last_log_line(log);
+  if (!said.empty()) e.message += ": " + said;
+  result.error = e;
+  return result;
+}
+
 const char* to_string(CaptureStatus s) {
   switch (s) {
     case CaptureStatus::Done:
@@ -249,15 +311,9 @@ std::string BatchSummary::table() const {
 
 namespace {
 
-// Each capture's run.json then reports its own peak memory rather than the batch's so far, which
-// is what shows whether memory stays flat from one capture to the next: writing 5 to
-// /proc/self/clear_refs resets the peak RSS that getrusage reports (Linux >= 4.0, proc(5));
-// elsewhere, or when /proc is absent, the peak stays the process's.
-void reset_peak_rss() {
-  if (std::FILE* f = std::fopen("/proc/self/clear_refs", "w")) {
-    std::fputs("5", f);
-    std::fclose(f);
-  }
+// The `.partial` folder of a capture: its name derives from the capture's, 9 bytes longer.
+fs::path partial_dir(const fs::path& out_root, const std::string& name) {
+  return out_root / ("." + fitting_name(name, 9) + ".partial");
 }
 
 // One capture: run into a temporary folder, mark it, rename it into place.
@@ -272,12 +328,11 @@ CaptureOutcome run_capture_once(const ManifestEntry& e, const fs::path& out_root
     outcome.status = CaptureStatus::Skipped;
     return outcome;
   }
-  const fs::path tmp = out_root / ("." + e.name + ".partial");
+  const fs::path tmp = partial_dir(out_root, e.name);
   fs::remove_all(tmp);
   std::error_code ec;
   fs::create_directories(tmp, ec);
   if (ec) throw OutputError("cannot create " + tmp.string() + ": " + ec.message());
-  reset_peak_rss();
   const auto t0 = std::chrono::steady_clock::now();
   std::optional<RunResult> result;
   try {
@@ -327,7 +382,7 @@ CaptureOutcome run_capture_once(const ManifestEntry& e, const fs::path& out_root
 } catch (const OutputError&) {
   // The marker could not be written: no half-finished capture stays behind.
   std::error_code ec;
-  fs::remove_all(out_root / ("." + e.name + ".partial"), ec);
+  fs::remove_all(partial_dir(out_root, e.name), ec);
   throw;
 }
 
@@ -394,7 +449,19 @@ BatchSummary run_batch(const std::vector<ManifestEntry>& manifest, const fs::pat
       break;
     }
     spdlog::info("capture {} ({})", e.name, e.path);
-    CaptureOutcome outcome = run_capture_once(e, out_root, run_capture, cancel);
+    CaptureOutcome outcome;
+    try {
+      outcome = run_capture_once(e, out_root, run_capture, cancel);
+    } catch (const std::exception& ex) {
+      // This capture cannot be run (its folder cannot be made or moved, ...): it fails alone;
+      // when its results cannot be written (a full disk: its marker, after the child wrote its
+      // files) the batch stops below, as the next capture would fail alike.
+      outcome.name = e.name;
+      outcome.path = e.path;
+      outcome.status = CaptureStatus::Failed;
+      outcome.error = ex.what();
+      outcome.cannot_write = dynamic_cast<const OutputError*>(&ex) != nullptr;
+    }
     if (outcome.status == CaptureStatus::Failed)
       spdlog::error("capture {} failed: {}", e.name, outcome.error);
     else

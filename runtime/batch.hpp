@@ -93,9 +93,19 @@ struct BatchSummary {
 };
 
 // Runs one capture with its outputs under out_dir (a temporary folder); may throw (an invalid
-// graph for this input, ...), which counts as that capture's failure.
+// graph for this input, ...), which counts as that capture's failure. The command line runs each
+// capture as a `gslift run` child process (child_run_result), as `gslift sweep` runs each point,
+// so that whatever one capture does to its process is that capture's failure alone.
 using CaptureRunner =
     std::function<RunResult(const ManifestEntry& capture, const std::filesystem::path& out_dir)>;
+
+struct ChildRun;
+// What a `gslift run` child that ran into run_dir did, as a RunResult: its run.json's status and
+// error when it exited after writing one; otherwise (a crash, an abort in a library, the kernel's
+// OOM kill, an invalid graph) a failure saying how it ended (child_exit_text) with the last line
+// of `log`. An exit of 130 without a record is an interruption, 73 an OutputError.
+RunResult child_run_result(const ChildRun& child, const std::filesystem::path& run_dir,
+                           const std::filesystem::path& log);
 
 // Runs the shard's captures one after the other into out_root/<name>/. Stops after the current
 // capture when *cancel becomes true (its temporary folder is removed), or when it could not be

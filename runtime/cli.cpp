@@ -163,6 +163,22 @@ void check_output_folder(const fs::path& out) {
     throw OutputError("cannot write in --out " + out.string() + ": " + std::strerror(errno));
 }
 
+// `gslift run --out`: gslift writes run.json and node folders into it and removes its own stale
+// temporaries there, so it must be a results folder: new, empty, or holding a run.json (an
+// earlier run's). Anything else (`--out /`, a home folder, a typo naming a project) is refused
+// before a file is written. A folder holding only gslift.log is one a sweep or batch made for
+// this run (the child's log is opened before it starts).
+void check_results_folder(const fs::path& out) {
+  std::error_code ec;
+  if (fs::exists(out / "run.json", ec)) return;
+  for (auto it = fs::directory_iterator(out, ec); !ec && it != fs::directory_iterator();
+       it.increment(ec))
+    if (it->path().filename() != "gslift.log")
+      throw InputError("--out " + out.string() +
+                       " is not empty and holds no run.json: not a gslift results folder (name a "
+                       "new or empty folder)");
+}
+
 int64_t parse_threads(const Args& args) {
   return parse_integer("threads", args.last("threads", "0"), 0, kMaxThreads);
 }
@@ -467,9 +483,12 @@ int cmd_run(int argc, char** argv, const Registry& registry) {
   opt.seed = run_seed(*graph);
   opt.out_dir = args.last("out", (fs::path("out") / graph->name).string());
   check_output_folder(opt.out_dir);
+  check_results_folder(opt.out_dir);
   const auto cache = command_line_cache(args);
   opt.cache = cache.get();
-  if (const size_t stale = remove_stale_temporaries(opt.out_dir))
+  std::vector<std::string> node_folders;
+  for (const auto& n : graph->nodes) node_folders.push_back(n.id);
+  if (const size_t stale = remove_stale_temporaries(opt.out_dir, node_folders))
     spdlog::info("removed {} unfinished file(s) left in {} by a killed run", stale,
                  opt.out_dir.string());
   ConsoleProgress progress(is_terminal(stderr), stderr);
@@ -520,6 +539,26 @@ int cmd_nodes(int argc, char** argv, const Registry& registry) {
   return exit_code::kOk;
 }
 
+// The command line of a `gslift run` child of batch or sweep, which run each capture or point as
+// its own process (runtime/child_process.hpp): `graph_file` into `out` with the parent's thread
+// count and cache options, logging warnings only; the caller adds --input, --seed and --set.
+std::vector<std::string> child_run_command(const Args& args, const std::string& graph_file,
+                                           const fs::path& out) {
+  std::vector<std::string> child = {fs::read_symlink("/proc/self/exe").string(),
+                                    "run",
+                                    graph_file,
+                                    "--out",
+                                    out.string(),
+                                    "--threads",
+                                    std::to_string(parse_threads(args)),
+                                    "--log-level",
+                                    "warn"};
+  for (const char* opt : {"cache-dir", "cache-size"})
+    if (args.has(opt)) child.insert(child.end(), {std::string("--") + opt, args.last(opt)});
+  if (args.flags.count("no-cache")) child.push_back("--no-cache");
+  return child;
+}
+
 int cmd_batch(int argc, char** argv, const Registry& registry) {
   const Args args = parse_args(argc, argv, 2,
                                {"set", "out", "shard", "shard-count", "discover", "threads", "seed",
@@ -552,10 +591,9 @@ int cmd_batch(int argc, char** argv, const Registry& registry) {
   } catch (const std::invalid_argument& e) {
     throw UsageError(e.what());
   }
-  RunOptions base = command_line_run_options(args);
+  parse_threads(args);
   check_output_folder(args.last("out"));
-  const auto cache = command_line_cache(args);
-  base.cache = cache.get();
+  command_line_cache(args);  // a bad --cache-dir is one error here, not one per capture
   const auto manifest = discover ? discover_captures(args.last("discover"), args.last("out"))
                                  : read_manifest(args.positional[0]);
   const std::string graph_file = args.positional[discover ? 0 : 1];
@@ -572,22 +610,13 @@ int cmd_batch(int argc, char** argv, const Registry& registry) {
     break;
   }
   install_interrupt_handlers();
-  ConsoleProgress progress(is_terminal(stderr), stderr);
   const auto run_capture = [&](const ManifestEntry& e, const fs::path& out) {
-    LoadOptions lopt = load_options(args);
-    lopt.vars["input"] = e.path;
-    LoadResult loaded = load_graph(graph_file, registry, lopt);
-    if (!loaded.ok()) {
-      std::string text = "invalid graph for this capture:";
-      for (const auto& d : loaded.diagnostics) text += "\n" + d.str();
-      throw std::runtime_error(text);
-    }
-    RunOptions opt = base;
-    opt.seed = run_seed(*loaded.graph);
-    opt.run_input = e.path;
-    opt.out_dir = out;
-    opt.progress = &progress;
-    return execute(*loaded.graph, registry, opt);
+    std::vector<std::string> child = child_run_command(args, graph_file, out);
+    child.insert(child.end(), {"--input", e.path});
+    if (args.has("seed")) child.insert(child.end(), {"--seed", args.last("seed")});
+    for (const auto& s : args.all("set")) child.insert(child.end(), {"--set", s});
+    const fs::path log = out / "gslift.log";
+    return child_run_result(run_child_process(child, log.string(), &interrupt_flag()), out, log);
   };
   const BatchSummary summary =
       run_batch(manifest, args.last("out"), shard, run_capture, &interrupt_flag());
@@ -631,7 +660,7 @@ int cmd_sweep(int argc, char** argv, const Registry& registry) {
   } catch (const std::invalid_argument& e) {
     throw UsageError(e.what());
   }
-  const int64_t threads = parse_threads(args);
+  parse_threads(args);  // a bad --threads is one usage error, before the first run
   // Every combination is validated up front: a misspelt grid param is one error, not N failed
   // runs.
   // "{seed}" in --input, --set and --grid values is the run's seed: --input
@@ -663,55 +692,44 @@ int cmd_sweep(int argc, char** argv, const Registry& registry) {
     if (p.seed == seeds.front() && !load_checked(graph_file, registry, combination_options(p)))
       return exit_code::kInvalidGraph;
 
-  const fs::path self = fs::read_symlink("/proc/self/exe");
   install_interrupt_handlers();
   std::vector<SweepRun> runs;
   std::vector<std::string> headline;
   nlohmann::json table;
   spdlog::info("sweep: {} runs of {} -> {}", points.size(), graph_file, out.string());
   for (size_t i = 0; i < points.size() && !interrupt_flag().load(); ++i) {
-    char name[16];
+    // Room for any size_t: g++ warned that 16 bytes could truncate "%04zu" past 10^15 runs.
+    char name[24];
     std::snprintf(name, sizeof name, "%04zu", i);
     SweepRun run;
     run.dir = (fs::path("runs") / name).generic_string();
     run.point = points[i];
     const fs::path dir = out / run.dir;
-    std::vector<std::string> child = {self.string(),
-                                      "run",
-                                      graph_file,
-                                      "--out",
-                                      dir.string(),
-                                      "--seed",
-                                      std::to_string(run.point.seed),
-                                      "--threads",
-                                      std::to_string(threads),
-                                      "--log-level",
-                                      "warn"};
+    std::vector<std::string> child = child_run_command(args, graph_file, dir);
+    child.insert(child.end(), {"--seed", std::to_string(run.point.seed)});
     if (args.has("input"))
       child.insert(child.end(), {"--input", with_seed(args.last("input"), run.point.seed)});
-    for (const char* opt : {"cache-dir", "cache-size"})
-      if (args.has(opt)) child.insert(child.end(), {std::string("--") + opt, args.last(opt)});
-    if (args.flags.count("no-cache")) child.push_back("--no-cache");
     for (const auto& s : combination_options(run.point).sets)
       child.insert(child.end(), {"--set", s});
     std::string label;
     for (const auto& [param, value] : run.point.params) label += param + "=" + value + " ";
     spdlog::info("sweep {}/{}: {}seed {}", i + 1, points.size(), label, run.point.seed);
     fs::create_directories(dir);
-    const ChildRun r = run_child_process(child, (dir / "gslift.log").string());
+    const ChildRun r = run_child_process(child, (dir / "gslift.log").string(), &interrupt_flag());
     try {
       const nlohmann::json record = parse_json(read_input_file(dir / "run.json", "run.json"));
       run = sweep_run_from_record(record, run);
       if (headline.empty() && run.status == "ok") headline = headline_metrics(record);
     } catch (const std::exception& e) {
       // The child died before writing its record (a crash, or a kill): the row says how.
+      // Its own peak memory is unknown: wait4's includes this process's (child_process.hpp).
       run.status = "failed";
       run.total_s = r.wall_s;
-      run.peak_rss_mb = r.peak_mb;
-      run.error = !r.started              ? "could not start " + self.string()
-                  : WIFSIGNALED(r.status) ? "killed by signal " + std::to_string(WTERMSIG(r.status))
-                                          : "exit code " + std::to_string(WEXITSTATUS(r.status)) +
-                                                " without a readable run.json (" + e.what() + ")";
+      run.peak_rss_mb = 0;
+      run.error =
+          "gslift run " + child_exit_text(r) +
+          (WIFSIGNALED(r.status) ? std::string()
+                                 : " without a readable run.json (" + std::string(e.what()) + ")");
     }
     if (run.status != "ok") spdlog::warn("sweep {}: {}: {}", run.dir, run.status, run.error);
     runs.push_back(run);

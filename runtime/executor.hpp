@@ -35,8 +35,9 @@ struct RunOptions {
   StageCache* cache = nullptr;
 };
 
-enum class RunStatus { Ok, Failed, Interrupted };
-// "ok", "failed", "interrupted"
+// Running: what run.json says while the run is under way (and after a SIGKILL or power loss).
+enum class RunStatus { Ok, Failed, Interrupted, Running };
+// "ok", "failed", "interrupted", "running"
 const char* to_string(RunStatus s);
 
 // "pending" = never started (an upstream node failed or the run was cancelled first).
@@ -65,7 +66,7 @@ struct NodeRecord {
   NodeStatus status = NodeStatus::Pending;
   double start_s = 0;  // seconds since the run started (0 when never started)
   double end_s = 0;
-  // Process peak resident memory (ru_maxrss) when the node ended: the first node after which it
+  // Process peak resident memory (VmHWM) when the node ended: the first node after which it
   // jumps is the one that needed the memory.
   int64_t peak_rss_kb = 0;
   std::map<std::string, RecordValue> records;  // what the node passed to ctx.record
@@ -87,7 +88,7 @@ struct RunResult {
   double total_s = 0;
   int threads = 0;  // the thread count actually used
   uint64_t seed = 0;
-  int64_t peak_rss_kb = 0;  // process peak resident memory (getrusage ru_maxrss)
+  int64_t peak_rss_kb = 0;  // this process's own peak resident memory (VmHWM)
   // Every output produced, keyed "node.port", for tests and embedding callers.
   std::map<std::string, Value> values;
 
@@ -97,8 +98,9 @@ struct RunResult {
 
 // Runs `graph` (validated: every type registered, inputs wired, topological order). Never throws
 // for a node's failure: that is reported in the result. When options.out_dir is set, run.json is
-// written there at the end, also after a failure, and the folders of cancelled nodes (stopped
-// halfway) are removed.
+// written there first with status "running" (atomically, replacing an earlier run's), then at
+// the end, also after a failure, and the folders of cancelled nodes (stopped halfway) are
+// removed.
 RunResult execute(const Graph& graph, const Registry& registry, const RunOptions& options);
 
 // The one-node/inline-graph test harness: loads `yaml` with load_graph_text (named "<inline>" in

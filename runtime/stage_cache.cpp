@@ -9,6 +9,10 @@
 #include <fstream>
 #include <sstream>
 
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <spdlog/spdlog.h>
 
 #include "base/cache_root.hpp"
@@ -24,7 +28,9 @@ namespace fs = std::filesystem;
 namespace {
 
 // "GSLIFT stage cache, entry format 1": the first bytes of every entry.
-constexpr std::string_view kMagic = "GSLCACHE1";
+// The magic, then the entry's whole size (uint64): a reader reads no more than that.
+constexpr std::string_view kMagic = "GSLCACHE2";
+constexpr size_t kHeaderBytes = kMagic.size() + 8;
 
 std::string hex16(uint64_t v) {
   char buf[17];
@@ -177,22 +183,49 @@ fs::path StageCache::entry_path(const std::string& hash) const {
 std::optional<CachedStage> StageCache::load(const StageKey& key, const Registry& registry,
                                             const fs::path& files_to) {
   const fs::path file = entry_path(key.hash);
-  std::string bytes;
-  {
-    std::ifstream in(file, std::ios::binary);
-    if (!in) return std::nullopt;
-    std::ostringstream all;
-    all << in.rdbuf();
-    bytes = all.str();
-  }
   const auto damaged = [&](const std::string& why) -> std::optional<CachedStage> {
     spdlog::warn("stage cache: entry {} is damaged ({}): recomputing it", file.string(), why);
     std::error_code ec;
     fs::remove(file, ec);
     return std::nullopt;
   };
-  if (bytes.size() < kMagic.size() + 8 || bytes.compare(0, kMagic.size(), kMagic) != 0)
-    return damaged("not a gslift cache entry");
+  std::string bytes;
+  {
+    // Only a regular file, not through a symlink, and no more bytes than its header claims: an
+    // entry that is a FIFO would block the run, a link to /dev/zero be read until memory ends.
+    const int fd = ::open(file.c_str(), O_RDONLY | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC);
+    if (fd < 0) {
+      if (errno == ENOENT) return std::nullopt;
+      return damaged(errno == ELOOP ? "a symlink" : std::strerror(errno));
+    }
+    struct Close {
+      int fd;
+      ~Close() { ::close(fd); }
+    } close_fd{fd};
+    struct stat st {};
+    if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) return damaged("not a regular file");
+    const auto read_up_to = [&](size_t n) {
+      const size_t at = bytes.size();
+      bytes.resize(at + n);
+      size_t got = 0;
+      while (got < n) {
+        const ssize_t r = ::read(fd, bytes.data() + at + got, n - got);
+        if (r < 0 && errno == EINTR) continue;
+        if (r <= 0) break;
+        got += static_cast<size_t>(r);
+      }
+      bytes.resize(at + got);
+      return got == n;
+    };
+    if (!read_up_to(kHeaderBytes) || bytes.compare(0, kMagic.size(), kMagic) != 0)
+      return damaged("not a gslift cache entry");
+    uint64_t claimed = 0;
+    std::memcpy(&claimed, bytes.data() + kMagic.size(), 8);
+    if (claimed != static_cast<uint64_t>(st.st_size) || claimed < kHeaderBytes + 8)
+      return damaged("holds " + std::to_string(st.st_size) + " bytes, its header claims " +
+                     std::to_string(claimed));
+    if (!read_up_to(claimed - kHeaderBytes)) return damaged("truncated");
+  }
   const std::string_view body(bytes.data(), bytes.size() - 8);
   uint64_t stored_sum = 0;
   std::memcpy(&stored_sum, bytes.data() + body.size(), 8);
@@ -201,7 +234,7 @@ std::optional<CachedStage> StageCache::load(const StageKey& key, const Registry&
   CachedStage stage;
   std::vector<std::pair<std::string, std::string>> files;
   try {
-    ByteReader r(body.substr(kMagic.size()));
+    ByteReader r(body.substr(kHeaderBytes));
     if (r.get_string() != key.text) return std::nullopt;  // a hash collision: not our entry
     for (uint64_t n = r.count(9), i = 0; i < n; ++i) {
       std::string name = r.get_string();
@@ -282,7 +315,9 @@ void StageCache::store(const StageKey& key, const Registry& registry,
       w.put_string(rel.generic_string());
       w.put_string(content.str());
     }
-    std::string entry = std::string(kMagic) + w.take();
+    std::string entry = std::string(kMagic) + std::string(8, '\0') + w.take();
+    const uint64_t size = entry.size() + 8;  // with the checksum
+    std::memcpy(entry.data() + kMagic.size(), &size, 8);
     const uint64_t sum = fnv1a64(std::string_view(entry).substr(0));
     entry.append(reinterpret_cast<const char*>(&sum), 8);
     write_file_atomically(entry_path(key.hash), entry);
@@ -310,8 +345,7 @@ void StageCache::evict() {
     if (fec) continue;
     if (!is_entry_name(it->path())) {
       // write_file_atomically's temporary names: a writer that died an hour ago left them.
-      if (it->path().filename().string().find(".tmp-") != std::string::npos &&
-          now - used > std::chrono::hours(1))
+      if (atomic_temporary_pid(it->path()) != 0 && now - used > std::chrono::hours(1))
         fs::remove(it->path(), fec);
       continue;
     }

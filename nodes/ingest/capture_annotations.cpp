@@ -60,6 +60,7 @@ BoxSet load_vlm_boxes(const Capture& capture, const VlmLoadOptions& options, int
         throw InputError(file.string() + ": VLM reply of round " + std::to_string(k) +
                          " is missing (" + std::to_string(options.rounds) + " rounds asked)");
       }
+      require_inside(capture.root, file, capture.allow_outside_paths, "VLM reply");
       replies.push_back(read_input_file(file));
     }
     frame.image_width = v.camera.width;
@@ -93,6 +94,7 @@ MaskSet load_sam_box_masks(const Capture& capture, const BoxSet& boxes) {
     for (int k = 0; k < vb.rounds; ++k) {
       const fs::path file = round_file(folder, vb.view, k, ".json");
       if (!entry_exists(file)) continue;
+      require_inside(capture.root, file, capture.allow_outside_paths, "SAM box record");
       auto masks = parse_sam_box_masks(read_input_file(file), file.string());
       for (size_t j = 0; j < masks.size(); ++j) {
         if (!masks[j]) continue;
@@ -121,6 +123,7 @@ MaskSet load_sam_auto_masks(const Capture& capture) {
     vm.view = v.name;
     const fs::path file = folder / (v.name + ".json");
     if (entry_exists(file)) {
+      require_inside(capture.root, file, capture.allow_outside_paths, "SAM record");
       vm.masks = parse_sam_auto_masks(read_input_file(file), file.string());
       for (Mask& mask : vm.masks) mask.pixels = to_view_grid(mask.pixels, v.camera, file.string());
     }

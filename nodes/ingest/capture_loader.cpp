@@ -21,20 +21,24 @@ bool has_model(const fs::path& dir) {
 }
 
 // The first existing <folder>/<stem><ext>, or an empty path. An entry that is there but is not
-// a readable file (a directory, a FIFO, a dangling symlink) is an error naming it, not "absent".
-fs::path find_file(const fs::path& folder, const std::string& stem,
-                   std::initializer_list<const char*> exts) {
+// a readable file (a directory, a FIFO, a dangling symlink) is an error naming it, not "absent";
+// one that points outside the capture `root` is refused (require_inside).
+fs::path find_file(const fs::path& root, bool allow_outside, const fs::path& folder,
+                   const std::string& stem, std::initializer_list<const char*> exts) {
   for (const char* ext : exts) {
     fs::path p = folder / (stem + ext);
     if (!entry_exists(p)) continue;
+    require_inside(root, p, allow_outside, "view file");
     require_regular_file(p, "view file");
     return p;
   }
   return {};
 }
 
-void read_classes(const fs::path& file, Capture& capture) {
+void read_classes(const fs::path& root, bool allow_outside, const fs::path& file,
+                  Capture& capture) {
   if (!entry_exists(file)) return;
+  require_inside(root, file, allow_outside, "classes.yaml");
   try {
     const YAML::Node y = YAML::Load(read_input_file(file, "classes.yaml"));
     if (const auto c = y["classes"])
@@ -51,19 +55,20 @@ std::vector<ViewFiles> manifest_views(const fs::path& root, const CaptureManifes
                                       const CaptureOptions& options, Capture& capture) {
   auto views = read_colmap_views(root / m.model, root / m.images, options, capture.points);
   const fs::path gt = m.gt.empty() ? fs::path() : root / m.gt;
+  const bool out = options.allow_outside_paths;
   for (auto& v : views) {
     if (!m.depth.empty()) {
-      v.depth = find_file(root / m.depth, v.name, {".png", ".tiff", ".tif", ".exr"});
+      v.depth = find_file(root, out, root / m.depth, v.name, {".png", ".tiff", ".tif", ".exr"});
       v.depth_scale = m.depth_scale;
     }
     if (!gt.empty()) {
-      v.gt_instance = find_file(gt / "instance", v.name, {".png"});
-      v.gt_semantic = find_file(gt / "semantic", v.name, {".png"});
-      v.gt_depth = find_file(gt / "depth", v.name, {".tiff", ".tif", ".exr"});
-      v.gt_normal = find_file(gt / "normal", v.name, {".tiff", ".tif", ".exr"});
+      v.gt_instance = find_file(root, out, gt / "instance", v.name, {".png"});
+      v.gt_semantic = find_file(root, out, gt / "semantic", v.name, {".png"});
+      v.gt_depth = find_file(root, out, gt / "depth", v.name, {".tiff", ".tif", ".exr"});
+      v.gt_normal = find_file(root, out, gt / "normal", v.name, {".tiff", ".tif", ".exr"});
     }
   }
-  if (!gt.empty()) read_classes(gt / "classes.yaml", capture);
+  if (!gt.empty()) read_classes(root, out, gt / "classes.yaml", capture);
   if (m.has_held_out) {
     std::set<std::string> names(m.held_out.begin(), m.held_out.end());
     for (auto& v : views) v.held_out = names.erase(v.name) > 0;

@@ -13,6 +13,7 @@ CaptureManifest read_capture_manifest(const std::filesystem::path& root, bool al
   const auto file = root / "capture.yaml";
   if (!entry_exists(file)) return m;
   const std::string where = file.string();
+  require_inside(root, file, allow_outside_paths, "capture.yaml");
   try {
     const YAML::Node y = YAML::Load(read_input_file(file, "capture.yaml"));
     const std::string format = y["format"] ? y["format"].as<std::string>() : "";

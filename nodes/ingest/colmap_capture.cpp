@@ -11,6 +11,14 @@ namespace gslift {
 std::vector<ViewFiles> read_colmap_views(const std::filesystem::path& model_dir,
                                          const std::filesystem::path& images_dir,
                                          const CaptureOptions& options, SparsePoints& points) {
+  // Each model file there: a regular file (not /dev/zero, a FIFO, a loop), inside the folder.
+  for (const char* name : {"cameras", "images", "points3D"})
+    for (const char* ext : {".bin", ".txt"}) {
+      const std::filesystem::path file = model_dir / (std::string(name) + ext);
+      if (!entry_exists(file)) continue;
+      require_regular_file(file, "COLMAP model file");
+      require_inside(model_dir, file, options.allow_outside_paths, "COLMAP model file");
+    }
   ColmapModel model = read_colmap_model(model_dir);
   std::vector<ViewFiles> views;
   int skipped = 0;

@@ -17,8 +17,8 @@ struct EntityContext {
   std::string appearance;  // what it looks like
   // Optional, for matching the user's words onto the class (nodes/text/lexical_matcher.hpp), not
   // sent to the VLM: other names for it and a short plain description.
-  std::vector<std::string> aliases;
-  std::string description;
+  std::vector<std::string> aliases{};
+  std::string description{};
 };
 
 struct Vocabulary {

@@ -1,9 +1,14 @@
 // End-to-end tests of the command line over the debug node types (gslift_debug_cli): the real
 // cli_main, argument parsing, run.json, batch folders and exit codes.
+#include <csignal>
 #include <fstream>
+
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <nlohmann/json.hpp>
 
+#include "runtime/child_process.hpp"
 #include "runtime/exit_codes.hpp"
 #include "tests/cli/command.hpp"
 #include "tests/test_support.hpp"
@@ -406,4 +411,130 @@ TEST_CASE("batch --discover runs the capture folders without a result, then only
   CHECK(r.output.find("discovered 0 capture(s)") != std::string::npos);
   // --discover takes GRAPH only.
   CHECK(run_command(cmd + " extra.yaml").code == exit_code::kUsage);
+}
+
+TEST_CASE("a capture that aborts its process fails alone with the signal, the batch goes on",
+          "[cli]") {
+  // Each capture is a `gslift run` child process (issue 33): debug.write aborts the process on an
+  // input naming "abort", as a library's assertion would. In one process it took the batch down.
+  const fs::path dir = test::scratch_dir("cli_batch_crash");
+  const fs::path graph = write_text(dir / "write.yaml", "nodes:\n  w: {type: debug.write}\n");
+  const fs::path manifest = write_text(dir / "m.txt", "or_1\nabort_2\nor_3\n");
+  const fs::path out = dir / "out";
+  const auto r = run_command(kBinary + " batch " + quoted(manifest) + " " + quoted(graph) +
+                             " --out " + quoted(out));
+  INFO(r.output);
+  CHECK(r.code == exit_code::kBatchPartial);
+  CHECK(r.output.find("2 done, 0 skipped, 1 failed") != std::string::npos);
+  CHECK(fs::exists(out / "or_1" / "_DONE"));
+  CHECK(fs::exists(out / "or_3" / "w" / "input.txt"));
+  const json failed = read_json(out / "abort_2" / "_FAILED.json");
+  CHECK_THAT(failed["error"].get<std::string>(),
+             Catch::Contains("killed by signal " + std::to_string(SIGABRT)));
+  CHECK(read_json(out / "_summary.json")["failed"] == 1);
+}
+
+TEST_CASE("a capture name as long as a file name may be runs like any other", "[cli]") {
+  // 250 bytes is a legal folder name on ext4, but `.<name>.partial` is 9 bytes longer than the
+  // limit: the batch exited 70 and stopped (issue 33).
+  const fs::path dir = test::scratch_dir("cli_batch_long_name");
+  const fs::path graph = write_text(dir / "write.yaml", "nodes:\n  w: {type: debug.write}\n");
+  const std::string long_name(250, 'c');
+  const fs::path manifest = write_text(dir / "m.txt", long_name + "\nor_2\n");
+  const fs::path out = dir / "out";
+  const auto r = run_command(kBinary + " batch " + quoted(manifest) + " " + quoted(graph) +
+                             " --out " + quoted(out));
+  INFO(r.output);
+  CHECK(r.code == exit_code::kOk);
+  CHECK(fs::exists(out / long_name / "_DONE"));
+  CHECK(fs::exists(out / long_name / "w" / "input.txt"));
+  CHECK(fs::exists(out / "or_2" / "_DONE"));
+}
+
+TEST_CASE("a run killed near its end leaves a record saying running, not the old run's", "[cli]") {
+  const fs::path dir = test::scratch_dir("cli_run_killed");
+  const fs::path out = dir / "o";
+  REQUIRE(run_command(kBinary + " run " + quoted(write_text(dir / "sums.yaml", kSums)) + " --out " +
+                      quoted(out))
+              .code == exit_code::kOk);
+  REQUIRE(read_json(out / "run.json")["run"]["status"] == "ok");
+  // The second run into the same folder is killed (-9) once its node is running; the node would
+  // sleep a minute on its own, so no timing decides the outcome.
+  const fs::path slow = write_text(
+      dir / "slow.yaml", "nodes:\n  s: {type: debug.sleep, params: {ms: 60000, write: true}}\n");
+  const auto r =
+      run_command("sh -c '" + kBinary + " run " + slow.string() + " --out " + out.string() +
+                  " & pid=$!; while [ ! -e " + (out / "s" / "partial.txt").string() +
+                  " ] && kill -0 $pid 2>/dev/null; do sleep 0.01; done; "
+                  "kill -9 $pid; wait $pid; exit $?'");
+  INFO(r.output);
+  CHECK(r.code == 128 + SIGKILL);
+  const json j = read_json(out / "run.json");
+  CHECK(j["run"]["status"] == "running");
+  CHECK(j["graph"]["nodes"][0]["id"] == "s");  // the new run's graph, not the old one's
+}
+
+TEST_CASE("a run removes only its own dead temporaries, in the folders it writes", "[cli]") {
+  const fs::path dir = test::scratch_dir("cli_run_temporaries");
+  const fs::path graph = write_text(dir / "write.yaml", "nodes:\n  w: {type: debug.write}\n");
+  const fs::path out = dir / "o";
+  const std::string run = kBinary + " run " + quoted(graph) + " --input x --out " + quoted(out);
+  REQUIRE(run_command(run).code == exit_code::kOk);
+  // A process id that is gone: a child that has been reaped.
+  const int dead = [] {
+    const pid_t pid = fork();
+    if (pid == 0) _exit(0);
+    waitpid(pid, nullptr, 0);
+    return static_cast<int>(pid);
+  }();
+  const std::string live = std::to_string(getpid());  // another run still writing
+  const std::vector<fs::path> kept = {
+      out / "important.tmp-7-7.docx",                                       // the user's
+      out / ("run.gslift.tmp-" + live + "-0.json"),                         // a live run's
+      out / "notes" / ("n.gslift.tmp-" + std::to_string(dead) + "-1.png"),  // not gslift's folder
+  };
+  const std::vector<fs::path> removed = {
+      out / ("run.gslift.tmp-" + std::to_string(dead) + "-3.json"),
+      out / "w" / "deep" / ("x.gslift.tmp-" + std::to_string(dead) + "-2.png"),
+  };
+  for (const auto& f : kept) fs::create_directories(f.parent_path()), write_text(f, "keep");
+  for (const auto& f : removed) fs::create_directories(f.parent_path()), write_text(f, "half");
+  const auto r = run_command(run);
+  INFO(r.output);
+  CHECK(r.code == exit_code::kOk);
+  for (const auto& f : kept) CHECK(fs::exists(f));
+  for (const auto& f : removed) CHECK_FALSE(fs::exists(f));
+}
+
+TEST_CASE("run refuses an --out that holds files but no run.json", "[cli]") {
+  const fs::path dir = test::scratch_dir("cli_run_foreign_out");
+  const fs::path graph = write_text(dir / "sums.yaml", kSums);
+  const fs::path home = dir / "home";
+  fs::create_directories(home);
+  write_text(home / "thesis.tex", "mine");
+  const auto r = run_command(kBinary + " run " + quoted(graph) + " --out " + quoted(home));
+  INFO(r.output);
+  CHECK(r.code == exit_code::kBadInput);
+  CHECK(r.output.find("holds no run.json") != std::string::npos);
+  CHECK_FALSE(fs::exists(home / "run.json"));
+  CHECK_FALSE(fs::exists(home / "a"));
+}
+
+TEST_CASE("a child run reports its own peak memory, not its large parent's", "[cli]") {
+  // The kernel carries the address space's peak that exec replaces into ru_maxrss, and a child
+  // of posix_spawn runs in its parent's until it execs: sweep children reported the sweep's peak
+  // (issue 33). This process grows to 600 MB first; the child's graph needs a few MB.
+  const fs::path dir = test::scratch_dir("cli_child_peak");
+  const fs::path graph = write_text(dir / "sums.yaml", kSums);
+  std::vector<char> ballast(600u << 20);
+  for (size_t i = 0; i < ballast.size(); i += 4096) ballast[i] = 1;
+  const ChildRun child =
+      run_child_process({kBinary, "run", graph.string(), "--out", (dir / "o").string(),
+                         "--no-cache", "--log-level", "warn"});
+  REQUIRE(child.started);
+  CHECK(child.peak_mb >= 600);  // what wait4 says: the parent's
+  const double own = read_json(dir / "o" / "run.json")["run"]["peak_rss_mb"].get<double>();
+  CHECK(own > 0);
+  CHECK(own < 200);
+  CHECK(ballast[4096] == 1);
 }

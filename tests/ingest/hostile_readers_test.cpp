@@ -289,6 +289,58 @@ TEST_CASE("names that leave the capture folder are refused unless allowed", "[ho
                                                  "outside"));
 }
 
+TEST_CASE("symlinks out of every annotation folder are refused, not only images/", "[hostile]") {
+  // Issue 33: depth/, gt/, vlm/, sam_auto/ and sam_box/ followed links out of the capture (an
+  // outside file's boxes were used; /etc/passwd was opened and its first bytes quoted).
+  const fs::path capture = test::write_small_capture("hostile_links_out", "");
+  const fs::path outside = test::scratch_dir("hostile_links_out_outside");
+  fs::copy_file(capture / "depth/cam_01.png", outside / "depth.png");
+  fs::copy_file(capture / "gt/instance/cam_01.png", outside / "instance.png");
+  const auto relink = [&](const fs::path& link, const fs::path& target) {
+    fs::remove(link);
+    fs::create_symlink(target, link);
+  };
+  relink(capture / "depth/cam_01.png", outside / "depth.png");
+  CHECK_THROWS_WITH(
+      load_capture(capture),
+      Contains("view file: '" + (capture / "depth/cam_01.png").string() + "' points outside"));
+  CaptureOptions trusted;
+  trusted.allow_outside_paths = true;
+  CHECK(load_capture(capture, trusted).views.size() == 3);
+  relink(capture / "depth/cam_01.png", outside / "depth.png");
+  fs::rename(outside / "depth.png", capture / "depth_real.png");
+  relink(capture / "depth/cam_01.png", "../depth_real.png");  // a link that stays inside: fine
+  CHECK(load_capture(capture).views.size() == 3);
+
+  relink(capture / "gt/instance/cam_01.png", outside / "instance.png");
+  CHECK_THROWS_WITH(load_capture(capture), Contains("gt/instance/cam_01.png' points outside"));
+  fs::remove(capture / "gt/instance/cam_01.png");
+  fs::copy_file(outside / "instance.png", capture / "gt/instance/cam_01.png");
+  std::ofstream(outside / "classes.yaml") << "classes: {1: table}\n";
+  relink(capture / "gt/classes.yaml", outside / "classes.yaml");
+  CHECK_THROWS_WITH(load_capture(capture), Contains("classes.yaml' points outside"));
+  fs::remove(capture / "gt/classes.yaml");
+
+  const Capture c = load_capture(capture);
+  fs::create_directories(capture / "vlm/cam_00");
+  fs::create_symlink("/etc/passwd", capture / "vlm/cam_00/round_0.txt");
+  CHECK_THROWS_WITH(load_vlm_boxes(c, VlmLoadOptions{}, nullptr),
+                    Contains("VLM reply: '" + (capture / "vlm/cam_00/round_0.txt").string() +
+                             "' points outside"));
+  fs::remove_all(capture / "vlm");
+  fs::create_directories(capture / "sam_auto");
+  std::ofstream(outside / "masks.json") << "[]";
+  fs::create_symlink(outside / "masks.json", capture / "sam_auto/cam_00.json");
+  CHECK_THROWS_WITH(load_sam_auto_masks(c), Contains("cam_00.json' points outside"));
+  BoxSet boxes;
+  boxes.views.push_back(ViewBoxes{});
+  boxes.views[0].view = "cam_00";
+  boxes.views[0].rounds = 1;
+  fs::create_directories(capture / "sam_box/cam_00");
+  fs::create_symlink(outside / "masks.json", capture / "sam_box/cam_00/round_0.json");
+  CHECK_THROWS_WITH(load_sam_box_masks(c, boxes), Contains("round_0.json' points outside"));
+}
+
 TEST_CASE("an extreme pose or focal length is named before Open3D's voxel grid", "[hostile]") {
   ColouredPoints points;
   points.xyz = {{0, 0, 0}, {1e12, 0, 0}};

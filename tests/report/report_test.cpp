@@ -172,7 +172,8 @@ TEST_CASE("the run page has the graph, the timeline, the tables and every pictur
   CHECK(html.find("join/values.txt") != std::string::npos);
   CHECK(html.find("report.html</code>") == std::string::npos);  // not listing itself
   // Self-contained: the only URL is the SVG namespace.
-  CHECK(count(html, "http") == count(html, "xmlns='http://www.w3.org/2000/svg'"));
+  CHECK(count(html, "http") == count(html, "xmlns='http://www.w3.org/2000/svg'") +
+                                   count(html, "http-equiv=\"Content-Security-Policy\""));
   CHECK(html.find("<script") == std::string::npos);
   CHECK(html.find("class=\"error\"") == std::string::npos);
 
@@ -191,7 +192,7 @@ TEST_CASE("pictures over the cap are listed, not embedded", "[report]") {
   CHECK(stats.pictures_skipped == 1);
   CHECK(count(html, "data:image/png;base64,") == 1);
   CHECK(html.find("1 more not embedded") != std::string::npos);
-  CHECK(html.find("<li><a href=\"left/gradient.png\">") != std::string::npos);
+  CHECK(html.find("<li><a href=\"./left/gradient.png\">") != std::string::npos);
 }
 
 TEST_CASE("a failed run's page shows its error and the failed node", "[report]") {
@@ -253,10 +254,11 @@ TEST_CASE("the sweep page has the summary, the charts and a section per run", "[
   for (int k = 0; k < 7; ++k) {
     // Each run's page shows its pictures from the files beside it, not embedded.
     const std::string run_page = read_text(dir / ("runs/000" + std::to_string(k)) / "report.html");
-    CHECK(run_page.find("<img src=\"left/gradient.png\"") != std::string::npos);
+    CHECK(run_page.find("<img src=\"./left/gradient.png\"") != std::string::npos);
     CHECK(run_page.find("data:image") == std::string::npos);
   }
-  CHECK(count(html, "http") == count(html, "xmlns='http://www.w3.org/2000/svg'"));
+  CHECK(count(html, "http") == count(html, "xmlns='http://www.w3.org/2000/svg'") +
+                                   count(html, "http-equiv=\"Content-Security-Policy\""));
 }
 
 TEST_CASE("a sweep without headline metrics charts every metric", "[report]") {
@@ -277,4 +279,39 @@ TEST_CASE("lower_is_better reads the metric's name", "[report]") {
   CHECK_FALSE(lower_is_better("eval.mIoU"));
   CHECK_FALSE(lower_is_better("recon.test_psnr"));
   CHECK_FALSE(lower_is_better("recon.gaussians"));
+}
+
+TEST_CASE("a sweep's run folders outside the sweep folder are refused", "[report]") {
+  // gslift report writes report.html into each run's folder: sweep.json is data and may name any.
+  const fs::path dir = copy_fixture("sweep", "report_sweep_outside");
+  const std::string json = read_text(dir / "sweep.json");
+  fs::create_directories(dir.parent_path() / "elsewhere");
+  fs::create_directory_symlink(dir.parent_path() / "elsewhere", dir / "runs" / "link");
+  for (const std::string& escape :
+       {std::string("../elsewhere"), std::string("runs/../../elsewhere"),
+        (dir.parent_path() / "elsewhere").string(), std::string("runs/link")}) {
+    INFO(escape);
+    std::string edited = json;
+    const size_t at = edited.find("\"runs/0000\"");
+    REQUIRE(at != std::string::npos);
+    edited.replace(at, 11, "\"" + escape + "\"");
+    std::ofstream(dir / "sweep.json") << edited;
+    check_input_error([&] { write_report(dir, ReportOptions{}); },
+                      "is not inside the sweep folder");
+    CHECK_FALSE(fs::exists(dir.parent_path() / "elsewhere" / "report.html"));
+  }
+}
+
+TEST_CASE("links are ./ and percent-encoded, and the page allows no script", "[report]") {
+  const fs::path dir = copy_fixture("run", "report_run_links");
+  fs::create_directories(dir / "left" / "javascript:alert(1)");
+  std::ofstream(dir / "left" / "javascript:alert(1)" / "x.txt") << "x";
+  write_report(dir, ReportOptions{});
+  const std::string html = read_text(dir / "report.html");
+  CHECK(html.find("href=\"./left/javascript%3Aalert%281%29/x.txt\"") != std::string::npos);
+  CHECK(html.find("href=\"javascript") == std::string::npos);
+  CHECK(html.find("<meta http-equiv=\"Content-Security-Policy\" content=\"default-src 'none';") !=
+        std::string::npos);
+  CHECK(html.find("<script") == std::string::npos);
+  CHECK(relative_href("a b/#c?.png") == "./a%20b/%23c%3F.png");
 }

@@ -89,6 +89,10 @@ TEST_CASE("is_time_record knows time records by name", "[report]") {
   CHECK(is_time_record("train_seconds"));
   CHECK(is_time_record("wall_s"));
   CHECK(is_time_record("step_ms"));
+  // The unit anywhere in the name (issue 33: two identical reruns differed over this record).
+  CHECK(is_time_record("select_ms_median"));
+  CHECK(is_time_record("ms_per_view"));
+  CHECK_FALSE(is_time_record("masks_per_view"));
   CHECK_FALSE(is_time_record("gaussians"));
   CHECK_FALSE(is_time_record("loss"));
   CHECK_FALSE(is_time_record("masks"));

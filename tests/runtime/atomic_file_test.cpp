@@ -1,6 +1,9 @@
 #include <fstream>
 #include <stdexcept>
 
+#include <sys/wait.h>
+#include <unistd.h>
+
 #include "base/errors.hpp"
 #include "runtime/atomic_file.hpp"
 #include "tests/test_support.hpp"
@@ -52,20 +55,50 @@ TEST_CASE("a failed rewrite keeps the previous complete file", "[atomic]") {
 
 TEST_CASE("a killed run's temporaries are recognised and removed, nothing else", "[atomic]") {
   const fs::path dir = test::scratch_dir("atomic_stale");
-  CHECK(is_atomic_temporary("model.tmp-8745-5.ply"));
-  CHECK(is_atomic_temporary("run.tmp-1-0.json"));
-  CHECK(is_atomic_temporary("_DONE.tmp-12-3"));
-  CHECK_FALSE(is_atomic_temporary("model.ply"));
-  CHECK_FALSE(is_atomic_temporary("notes.tmp-a-1.txt"));
-  CHECK_FALSE(is_atomic_temporary("cam.tmp.png"));
-  fs::create_directories(dir / "render");
-  std::ofstream(dir / "render" / "cam_01_depth.tmp-8745-5.png") << "half a PNG";
-  std::ofstream(dir / "run.tmp-8745-9.json") << "{";
+  CHECK(atomic_temporary_pid("model.gslift.tmp-8745-5.ply") == 8745);
+  CHECK(atomic_temporary_pid("run.gslift.tmp-1-0.json") == 1);
+  CHECK(atomic_temporary_pid("_DONE.gslift.tmp-12-3") == 12);
+  CHECK(atomic_temporary_pid("model.ply") == 0);
+  CHECK(atomic_temporary_pid("notes.gslift.tmp-a-1.txt") == 0);
+  CHECK(atomic_temporary_pid("important.tmp-7-7.docx") == 0);  // the user's, not gslift's
+  // A process id that is gone: a reaped child.
+  const pid_t gone = fork();
+  if (gone == 0) _exit(0);
+  waitpid(gone, nullptr, 0);
+  const std::string dead = std::to_string(gone), live = std::to_string(getpid());
+  fs::create_directories(dir / "render" / "views");
+  fs::create_directories(dir / "other");
+  std::ofstream(dir / "render" / "views" / ("cam_01_depth.gslift.tmp-" + dead + "-5.png"))
+      << "half a PNG";
+  std::ofstream(dir / ("run.gslift.tmp-" + dead + "-9.json")) << "{";
+  std::ofstream(dir / ("run.gslift.tmp-" + live + "-1.json")) << "{";        // still being written
+  std::ofstream(dir / "other" / ("x.gslift.tmp-" + dead + "-1.png")) << "";  // not a run folder
   write_file_atomically(dir / "render" / "cam_00_rgb.png", "whole");
-  CHECK(remove_stale_temporaries(dir) == 2);
-  CHECK(entries(dir / "render") == 1);
+  CHECK(remove_stale_temporaries(dir, {"render"}) == 2);
+  CHECK(entries(dir / "render" / "views") == 0);
   CHECK(read(dir / "render" / "cam_00_rgb.png") == "whole");
-  CHECK(remove_stale_temporaries(dir / "missing") == 0);
+  CHECK(fs::exists(dir / ("run.gslift.tmp-" + live + "-1.json")));
+  CHECK(entries(dir / "other") == 1);
+  CHECK(remove_stale_temporaries(dir / "missing", {}) == 0);
+}
+
+TEST_CASE("temporaries of names as long as a file name may be still fit", "[atomic]") {
+  // A 250-byte name is legal; its temporary (.gslift.tmp-<pid>-<n>) was not, and the write failed.
+  const fs::path dir = test::scratch_dir("atomic_long_name");
+  const std::string name = std::string(246, 'n') + ".png";
+  write_file_atomically(dir / name, "whole");
+  CHECK(read(dir / name) == "whole");
+  CHECK(entries(dir) == 1);
+  // Shortened names keep long names apart and never split a UTF-8 character.
+  const std::string a = std::string(250, 'a') + "1", b = std::string(250, 'a') + "2";
+  CHECK(fitting_name(a, 9).size() <= kMaxNameBytes - 9);
+  CHECK(fitting_name(a, 9) != fitting_name(b, 9));
+  CHECK(fitting_name("short", 9) == "short");
+  std::string accents;
+  while (accents.size() < 300) accents += "\xc3\xa9";  // é
+  const std::string fitted = fitting_name(accents, 0);
+  CHECK(fitted.size() <= kMaxNameBytes);
+  CHECK(fitted.substr(0, fitted.find('~')).size() % 2 == 0);
 }
 
 TEST_CASE("a file that cannot be written is an OutputError naming it and why", "[atomic]") {

@@ -1,6 +1,7 @@
 #include "tests/runtime/debug_nodes.hpp"
 
 #include <chrono>
+#include <cstdlib>
 #include <fstream>
 #include <stdexcept>
 #include <thread>
@@ -96,6 +97,8 @@ Registry debug_registry() {
   r.add(NodeSpec{"debug.write", "writes its input", {}, {number("out")}, {}}, [](NodeContext& ctx) {
     if (ctx.run_input().find("bad") != std::string::npos)
       throw InputError(ctx.run_input() + ": unreadable");
+    // The fault hook of the batch isolation test: a library that aborts the process.
+    if (ctx.run_input().find("abort") != std::string::npos) std::abort();
     std::ofstream(ctx.out_dir() / "input.txt") << ctx.run_input();
     ctx.output("out", Number{1.0});
   });

@@ -2,6 +2,8 @@
 // param, input file or seed reruns, what a damaged entry does, and eviction. The LangOR case (a
 // changed lift.sigma reruns lift and what follows, nothing before) is tests/eval/
 // langor_cache_test.cpp.
+#include <sys/stat.h>
+
 #include <atomic>
 #include <fstream>
 
@@ -206,6 +208,32 @@ TEST_CASE("a corrupt or truncated entry is detected, recomputed and replaced", "
   // The recomputed entries are whole again.
   run_cached(chain(reg, 2, 3), reg, cache);
   CHECK(runs()["end"] == 3);
+}
+
+TEST_CASE("an entry that is a FIFO, a link to /dev/zero or longer than it says is recomputed",
+          "[stage_cache]") {
+  // Issue 33: a FIFO entry hung the run (opening it blocks), a link to /dev/zero was read to
+  // 4.2 GB. Only a regular file, opened without following a link, read no further than its
+  // header's size, is loaded.
+  const Registry reg = counting_registry();
+  const fs::path dir = scratch_dir("cache_hostile");
+  StageCache cache(dir / "cache", 0);
+  runs().clear();
+  run_cached(chain(reg, 2, 3), reg, cache);
+  const auto files = entries(dir / "cache");
+  REQUIRE(files.size() == 3);
+  fs::remove(files[0]);
+  REQUIRE(::mkfifo(files[0].c_str(), 0644) == 0);
+  fs::remove(files[1]);
+  fs::create_symlink("/dev/zero", files[1]);
+  std::ofstream(files[2], std::ios::app | std::ios::binary) << "more bytes than the header says";
+  const RunResult r = run_cached(chain(reg, 2, 3), reg, cache);
+  CHECK(runs() == std::map<std::string, int>{{"src", 2}, {"mid", 2}, {"end", 2}});
+  CHECK(value(r, "end") == 6.0);
+  // Each was replaced by a whole entry.
+  for (const auto& f : entries(dir / "cache")) CHECK(fs::is_regular_file(fs::symlink_status(f)));
+  run_cached(chain(reg, 2, 3), reg, cache);
+  CHECK(runs()["end"] == 2);
 }
 
 TEST_CASE("an entry stored without files does not serve a run that writes files", "[stage_cache]") {
