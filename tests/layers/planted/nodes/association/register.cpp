@@ -1,0 +1,2 @@
+// Planted: an adapter including the runtime (allowed).
+#include "runtime/registry.hpp"

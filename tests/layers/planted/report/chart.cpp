@@ -1,0 +1,2 @@
+// Planted: report/ including a benchmark.
+#include "bench/common/svg.hpp"
