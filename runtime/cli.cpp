@@ -541,9 +541,9 @@ int cmd_nodes(int argc, char** argv, const Registry& registry) {
 
 // The command line of a `gslift run` child of batch or sweep, which run each capture or point as
 // its own process (runtime/child_process.hpp): `graph_file` into `out` with the parent's thread
-// count and cache options, logging warnings only; the caller adds --input, --seed and --set.
+// count and cache options, logging at `log_level`; the caller adds --input, --seed and --set.
 std::vector<std::string> child_run_command(const Args& args, const std::string& graph_file,
-                                           const fs::path& out) {
+                                           const fs::path& out, const std::string& log_level) {
   std::vector<std::string> child = {fs::read_symlink("/proc/self/exe").string(),
                                     "run",
                                     graph_file,
@@ -552,7 +552,7 @@ std::vector<std::string> child_run_command(const Args& args, const std::string& 
                                     "--threads",
                                     std::to_string(parse_threads(args)),
                                     "--log-level",
-                                    "warn"};
+                                    log_level};
   for (const char* opt : {"cache-dir", "cache-size"})
     if (args.has(opt)) child.insert(child.end(), {std::string("--") + opt, args.last(opt)});
   if (args.flags.count("no-cache")) child.push_back("--no-cache");
@@ -611,7 +611,10 @@ int cmd_batch(int argc, char** argv, const Registry& registry) {
   }
   install_interrupt_handlers();
   const auto run_capture = [&](const ManifestEntry& e, const fs::path& out) {
-    std::vector<std::string> child = child_run_command(args, graph_file, out);
+    // The capture's log (its gslift.log) at the batch's level: a nightly log keeps each
+    // capture's progress, as when the batch ran them in its own process.
+    std::vector<std::string> child =
+        child_run_command(args, graph_file, out, args.last("log-level", "info"));
     child.insert(child.end(), {"--input", e.path});
     if (args.has("seed")) child.insert(child.end(), {"--seed", args.last("seed")});
     for (const auto& s : args.all("set")) child.insert(child.end(), {"--set", s});
@@ -705,7 +708,7 @@ int cmd_sweep(int argc, char** argv, const Registry& registry) {
     run.dir = (fs::path("runs") / name).generic_string();
     run.point = points[i];
     const fs::path dir = out / run.dir;
-    std::vector<std::string> child = child_run_command(args, graph_file, dir);
+    std::vector<std::string> child = child_run_command(args, graph_file, dir, "warn");
     child.insert(child.end(), {"--seed", std::to_string(run.point.seed)});
     if (args.has("input"))
       child.insert(child.end(), {"--input", with_seed(args.last("input"), run.point.seed)});
