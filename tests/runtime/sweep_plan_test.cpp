@@ -8,7 +8,8 @@ using namespace gslift;
 using Catch::Matchers::Contains;
 using Values = std::vector<std::string>;
 
-TEST_CASE("--grid splits at commas outside the quotes and brackets that close", "[sweep]") {
+// The name does not start with "--": ctest passes it to Catch, which would read an option.
+TEST_CASE("a --grid value splits at commas outside the quotes and brackets that close", "[sweep]") {
   CHECK(parse_grid("lift.x=[1,2],[3,4]").values == Values{"[1,2]", "[3,4]"});
   CHECK(parse_grid("n.s='a,b',c").values == Values{"'a,b'", "c"});
   // A quote or bracket that never closes is a character of its value, as in --set.
