@@ -33,7 +33,7 @@ namespace gslift {
 struct LexicalClass {
   std::string name;
   bool person = false;
-  std::vector<std::string> exact_keys;         // name and aliases without case, spaces or hyphens
+  std::vector<std::string> exact_keys;  // name and aliases without case, spaces or hyphens
   // lemma -> weight (step 3): the name's, aliases' and contexts' own words; the WordNet synonyms
   // and hypernyms of the name and alias words; the contexts' words alone.
   std::map<std::string, float> terms, wordnet_terms, context_terms;

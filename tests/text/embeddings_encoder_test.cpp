@@ -85,7 +85,8 @@ TEST_CASE("embeddings encoder: the protocol of /v1/embeddings (stand-in server, 
   CHECK(v->name == "anesthesia machine");
   CHECK(matcher.match("nurse")->name == "circulating nurse");
   REQUIRE(server.bodies().size() == 3);  // one request per new text
-  CHECK(nlohmann::json::parse(server.bodies()[1]).at("input") == nlohmann::json::array({"ventilator"}));
+  CHECK(nlohmann::json::parse(server.bodies()[1]).at("input") ==
+        nlohmann::json::array({"ventilator"}));
   enc.encode("ventilator");  // kept for the run
   CHECK(server.bodies().size() == 3);
   CHECK(enc.requests() == 3);
