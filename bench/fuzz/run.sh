@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
-# Runs every libFuzzer target (fuzz/, docs/security.md) for SECONDS each, one after the other
-# (one process, one core: the machine is shared), and records executions, speed, corpus growth
-# and findings per parser in RESULTS.json and RESULTS.csv.
+# Runs every libFuzzer target (fuzz/, docs/security.md) for SECONDS each, GSLIFT_FUZZ_JOBS of them
+# at a time (default 1: one process, one core, the machine is shared), and records executions,
+# speed, corpus growth and findings per parser in RESULTS.json and RESULTS.csv.
 #   bench/fuzz/run.sh [SECONDS=600] [RESULTS=bench/results/fuzz] [TARGET[:SECONDS]...]
 # A TARGET:SECONDS runs that target for its own time (the slow parsers need longer for 10^6
 # executions). Rows of targets not run this time are kept from an existing RESULTS.json, each with
@@ -36,8 +36,11 @@ scratch_root=$( [ -d /dev/shm ] && [ -w /dev/shm ] && echo /dev/shm || echo "$bu
 trap 'rm -rf "$scratch_root"' EXIT
 rows="$scratch_root/rows.jsonl"
 mkdir -p "$scratch_root"
-status=0
-for spec in "${targets[@]}"; do
+jobs=${GSLIFT_FUZZ_JOBS:-1}
+# fuzz_one SPEC: runs one target and appends its row to $rows (one short line per write, so rows of
+# targets running side by side do not interleave).
+fuzz_one() {
+  local spec=$1 t secs bin corpus artifacts scratch before log rc execs speed added rss units findings state
   t=${spec%%:*}
   secs=$seconds
   [[ "$spec" == *:* ]] && secs=${spec#*:}
@@ -67,15 +70,22 @@ for spec in "${targets[@]}"; do
   units=$(find "$corpus" -type f | wc -l)
   findings=$(( $(find "$artifacts" -type f | wc -l) - before ))
   state=ok
-  if [ $rc -ne 0 ] || [ "$findings" -gt 0 ]; then state="finding (exit $rc, see $log)"; status=1; fi
+  if [ $rc -ne 0 ] || [ "$findings" -gt 0 ]; then state="finding (exit $rc, see $log)"; fi
   echo "{\"target\": \"$t\", \"seconds\": $secs, \"executions\": ${execs:-0}, \"execs_per_s\": ${speed:-0}, \"corpus_units\": $units, \"new_units\": ${added:-0}, \"peak_rss_mb\": ${rss:-0}, \"findings\": $findings, \"status\": \"$state\", \"date\": \"$(date -u +%Y-%m-%dT%H:%M:%SZ)\"}" >> "$rows"
   echo "$t: ${execs:-0} executions (${speed:-0}/s), corpus $units, findings $findings, $state"
+}
+for spec in "${targets[@]}"; do
+  while [ "$(jobs -rp | wc -l)" -ge "$jobs" ]; do wait -n; done
+  fuzz_one "$spec" &
 done
+wait
+status=0
+[ "$(grep -c '"status": "ok"' "$rows")" -eq "${#targets[@]}" ] || status=1
 # The record: this run's rows, then the earlier rows of targets not run now, in the targets' order.
 python3 - "$results" "$rows" "$(clang++ --version | head -1 | grep -o '[0-9][0-9.]*' | head -1)" \
-  "$(nproc)" <<'PY' || status=2
+  "$(nproc)" "$jobs" <<'PY' || status=2
 import json, os, sys
-results, rows_file, clang, cores = sys.argv[1:]
+results, rows_file, clang, cores, jobs = sys.argv[1:]
 order = ["graph_yaml", "capture_yaml", "colmap_text", "colmap_binary", "transforms_json",
          "vlm_reply", "coco_rle", "mask_png", "depth_image", "ply"]
 new = [json.loads(l) for l in open(rows_file)] if os.path.exists(rows_file) else []
@@ -87,7 +97,7 @@ ran = {r["target"] for r in new}
 rows = new + [r for r in old if r["target"] not in ran]
 rows.sort(key=lambda r: order.index(r["target"]) if r["target"] in order else len(order))
 doc = {"tool": "libFuzzer (clang %s) + ASan + UBSan" % clang,
-       "machine": "%s cores, shared; one target at a time, one process" % cores,
+       "machine": "%s cores, shared; %s target(s) at a time, one process each" % (cores, jobs),
        "targets": rows,
        "total_executions": sum(r["executions"] for r in rows),
        "total_findings": sum(r["findings"] for r in rows)}

@@ -6,15 +6,10 @@
 #include <sstream>
 
 #include "base/errors.hpp"
+#include "base/fixed_point.hpp"
 
 namespace gslift {
 namespace {
-
-std::string fixed2(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof(buf), "%.2f", v);  // locale-independent for the "C" locale we run in
-  return buf;
-}
 
 struct Row {
   std::string name;

@@ -5,15 +5,10 @@
 #include <opencv2/imgproc.hpp>
 
 #include "base/errors.hpp"
+#include "base/fixed_point.hpp"
 
 namespace gslift {
 namespace {
-
-std::string fixed2(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof(buf), "%.2f", v);
-  return buf;
-}
 
 // CSV field: quoted when it holds a comma or a quote.
 std::string field(const std::string& s) {

@@ -85,7 +85,7 @@ TrainingFeatureMaps training_views(const Scene& s, std::vector<int> mask_views) 
   return views;
 }
 
-test::FixedTextEncoder encoder() {
+test::FixedTextEncoder furniture_encoder() {
   return test::FixedTextEncoder({{"table", vec3(1, 0, 0)},
                                  {"chair", vec3(0, 1, 0)},
                                  {"seat", vec3(0, 0.6f, 0.8f)},
@@ -162,7 +162,7 @@ TEST_CASE("Gaussians take their most similar prototype unless unseen or dissimil
 
 TEST_CASE("association: instance labels from the masks, unmatched instance unlabelled") {
   const Scene s = scene();
-  const auto enc = encoder();
+  const auto enc = furniture_encoder();
   const GaussianModel model = six_gaussians();
   // The two views are training views 0 and 2 of a MaskSet whose view 1 is held out.
   const TrainingFeatureMaps views = training_views(s, {0, 2});
@@ -194,10 +194,10 @@ TEST_CASE("association rejects feature maps that do not come from the masks give
   TrainingFeatureMaps views = training_views(s, {0, 1});
   MaskSet other = s.masks;
   other.views[1].masks.pop_back();
-  CHECK_THROWS_AS(associate_instances(views, other, s.lifted, six_gaussians(), encoder(), {}),
+  CHECK_THROWS_AS(associate_instances(views, other, s.lifted, six_gaussians(), furniture_encoder(), {}),
                   InputError);
   views.mask_views = {0, 2};
-  CHECK_THROWS_AS(associate_instances(views, s.masks, s.lifted, six_gaussians(), encoder(), {}),
+  CHECK_THROWS_AS(associate_instances(views, s.masks, s.lifted, six_gaussians(), furniture_encoder(), {}),
                   InputError);
 }
 

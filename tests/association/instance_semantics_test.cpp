@@ -10,7 +10,7 @@ using test::vec3;
 
 namespace {
 
-test::FixedTextEncoder encoder() {
+test::FixedTextEncoder table_chair_encoder() {
   return test::FixedTextEncoder({{"table", vec3(1, 0, 0)},
                                  {"chair", vec3(0, 1, 0)},
                                  {"operating table", vec3(0.8f, 0.6f, 0)}});
@@ -19,7 +19,7 @@ test::FixedTextEncoder encoder() {
 }  // namespace
 
 TEST_CASE("three or more masks: the label most similar to the others wins") {
-  const auto enc = encoder();
+  const auto enc = table_chair_encoder();
   SECTION("one mislabelled mask among three") {
     // Summed cosines: table 1 + 0 = 1 (twice), chair 0 + 0 = 0.
     const InstanceSemantics s = choose_instance_semantics({"chair", "table", "table"}, enc);
@@ -47,7 +47,7 @@ TEST_CASE("three or more masks: the label most similar to the others wins") {
 }
 
 TEST_CASE("two masks or fewer: the normalised average of their embeddings") {
-  const auto enc = encoder();
+  const auto enc = table_chair_encoder();
   const InstanceSemantics two = choose_instance_semantics({"table", "operating table"}, enc);
   // (1.8, 0.6, 0) / sqrt(3.6)
   CHECK(two.embedding.isApprox(vec3(0.948683f, 0.316228f, 0), 1e-5f));
@@ -61,7 +61,7 @@ TEST_CASE("two masks or fewer: the normalised average of their embeddings") {
 }
 
 TEST_CASE("an instance without masks has no semantics") {
-  const InstanceSemantics none = choose_instance_semantics({}, encoder());
+  const InstanceSemantics none = choose_instance_semantics({}, table_chair_encoder());
   CHECK(none.label.empty());
   REQUIRE(none.embedding.size() == 3);
   CHECK(none.embedding.norm() == 0.f);

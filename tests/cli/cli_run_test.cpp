@@ -10,6 +10,7 @@
 
 #include "runtime/child_process.hpp"
 #include "runtime/exit_codes.hpp"
+#include "tests/json_file.hpp"
 #include "tests/cli/command.hpp"
 #include "tests/test_support.hpp"
 
@@ -17,6 +18,7 @@ using namespace gslift;
 using gslift::test::run_command;
 using nlohmann::json;
 namespace fs = std::filesystem;
+using gslift::test::read_json;
 
 namespace {
 
@@ -27,10 +29,6 @@ fs::path write_text(const fs::path& file, const std::string& text) {
   return file;
 }
 
-json read_json(const fs::path& f) {
-  std::ifstream in(f);
-  return json::parse(in);
-}
 
 std::string quoted(const fs::path& p) {
   return "'" + p.string() + "'";

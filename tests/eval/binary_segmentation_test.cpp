@@ -2,16 +2,13 @@
 #include "nodes/eval/binary_segmentation.hpp"
 
 #include "base/errors.hpp"
+#include "tests/eval/mask_blocks.hpp"
 #include "tests/test_support.hpp"
 
 using namespace gslift;
+using gslift::test::block;
 
 namespace {
-cv::Mat1b block(int rows, int cols, cv::Rect r) {
-  cv::Mat1b m = cv::Mat1b::zeros(rows, cols);
-  m(r).setTo(255);
-  return m;
-}
 Mask labelled(cv::Mat1b pixels, const std::string& label) {
   Mask m;
   m.pixels = pixels;

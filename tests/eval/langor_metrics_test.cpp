@@ -1,17 +1,11 @@
 // The LangOR metrics on hand-computed masks and relevancy maps.
 #include "nodes/eval/langor_metrics.hpp"
 
+#include "tests/eval/mask_blocks.hpp"
 #include "tests/test_support.hpp"
 
 using namespace gslift;
-
-namespace {
-cv::Mat1b block(int rows, int cols, cv::Rect r) {
-  cv::Mat1b m = cv::Mat1b::zeros(rows, cols);
-  m(r).setTo(255);
-  return m;
-}
-}  // namespace
+using gslift::test::block;
 
 TEST_CASE("mask counts and IoU") {
   const cv::Mat1b pred = block(4, 4, {0, 0, 2, 2});  // 4 px

@@ -8,14 +8,11 @@
 #include "tests/graph/fake_catalog.hpp"
 
 using namespace gslift;
+using gslift::test::load_test_yaml;
 using gslift::test::position;
 using gslift::test::with_code;
 
 namespace {
-
-LoadResult load(const std::string& yaml, const LoadOptions& options = {}) {
-  return gslift::test::load_test_yaml(yaml, options);
-}
 
 // The only diagnostic with `code`, which must exist.
 Diagnostic only(const LoadResult& result, const std::string& code) {
@@ -42,12 +39,12 @@ TEST_CASE("Diagnostic::str formats file:line:col, severity, code, message and hi
 }
 
 TEST_CASE("yaml-syntax: the parser's position and message") {
-  const auto r = load("graph: t\n  bad: indent\nnodes: {}\n");
+  const auto r = load_test_yaml("graph: t\n  bad: indent\nnodes: {}\n");
   REQUIRE_FALSE(r.ok());
   REQUIRE(r.diagnostics.size() == 1);
   CHECK(r.diagnostics[0].str() == "test.yaml:2:6: error[yaml-syntax]: illegal map value");
   // An unclosed flow map is reported where the parser gives up.
-  const auto unclosed = load("graph: t\nnodes:\n  a: {type: src.make\n  b: [1, 2\n");
+  const auto unclosed = load_test_yaml("graph: t\nnodes:\n  a: {type: src.make\n  b: [1, 2\n");
   REQUIRE(unclosed.diagnostics.size() == 1);
   CHECK(unclosed.diagnostics[0].loc.str() == "test.yaml:4:4");
 }
@@ -59,7 +56,7 @@ TEST_CASE("duplicate-key: node ids and keys inside a node") {
       "  a: {type: src.make}\n"
       "  a: {type: src.make}\n"
       "  b: {type: sink.number, in: {value: a.value}, in: {value: a.value}}\n";
-  const auto r = load(yaml);
+  const auto r = load_test_yaml(yaml);
   REQUIRE_FALSE(r.ok());
   const auto dups = with_code(r, "duplicate-key");
   REQUIRE(dups.size() == 2);
@@ -77,7 +74,7 @@ TEST_CASE("unknown-key: top level and inside a node, with the nearest key") {
       "node: {}\n"
       "nodes:\n"
       "  a: {type: src.make, parmas: {value: 2}}\n";
-  const auto r = load(yaml);
+  const auto r = load_test_yaml(yaml);
   const auto unknown = with_code(r, "unknown-key");
   REQUIRE(unknown.size() == 2);
   CHECK(unknown[0].loc.str() == "test.yaml:2:1");
@@ -92,7 +89,7 @@ TEST_CASE("unknown-key: a param or input written outside params:/in: says so") {
       "nodes:\n"
       "  one: {type: src.make, value: 2}\n"
       "  show: {type: sink.number, value: one.value}\n";
-  const auto unknown = with_code(load(yaml), "unknown-key");
+  const auto unknown = with_code(load_test_yaml(yaml), "unknown-key");
   REQUIRE(unknown.size() == 2);
   CHECK(unknown[0].loc.str() == "test.yaml:2:25");
   CHECK(unknown[0].hint == "'value' is a param of src.make: write it under params:");
@@ -102,10 +99,10 @@ TEST_CASE("unknown-key: a param or input written outside params:/in: says so") {
 
 TEST_CASE("unknown-type: points at the type, suggests the nearest registered type") {
   const std::string yaml = "nodes:\n  a: {type: src.mkae}\n";
-  const auto d = only(load(yaml), "unknown-type");
+  const auto d = only(load_test_yaml(yaml), "unknown-type");
   CHECK(d.loc.str() == "test.yaml:2:13");
   CHECK(d.hint == "did you mean 'src.make'?");
-  CHECK(only(load("nodes:\n  a: {type: splat.reconstruct}\n"), "unknown-type").hint ==
+  CHECK(only(load_test_yaml("nodes:\n  a: {type: splat.reconstruct}\n"), "unknown-type").hint ==
         "`gslift nodes` lists the types");
   CHECK(d.str() ==
         "test.yaml:2:13: error[unknown-type]: node 'a' has unknown type 'src.mkae' (did you "
@@ -113,13 +110,13 @@ TEST_CASE("unknown-type: points at the type, suggests the nearest registered typ
 }
 
 TEST_CASE("missing-type: a node no file gives a type") {
-  const auto d = only(load("nodes:\n  a: {params: {value: 1}}\n"), "missing-type");
+  const auto d = only(load_test_yaml("nodes:\n  a: {params: {value: 1}}\n"), "missing-type");
   CHECK(d.loc.str() == "test.yaml:2:3");
 }
 
 TEST_CASE("unknown-param: points at the key, suggests the nearest param") {
   const std::string yaml = "nodes:\n  a: {type: src.make, params: {valeu: 2}}\n";
-  const auto d = only(load(yaml), "unknown-param");
+  const auto d = only(load_test_yaml(yaml), "unknown-param");
   CHECK(d.loc.str() == position(yaml, "valeu"));
   CHECK(d.hint == "did you mean 'value'?");
 }
@@ -133,7 +130,7 @@ TEST_CASE("param-type: string for float, float for int, scalar for list") {
       "    type: math.add\n"
       "    in: {a: one.value, b: two.value}\n"
       "    params: {scale: \"high\", count: 2.5, weights: 0.5, ks: [1, 2.5], verbose: yes}\n";
-  const auto r = load(yaml);
+  const auto r = load_test_yaml(yaml);
   const auto errors = with_code(r, "param-type");
   REQUIRE(errors.size() == 5);
   // Params are checked in name order: count, ks, scale, verbose, weights.
@@ -155,7 +152,7 @@ TEST_CASE("param-range: bounds, list elements and string choices") {
       "  one: {type: src.make, params: {value: 100.5}}\n"
       "  sum: {type: math.add, in: {a: one.value, b: one.value},\n"
       "        params: {mode: slow, weights: [0.5, -1]}}\n";
-  const auto r = load(yaml);
+  const auto r = load_test_yaml(yaml);
   const auto errors = with_code(r, "param-range");
   REQUIRE(errors.size() == 3);
   CHECK(errors[0].loc.str() == "test.yaml:2:41");
@@ -173,7 +170,7 @@ TEST_CASE("param-range: bounds, list elements and string choices") {
 TEST_CASE("missing-param: a required param without default") {
   const std::string yaml =
       "nodes:\n  t: {type: src.text}\n  p: {type: sink.print, in: {text: t.text}}\n";
-  const auto d = only(load(yaml), "missing-param");
+  const auto d = only(load_test_yaml(yaml), "missing-param");
   CHECK(d.loc.str() == "test.yaml:2:3");
   CHECK(d.message == "node 't' (src.text) needs param 'text' (string): the text");
 }
@@ -184,7 +181,7 @@ TEST_CASE("missing-input: required ports must be wired, optional ones need not")
       "  one: {type: src.make}\n"
       "  sum: {type: math.add, in: {a: one.value}}\n"
       "  mul: {type: math.mul, in: {a: sum.sum}}\n";
-  const auto d = only(load(yaml), "missing-input");
+  const auto d = only(load_test_yaml(yaml), "missing-input");
   CHECK(d.loc.str() == "test.yaml:3:3");
   CHECK(d.message == "node 'sum' (math.add) needs input 'b' (Number)");
   CHECK(d.hint == "outputs of type Number: one.value, mul.product");
@@ -195,7 +192,7 @@ TEST_CASE("unknown-input-port: points at the port, suggests the nearest") {
       "nodes:\n"
       "  one: {type: src.make}\n"
       "  mul: {type: math.mul, in: {a: one.value, bb: one.value}}\n";
-  const auto d = only(load(yaml), "unknown-input-port");
+  const auto d = only(load_test_yaml(yaml), "unknown-input-port");
   CHECK(d.loc.str() == position(yaml, "bb"));
   CHECK(d.hint == "did you mean 'b'?");
 }
@@ -207,7 +204,7 @@ TEST_CASE("bad-reference: an input that is not node.port") {
       "  mul: {type: math.mul, in: {a: one}}\n"
       "  mul2: {type: math.mul, in: {a: one.value.x}}\n"
       "  mul3: {type: math.mul, in: {a: [one, value]}}\n";
-  const auto errors = with_code(load(yaml), "bad-reference");
+  const auto errors = with_code(load_test_yaml(yaml), "bad-reference");
   REQUIRE(errors.size() == 3);
   CHECK(errors[0].loc.str() == "test.yaml:3:33");
   CHECK(errors[0].message == "input 'a' of node 'mul' must be of the form node.port, got 'one'");
@@ -220,7 +217,7 @@ TEST_CASE("unknown-node: a reference to a missing node, nearest id as hint") {
       "nodes:\n"
       "  one: {type: src.make}\n"
       "  mul: {type: math.mul, in: {a: onee.value}}\n";
-  const auto d = only(load(yaml), "unknown-node");
+  const auto d = only(load_test_yaml(yaml), "unknown-node");
   CHECK(d.loc.str() == "test.yaml:3:33");
   CHECK(d.hint == "did you mean 'one'?");
 }
@@ -230,7 +227,7 @@ TEST_CASE("unknown-output-port: nearest output, or the list of outputs when none
       "nodes:\n"
       "  one: {type: src.make}\n"
       "  sum: {type: math.add, in: {a: one.valeu, b: one.zzzzzzzz}}\n";
-  const auto errors = with_code(load(yaml), "unknown-output-port");
+  const auto errors = with_code(load_test_yaml(yaml), "unknown-output-port");
   REQUIRE(errors.size() == 2);
   CHECK(errors[0].loc.str() == position(yaml, "one.valeu"));
   CHECK(errors[0].hint == "did you mean 'value'?");
@@ -243,14 +240,14 @@ TEST_CASE("type-mismatch: names both port types") {
       "nodes:\n"
       "  one: {type: src.make}\n"
       "  p: {type: sink.print, in: {text: one.value}}\n";
-  const auto d = only(load(yaml), "type-mismatch");
+  const auto d = only(load_test_yaml(yaml), "type-mismatch");
   CHECK(d.loc.str() == "test.yaml:3:36");
   CHECK(d.message ==
         "input 'text' of node 'p' (sink.print) takes String, but 'one.value' of node 'one' "
         "(src.make) gives Number");
   CHECK(d.hint.empty());  // no String output in the graph
   const std::string with_text = yaml + "  t: {type: src.text, params: {text: hi}}\n";
-  CHECK(only(load(with_text), "type-mismatch").hint == "outputs of type String: t.text");
+  CHECK(only(load_test_yaml(with_text), "type-mismatch").hint == "outputs of type String: t.text");
 }
 
 TEST_CASE("cycle: each cycle named once, in data-flow order from its first declared node") {
@@ -262,7 +259,7 @@ TEST_CASE("cycle: each cycle named once, in data-flow order from its first decla
       "  c: {type: math.add, in: {a: b.sum, b: b.sum}}\n"
       "  after: {type: sink.number, in: {value: c.carry}}\n"
       "  self: {type: math.mul, in: {a: self.product}}\n";
-  const auto errors = with_code(load(yaml), "cycle");
+  const auto errors = with_code(load_test_yaml(yaml), "cycle");
   REQUIRE(errors.size() == 2);
   CHECK(errors[0].message == "the graph has a cycle: a -> b -> c -> a");
   CHECK(errors[0].loc.str() == "test.yaml:3:3");
@@ -276,7 +273,7 @@ TEST_CASE("bad-id: node ids are [a-z][a-z0-9_]*, 'params' is reserved") {
       "  One: {type: src.make}\n"
       "  params: {type: src.make}\n"
       "  ok_1: {type: src.make}\n";
-  const auto errors = with_code(load(yaml), "bad-id");
+  const auto errors = with_code(load_test_yaml(yaml), "bad-id");
   REQUIRE(errors.size() == 2);
   CHECK(errors[0].loc.str() == "test.yaml:2:3");
   CHECK(errors[1].loc.str() == "test.yaml:3:3");
@@ -288,15 +285,15 @@ TEST_CASE("schema: wrong kinds of YAML values and an empty graph") {
       "nodes:\n"
       "  a: [src.make]\n"
       "  b: {type: src.make, in: one.value}\n";
-  const auto errors = with_code(load(yaml), "schema");
+  const auto errors = with_code(load_test_yaml(yaml), "schema");
   REQUIRE(errors.size() == 3);
   CHECK(errors[0].loc.str() == "test.yaml:1:8");
   CHECK(errors[1].loc.str() == "test.yaml:3:6");
   CHECK(errors[2].loc.str() == position(yaml, "one.value"));
-  const auto empty = load("graph: t\n");
+  const auto empty = load_test_yaml("graph: t\n");
   REQUIRE(with_code(empty, "schema").size() == 1);
   CHECK(with_code(empty, "schema")[0].message == "the graph has no nodes");
-  CHECK(with_code(load("- a\n- b\n"), "schema").size() == 1);
+  CHECK(with_code(load_test_yaml("- a\n- b\n"), "schema").size() == 1);
 }
 
 TEST_CASE("unused-output: warned for partly consumed nodes only, without blocking") {
@@ -306,7 +303,7 @@ TEST_CASE("unused-output: warned for partly consumed nodes only, without blockin
       "  sum: {type: math.add, in: {a: one.value, b: one.value}}\n"
       "  show: {type: sink.number, in: {value: sum.sum}}\n"
       "  lonely: {type: src.make}\n";
-  const auto r = load(yaml);
+  const auto r = load_test_yaml(yaml);
   REQUIRE(r.ok());
   const auto d = only(r, "unused-output");
   CHECK(d.severity == Diagnostic::Severity::Warning);
@@ -322,7 +319,7 @@ TEST_CASE("all errors are reported at once, in reading order") {
       "  one: {type: src.mkae}\n"
       "  sum: {type: math.add, in: {a: one.value, b: too.value}, params: {scal: 2}}\n"
       "  p: {type: sink.print, in: {text: sum.sum}}\n";
-  const auto r = load(yaml);
+  const auto r = load_test_yaml(yaml);
   REQUIRE_FALSE(r.ok());
   std::vector<std::string> codes;
   for (const auto& d : r.diagnostics) codes.push_back(d.code);
@@ -333,7 +330,7 @@ TEST_CASE("all errors are reported at once, in reading order") {
 
 TEST_CASE("an alias of an enclosing value is reported, not followed forever") {
   const std::string yaml = "nodes:\n  a: {type: src.make, params: {value: &x [1, *x]}}\n";
-  const auto r = load(yaml);
+  const auto r = load_test_yaml(yaml);
   REQUIRE_FALSE(r.ok());
   const auto d = only(r, "schema");
   CHECK(d.loc.str() == position(yaml, "&x"));
@@ -351,7 +348,7 @@ TEST_CASE("mangled graph files give diagnostics with documented codes, never an 
       "  show:\n"
       "    type: sink.number\n"
       "    in: {value: sum.sum}\n";
-  REQUIRE(load(valid).ok());
+  REQUIRE(load_test_yaml(valid).ok());
   const std::set<std::string> documented{"yaml-syntax",
                                          "duplicate-key",
                                          "unknown-key",
@@ -398,7 +395,7 @@ TEST_CASE("mangled graph files give diagnostics with documented codes, never an 
       }
     }
     LoadResult r;
-    REQUIRE_NOTHROW(r = load(yaml));
+    REQUIRE_NOTHROW(r = load_test_yaml(yaml));
     if (!r.ok()) {
       ++failed;
       CHECK_FALSE(r.diagnostics.empty());

@@ -5,14 +5,11 @@
 #include "tests/graph/fake_catalog.hpp"
 
 using namespace gslift;
+using gslift::test::load_test_yaml;
 using gslift::test::position;
 using gslift::test::with_code;
 
 namespace {
-
-LoadResult load(const std::string& yaml, const LoadOptions& options = {}) {
-  return gslift::test::load_test_yaml(yaml, options);
-}
 
 const std::string kSumGraph =
     "graph: sums\n"
@@ -37,7 +34,7 @@ T param(const LoadResult& r, const std::string& node, const std::string& name) {
 TEST_CASE("substitution keeps the source's type for whole values and inserts text otherwise") {
   LoadOptions options;
   options.vars = {{"m", "exact"}};
-  const auto r = load(kSumGraph, options);
+  const auto r = load_test_yaml(kSumGraph, options);
   for (const auto& d : r.diagnostics) INFO(d.str());
   REQUIRE(r.ok());
   CHECK(param<int64_t>(r, "total", "count") == 3);
@@ -55,7 +52,7 @@ TEST_CASE("substitution keeps the source's type for whole values and inserts tex
 TEST_CASE("vars win over graph params and are typed by the declared param") {
   LoadOptions options;
   options.vars = {{"m", "fast"}, {"n", "7"}, {"scale", "0.25"}};
-  const auto r = load(kSumGraph, options);
+  const auto r = load_test_yaml(kSumGraph, options);
   CHECK(param<int64_t>(r, "total", "count") == 7);
   CHECK(param<double>(r, "total", "scale") == 0.25);
   CHECK(param<std::vector<std::string>>(r, "total", "tags")[2] == "7-abc");
@@ -63,7 +60,7 @@ TEST_CASE("vars win over graph params and are typed by the declared param") {
 }
 
 TEST_CASE("unknown-var and bad-substitution point at the value") {
-  const auto r = load(kSumGraph);  // ${m} is defined nowhere
+  const auto r = load_test_yaml(kSumGraph);  // ${m} is defined nowhere
   const auto unknown = with_code(r, "unknown-var");
   REQUIRE(unknown.size() == 1);
   CHECK(unknown[0].loc.str() == position(kSumGraph, "\"${m}\""));
@@ -73,7 +70,7 @@ TEST_CASE("unknown-var and bad-substitution point at the value") {
       "nodes:\n"
       "  t: {type: src.text, params: {text: \"a ${oops\"}}\n"
       "  u: {type: src.text, params: {text: \"a ${nope} b\"}}\n";
-  const auto r2 = load(yaml);
+  const auto r2 = load_test_yaml(yaml);
   REQUIRE(with_code(r2, "bad-substitution").size() == 1);
   CHECK(with_code(r2, "bad-substitution")[0].loc.str() == position(yaml, "\"a ${oops"));
   REQUIRE(with_code(r2, "unknown-var").size() == 1);
@@ -86,7 +83,7 @@ TEST_CASE("set overrides: typed node params, lists and graph params") {
   options.sets = {
       "total.scale=0.7",     "total.count=5",    "total.weights=[1, 2]", "total.tags=[a, \"b c\"]",
       "total.verbose=false", "total.mode=exact", "params.n=9",           "one.value = -3"};
-  const auto r = load(kSumGraph, options);
+  const auto r = load_test_yaml(kSumGraph, options);
   for (const auto& d : r.diagnostics) INFO(d.str());
   CHECK(param<double>(r, "total", "scale") == 0.7);
   CHECK(param<int64_t>(r, "total", "count") == 5);
@@ -104,21 +101,21 @@ TEST_CASE("set overrides: params.NAME feeds the substitution of NAME") {
   LoadOptions options;
   options.vars = {{"m", "fast"}};
   options.sets = {"params.n=11"};
-  CHECK(param<int64_t>(load(kSumGraph, options), "total", "count") == 11);
+  CHECK(param<int64_t>(load_test_yaml(kSumGraph, options), "total", "count") == 11);
 }
 
 TEST_CASE("set overrides: a NAME without a dot is the graph param NAME") {
   LoadOptions options;
   options.vars = {{"m", "fast"}};
   options.sets = {"n=12"};
-  const auto r = load(kSumGraph, options);
+  const auto r = load_test_yaml(kSumGraph, options);
   CHECK(std::get<int64_t>(r.graph->params.at("n")) == 12);
   CHECK(param<int64_t>(r, "total", "count") == 12);
   // The later of the two spellings wins, as with any repeated --set.
   options.sets = {"n=12", "params.n=13"};
-  CHECK(param<int64_t>(load(kSumGraph, options), "total", "count") == 13);
+  CHECK(param<int64_t>(load_test_yaml(kSumGraph, options), "total", "count") == 13);
   options.sets = {"nn=1", "=1"};
-  const auto bad = with_code(load(kSumGraph, options), "bad-set");
+  const auto bad = with_code(load_test_yaml(kSumGraph, options), "bad-set");
   REQUIRE(bad.size() == 2);
   CHECK(bad[0].str() ==
         "--set nn=1: error[bad-set]: the graph has no param 'nn' (did you mean 'n'?)");
@@ -132,7 +129,7 @@ TEST_CASE("set overrides: node.type swaps a stage, params restart, later sets ap
       "  scaled: {type: math.add, in: {a: one.value, b: one.value}, params: {scale: 2}}\n";
   LoadOptions options;
   options.sets = {"scaled.type=math.mul", "scaled.factor=3"};
-  const auto r = load(yaml, options);
+  const auto r = load_test_yaml(yaml, options);
   for (const auto& d : r.diagnostics) INFO(d.str());
   REQUIRE(r.ok());
   const GraphNode* scaled = r.graph->find("scaled");
@@ -151,7 +148,7 @@ TEST_CASE("set overrides: errors say which --set and suggest the nearest name") 
   options.vars = {{"m", "fast"}};
   options.sets = {"totl.scale=1", "total.scael=1",   "params.nn=1",       "total",
                   "total.a.b=1",  "total.count=1.5", "total.scale=[1, 2", "total.type=[a]"};
-  const auto r = load(kSumGraph, options);
+  const auto r = load_test_yaml(kSumGraph, options);
   REQUIRE_FALSE(r.ok());
   const auto bad = with_code(r, "bad-set");
   REQUIRE(bad.size() == 6);
@@ -184,14 +181,14 @@ TEST_CASE("nodes come in Kahn order, ties broken by declaration order") {
       "  b: {type: src.make}\n"
       "  a: {type: src.make}\n"
       "  other: {type: sink.number, in: {value: a.value}}\n";
-  const auto bad = load(yaml);
+  const auto bad = load_test_yaml(yaml);
   REQUIRE(with_code(bad, "bad-reference").size() == 1);  // right.a is "b", not "b.value"
   const std::string fixed = [&] {
     std::string s = yaml;
     s.replace(s.find("{a: b}"), 6, "{a: b.value}");
     return s;
   }();
-  const auto r = load(fixed);
+  const auto r = load_test_yaml(fixed);
   for (const auto& d : r.diagnostics) INFO(d.str());
   REQUIRE(r.ok());
   std::vector<std::string> order;

@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "runtime/exit_codes.hpp"
+#include "tests/json_file.hpp"
 #include "tests/cli/command.hpp"
 #include "tests/ingest/small_capture.hpp"
 #include "tests/test_support.hpp"
@@ -17,6 +18,7 @@ using namespace gslift;
 using gslift::test::run_command;
 using nlohmann::json;
 namespace fs = std::filesystem;
+using gslift::test::read_json;
 
 namespace {
 
@@ -31,10 +33,6 @@ std::string shell_quoted(const fs::path& p) {
   return "'" + p.string() + "'";
 }
 
-json read_json(const fs::path& f) {
-  std::ifstream in(f);
-  return json::parse(in);
-}
 
 bool contains(const std::string& text, const std::string& part) {
   return text.find(part) != std::string::npos;

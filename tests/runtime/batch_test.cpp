@@ -6,6 +6,7 @@
 
 #include "runtime/batch.hpp"
 #include "runtime/node.hpp"
+#include "tests/json_file.hpp"
 #include "tests/runtime/debug_nodes.hpp"
 #include "tests/test_support.hpp"
 
@@ -13,13 +14,10 @@ using namespace gslift;
 using gslift::test::debug_node;
 using nlohmann::json;
 namespace fs = std::filesystem;
+using gslift::test::read_json;
 
 namespace {
 
-json read_json(const fs::path& f) {
-  std::ifstream in(f);
-  return json::parse(in);
-}
 
 fs::path write_manifest(const fs::path& dir, const std::string& text) {
   std::ofstream(dir / "manifest.txt") << text;

@@ -5,6 +5,7 @@
 #include "runtime/executor.hpp"
 #include "runtime/run_record.hpp"
 #include "runtime/version.hpp"
+#include "tests/json_file.hpp"
 #include "tests/runtime/debug_nodes.hpp"
 #include "tests/test_support.hpp"
 
@@ -12,13 +13,8 @@ using namespace gslift;
 using gslift::test::debug_node;
 using nlohmann::json;
 namespace fs = std::filesystem;
+using gslift::test::read_json;
 
-namespace {
-json read_json(const fs::path& f) {
-  std::ifstream in(f);
-  return json::parse(in);
-}
-}  // namespace
 
 TEST_CASE("run.json records the resolved graph, the run and every node", "[run_record]") {
   const Registry reg = test::debug_registry();

@@ -13,7 +13,7 @@ using namespace gslift;
 
 namespace {
 
-struct Scene : test::PinholeScene {
+struct DistortionScene : test::PinholeScene {
   double loss(const GaussianModel& m, ModelGrads* grads = nullptr) const {
     return depth_distortion_loss(m, cam, pose, forward(m), 1.0, grads);
   }
@@ -23,7 +23,7 @@ struct Scene : test::PinholeScene {
 
 TEST_CASE("depth distortion: two layers over the view cost 2 w1 w2 |ln z2 - ln z1|",
           "[splat][geometry]") {
-  const Scene scene;
+  const DistortionScene scene;
   // Discs 100 times wider than the view: the alpha of each is its opacity to 1e-4 everywhere, so
   // every pixel blends w1 = 0.6, w2 = 0.5 (1 - 0.6).
   GaussianModel m;
@@ -50,7 +50,7 @@ TEST_CASE("depth distortion: two layers over the view cost 2 w1 w2 |ln z2 - ln z
 }
 
 TEST_CASE("depth distortion: gradient against central differences", "[splat][geometry]") {
-  const Scene scene;
+  const DistortionScene scene;
   GaussianModel m;
   m.resize(4);
   scene.place(m, 0, 10.3, 14.8, 2.0, 0.15, 0.6);

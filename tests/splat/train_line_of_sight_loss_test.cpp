@@ -15,9 +15,9 @@ namespace {
 
 // The pinhole scene, with a prior that observes a wall at 4 m on the left (columns 0-19) and an
 // object at 1.5 m on the right; the top-left 4x4 pixels have no prior.
-struct Scene : test::PinholeScene {
+struct SightScene : test::PinholeScene {
   cv::Mat1f depth;
-  Scene() : depth(30, 40, 4.f) {
+  SightScene() : depth(30, 40, 4.f) {
     depth(cv::Rect(20, 0, 20, 30)) = 1.5f;
     depth(cv::Rect(0, 0, 4, 4)) = 0.f;
   }
@@ -42,7 +42,7 @@ struct Scene : test::PinholeScene {
 
 TEST_CASE("line-of-sight loss: the opacity drawn in front of the observed surface",
           "[splat][geometry]") {
-  const Scene scene;
+  const SightScene scene;
   const double observed = 40 * 30 - 16;
 
   // One Gaussian at 2 m in front of the wall, well inside the left half: every pixel with a prior
@@ -88,7 +88,7 @@ TEST_CASE("line-of-sight loss: the opacity drawn in front of the observed surfac
 }
 
 TEST_CASE("line-of-sight loss: gradient against central differences", "[splat][geometry]") {
-  const Scene scene;
+  const SightScene scene;
   GaussianModel m;
   m.resize(4);
   scene.place(m, 0, 10.3, 14.8, 2.0, 0.12, 0.6);  // in front of the wall
@@ -108,7 +108,7 @@ TEST_CASE("line-of-sight loss: gradient against central differences", "[splat][g
   // More opacity in front of the surface costs more.
   CHECK(g.opacity_logits[0] > 0);
 
-  using Loss = double (Scene::*)(const GaussianModel&, ModelGrads*) const;
+  using Loss = double (SightScene::*)(const GaussianModel&, ModelGrads*) const;
   const auto check = [&](Loss f, const ModelGrads& analytic,
                          std::vector<float> GaussianModel::*param,
                          std::vector<float> ModelGrads::*grad, const char* name, double eps) {
@@ -129,7 +129,7 @@ TEST_CASE("line-of-sight loss: gradient against central differences", "[splat][g
     check(f, analytic, &GaussianModel::opacity_logits, &ModelGrads::opacity_logits,
           "opacity_logits", 1e-3);
   };
-  check_all(&Scene::loss, g);
+  check_all(&SightScene::loss, g);
 
   // The surface opacity: the Gaussian on the wall is now in front of the cut (4.12 m) with the
   // others, and more opacity there costs less.
@@ -140,7 +140,7 @@ TEST_CASE("line-of-sight loss: gradient against central differences", "[splat][g
   CHECK(surface < 1);
   CHECK(sg.opacity_logits[2] < 0);
   CHECK(sg.opacity_logits[0] < 0);
-  check_all(&Scene::surface_loss, sg);
+  check_all(&SightScene::surface_loss, sg);
 
   // Scaled: the gradient scales, the value does not; the same sums, bit for bit, on one thread.
   ModelGrads twice;
