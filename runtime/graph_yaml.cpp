@@ -3,7 +3,7 @@
 namespace gslift {
 
 namespace {
-// "{a: 1, b: \"x\"}": param values in their YAML-compatible rendering (graph/param.hpp).
+// "{a: 1, b: \"x\"}": param values in their YAML-compatible rendering (param/param.hpp).
 std::string flow_map(const std::map<std::string, ParamValue>& values) {
   std::string out;
   for (const auto& [k, v] : values) out += (out.empty() ? "" : ", ") + k + ": " + to_string(v);

@@ -24,7 +24,6 @@
 #include <Eigen/Core>
 #include <opencv2/core.hpp>
 
-#include "graph/param_table.hpp"
 #include "nodes/inference/instance_retrieval.hpp"
 #include "nodes/scene/capture.hpp"
 #include "nodes/scene/gaussian_model.hpp"
@@ -32,6 +31,7 @@
 #include "nodes/scene/text_encoder.hpp"
 #include "nodes/scene/text_query_results.hpp"
 #include "nodes/splat/render_cache.hpp"
+#include "param/param_table.hpp"
 
 namespace gslift {
 

@@ -1,4 +1,4 @@
-#include "graph/param_table.hpp"
+#include "param/param_table.hpp"
 
 #include <catch2/catch.hpp>
 

@@ -1,6 +1,6 @@
 #include <catch2/catch.hpp>
 
-#include "graph/param.hpp"
+#include "param/param.hpp"
 
 using namespace gslift;
 

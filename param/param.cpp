@@ -1,4 +1,4 @@
-#include "graph/param.hpp"
+#include "param/param.hpp"
 
 #include <cmath>
 #include <iomanip>

@@ -19,7 +19,7 @@
 #include <utility>
 #include <vector>
 
-#include "graph/param.hpp"
+#include "param/param.hpp"
 
 namespace gslift {
 
