@@ -25,6 +25,7 @@
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 
+#include "base/atomic_file.hpp"
 #include "base/input_file.hpp"
 #include "base/json_read.hpp"
 #include "base/utf8.hpp"
@@ -32,7 +33,6 @@
 #include "graph/suggest.hpp"
 #include "report/report_page.hpp"
 #include "report/run_diff.hpp"
-#include "runtime/atomic_file.hpp"
 #include "runtime/batch.hpp"
 #include "runtime/child_process.hpp"
 #include "runtime/executor.hpp"

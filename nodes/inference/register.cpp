@@ -8,6 +8,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include "base/atomic_file.hpp"
 #include "nodes/inference/filter_3d.hpp"
 #include "nodes/inference/label_inference.hpp"
 #include "nodes/inference/prompt_io.hpp"
@@ -17,7 +18,6 @@
 #include "nodes/inference/text_query.hpp"
 #include "nodes/splat/ply_io.hpp"
 #include "nodes/text/vocabulary_match.hpp"
-#include "runtime/atomic_file.hpp"
 
 namespace gslift {
 namespace {

@@ -7,6 +7,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "base/atomic_file.hpp"
 #include "nodes/ingest/vlm_reply.hpp"
 #include "nodes/scene/boxes.hpp"
 #include "nodes/scene/capture.hpp"
@@ -15,7 +16,6 @@
 #include "nodes/text/lexical_text_encoder.hpp"
 #include "nodes/vlm/http_post.hpp"
 #include "nodes/vlm/query_vlm.hpp"
-#include "runtime/atomic_file.hpp"
 
 namespace gslift {
 namespace {

@@ -1,4 +1,4 @@
-#include "runtime/atomic_file.hpp"
+#include "base/atomic_file.hpp"
 
 #include <algorithm>
 #include <atomic>

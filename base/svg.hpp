@@ -1,6 +1,7 @@
-// The one SVG writer behind every benchmark's chart (bench/*/): each bench lays out its own chart
-// (bars, lines, panels) in user units, and this writes the elements. Numbers are written in the C
-// locale, text is XML-escaped.
+// The one SVG writer behind every chart gslift draws (the report's pages, report/charts.cpp, and
+// the benchmarks' charts, bench/*/): each caller lays out its own chart (bars, lines, panels) in
+// user units, and this writes the elements. Numbers are written in the C locale, text is
+// XML-escaped.
 #pragma once
 
 #include <array>
@@ -9,7 +10,7 @@
 #include <string>
 #include <vector>
 
-namespace gslift::bench {
+namespace gslift {
 
 class Svg {
  public:
@@ -99,4 +100,4 @@ class Svg {
   std::ostringstream s_;
 };
 
-}  // namespace gslift::bench
+}  // namespace gslift

@@ -4,8 +4,8 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include "base/atomic_file.hpp"
 #include "base/errors.hpp"
-#include "runtime/atomic_file.hpp"
 #include "tests/test_support.hpp"
 
 using namespace gslift;
