@@ -5,8 +5,8 @@
 
 #include <vector>
 
-#include "nodes/lifting/cvp_lifting.hpp"
 #include "nodes/scene/capture.hpp"
+#include "nodes/scene/feature_map.hpp"
 #include "nodes/scene/gaussian_model.hpp"
 #include "nodes/scene/masks.hpp"
 

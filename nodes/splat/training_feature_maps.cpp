@@ -1,4 +1,4 @@
-#include "nodes/lifting/feature_maps.hpp"
+#include "nodes/splat/training_feature_maps.hpp"
 
 #include <string>
 
