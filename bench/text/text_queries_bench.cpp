@@ -14,7 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include "base/svg.hpp"
-#include "nodes/boxes/context_prompt.hpp"
+#include "nodes/scene/context_prompt.hpp"
 #include "nodes/text/lexical_text_encoder.hpp"
 #include "nodes/text/query_set.hpp"
 

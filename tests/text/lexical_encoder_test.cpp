@@ -4,7 +4,7 @@
 
 #include <fstream>
 
-#include "nodes/boxes/context_prompt.hpp"
+#include "nodes/scene/context_prompt.hpp"
 #include "nodes/text/label_mapping.hpp"
 #include "nodes/text/lexical_text_encoder.hpp"
 #include "nodes/text/query_set.hpp"

@@ -4,10 +4,10 @@
 
 #include <nlohmann/json.hpp>
 
-#include "nodes/boxes/context_prompt.hpp"
 #include "nodes/ingest/register.hpp"
 #include "nodes/scene/boxes.hpp"
 #include "nodes/scene/capture.hpp"
+#include "nodes/scene/context_prompt.hpp"
 #include "nodes/vlm/register.hpp"
 #include "runtime/executor.hpp"
 #include "tests/pinhole.hpp"

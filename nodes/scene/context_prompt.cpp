@@ -1,4 +1,4 @@
-#include "nodes/boxes/context_prompt.hpp"
+#include "nodes/scene/context_prompt.hpp"
 
 #include <cctype>
 #include <fstream>

@@ -1,6 +1,6 @@
-#include "nodes/boxes/context_prompt.hpp"
+#include "nodes/scene/context_prompt.hpp"
 
-#include "runtime/node.hpp"
+#include "base/errors.hpp"
 #include "tests/test_support.hpp"
 
 using namespace gslift;
