@@ -8,13 +8,13 @@
 #include <opencv2/imgproc.hpp>
 
 #include "base/atomic_file.hpp"
+#include "base/http_post.hpp"
 #include "nodes/ingest/vlm_reply.hpp"
 #include "nodes/scene/boxes.hpp"
 #include "nodes/scene/capture.hpp"
 #include "nodes/scene/vocabulary.hpp"
 #include "nodes/text/label_mapping.hpp"
 #include "nodes/text/lexical_text_encoder.hpp"
-#include "nodes/vlm/http_post.hpp"
 #include "nodes/vlm/query_vlm.hpp"
 
 namespace gslift {

@@ -1,4 +1,4 @@
-#include "nodes/vlm/http_post.hpp"
+#include "base/http_post.hpp"
 
 #include <chrono>
 #include <cmath>
