@@ -16,8 +16,8 @@
 #include "nodes/inference/query_files.hpp"
 #include "nodes/inference/selection_output.hpp"
 #include "nodes/inference/text_query.hpp"
+#include "nodes/scene/vocabulary_match.hpp"
 #include "nodes/splat/ply_io.hpp"
-#include "nodes/text/vocabulary_match.hpp"
 
 namespace gslift {
 namespace {

@@ -82,7 +82,7 @@ struct TextQueryOptions {
   bool normalise_relevancy = false;
   std::vector<std::string> negatives = canonical_negatives();
   // Extra closed-set vocabulary entries that compete with the queries (e.g. every class name).
-  // A query that lands on an entry (nodes/text/vocabulary_match.hpp: its nearest entry, at the
+  // A query that lands on an entry (nodes/scene/vocabulary_match.hpp: its nearest entry, at the
   // encoder's match_threshold or above) stands for it: the entry leaves the closed set, so
   // "nurse" selects the circulating nurse instead of losing it to the class name itself.
   std::vector<std::string> vocabulary;

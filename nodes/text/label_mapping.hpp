@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "nodes/scene/boxes.hpp"
-#include "nodes/text/vocabulary_match.hpp"
+#include "nodes/scene/vocabulary_match.hpp"
 
 namespace gslift {
 

@@ -1,4 +1,4 @@
-#include "nodes/text/vocabulary_match.hpp"
+#include "nodes/scene/vocabulary_match.hpp"
 
 #include <algorithm>
 #include <cstdio>
