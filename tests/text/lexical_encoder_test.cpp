@@ -5,9 +5,9 @@
 #include <fstream>
 
 #include "nodes/scene/context_prompt.hpp"
-#include "nodes/text/label_mapping.hpp"
 #include "nodes/text/lexical_text_encoder.hpp"
 #include "nodes/text/query_set.hpp"
+#include "nodes/vlm/label_mapping.hpp"
 #include "tests/test_support.hpp"
 
 using namespace gslift;

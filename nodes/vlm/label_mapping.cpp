@@ -1,11 +1,11 @@
-#include "nodes/text/label_mapping.hpp"
+#include "nodes/vlm/label_mapping.hpp"
 
 #include <cstdio>
 #include <map>
 #include <optional>
 #include <set>
 
-#include "nodes/text/normalise_text.hpp"
+#include "base/normalise_text.hpp"
 
 namespace gslift {
 

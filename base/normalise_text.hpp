@@ -1,10 +1,14 @@
-#include "nodes/text/normalise_text.hpp"
+// The canonical form labels are compared and looked up by (the table encoder, the query set, a
+// VLM's labels against the class names): lower case, runs of whitespace collapsed to one space, no
+// leading or trailing space.
+#pragma once
 
 #include <cctype>
+#include <string>
 
 namespace gslift {
 
-std::string normalise_text(const std::string& text) {
+inline std::string normalise_text(const std::string& text) {
   std::string out;
   bool pending_space = false;
   for (const char ch : text) {
