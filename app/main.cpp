@@ -2,7 +2,7 @@
 #include "nodes/inference/segment_session.hpp"
 #include "nodes/synth/synth_command.hpp"
 #include "runtime/allocator.hpp"
-#include "runtime/cli.hpp"
+#include "cli/cli.hpp"
 
 int main(int argc, char** argv) {
   gslift::keep_freed_memory_in_process();

@@ -1,4 +1,4 @@
-#include "runtime/cli.hpp"
+#include "cli/cli.hpp"
 #include "tests/runtime/debug_nodes.hpp"
 
 int main(int argc, char** argv) {

@@ -1,7 +1,7 @@
 // The gslift command line: a visible table of commands, each parsing its own options, then
 // load -> validate -> run -> write, with one place that maps failures to exit codes
 // (runtime/exit_codes.hpp).
-#include "runtime/cli.hpp"
+#include "cli/cli.hpp"
 
 #include <algorithm>
 #include <cerrno>
@@ -30,6 +30,8 @@
 #include "base/json_read.hpp"
 #include "base/utf8.hpp"
 #include "graph/loader.hpp"
+#include "cli/graph_yaml.hpp"
+#include "cli/node_catalogue.hpp"
 #include "graph/suggest.hpp"
 #include "report/report_page.hpp"
 #include "report/run_diff.hpp"
@@ -37,8 +39,6 @@
 #include "runtime/child_process.hpp"
 #include "runtime/executor.hpp"
 #include "runtime/exit_codes.hpp"
-#include "runtime/graph_yaml.hpp"
-#include "runtime/node_catalogue.hpp"
 #include "runtime/progress.hpp"
 #include "runtime/run_record.hpp"
 #include "runtime/signals.hpp"

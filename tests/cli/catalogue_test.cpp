@@ -1,4 +1,4 @@
-#include "runtime/node_catalogue.hpp"
+#include "cli/node_catalogue.hpp"
 #include "tests/runtime/debug_nodes.hpp"
 #include "tests/test_support.hpp"
 

@@ -1,4 +1,4 @@
-#include "runtime/graph_yaml.hpp"
+#include "cli/graph_yaml.hpp"
 #include "graph/loader.hpp"
 #include "runtime/executor.hpp"
 #include "tests/runtime/debug_nodes.hpp"

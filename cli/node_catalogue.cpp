@@ -1,4 +1,4 @@
-#include "runtime/node_catalogue.hpp"
+#include "cli/node_catalogue.hpp"
 
 #include <algorithm>
 

@@ -1,4 +1,4 @@
-#include "runtime/graph_yaml.hpp"
+#include "cli/graph_yaml.hpp"
 
 namespace gslift {
 
