@@ -1,16 +1,21 @@
+#include "cli/cli.hpp"
+#include "cli/program_command.hpp"
+#include "cli/runtime_commands.hpp"
 #include "nodes/builtin.hpp"
 #include "nodes/inference/segment_session.hpp"
 #include "nodes/synth/synth_command.hpp"
 #include "runtime/allocator.hpp"
-#include "runtime/cli.hpp"
 
 int main(int argc, char** argv) {
   gslift::keep_freed_memory_in_process();
   gslift::Registry registry;
   gslift::register_builtin_nodes(registry);
-  const std::vector<gslift::ExtraCommand> extra = {
-      {"synth", "write an embedded operating-room capture to a folder", gslift::synth_main},
-      {"segment", "answer SAGA prompts (JSON lines on stdin) on a feature model",
-       gslift::segment_main}};
-  return gslift::cli_main(argc, argv, registry, extra);
+  gslift::CommandTable commands;
+  gslift::add_runtime_commands(commands);
+  commands.add(gslift::program_command(
+      "synth", "write an embedded operating-room capture to a folder", gslift::synth_main));
+  commands.add(gslift::program_command(
+      "segment", "answer SAGA prompts (JSON lines on stdin) on a feature model",
+      gslift::segment_main));
+  return gslift::cli_main(argc, argv, registry, commands);
 }

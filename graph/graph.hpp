@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "graph/param.hpp"
+#include "param/param.hpp"
 
 namespace gslift {
 

@@ -8,7 +8,7 @@
 
 #include <yaml-cpp/yaml.h>
 
-#include "graph/param.hpp"
+#include "param/param.hpp"
 
 namespace gslift {
 

@@ -1,5 +1,7 @@
 #include "nodes/builtin.hpp"
 
+#include <memory>
+
 #include "nodes/association/register.hpp"
 #include "nodes/boxes/register.hpp"
 #include "nodes/eval/register.hpp"
@@ -12,6 +14,7 @@
 #include "nodes/scene/port_archive.hpp"
 #include "nodes/splat/register.hpp"
 #include "nodes/synth/register.hpp"
+#include "nodes/text/lexical_text_encoder.hpp"
 #include "nodes/text/register.hpp"
 #include "nodes/vlm/register.hpp"
 
@@ -50,7 +53,10 @@ void register_builtin_nodes(Registry& registry) {
   register_inference_nodes(registry);
   register_eval_nodes(registry);
   register_features_nodes(registry);
-  register_vlm_nodes(registry);
+  // vlm.query maps free labels with the text family's offline encoder when none is wired.
+  register_vlm_nodes(registry, [](const Vocabulary& vocabulary) {
+    return std::make_shared<const LexicalTextEncoder>(vocabulary);
+  });
   register_masks_nodes(registry);
   register_fusion_nodes(registry);
 }

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <map>
 
-#include "bench/common/svg.hpp"
+#include "base/svg.hpp"
 #include "report/layered_layout.hpp"
 #include "report/pareto.hpp"
 #include "report/timeline.hpp"
@@ -13,8 +13,6 @@
 namespace gslift::report {
 
 namespace {
-
-using bench::Svg;
 
 std::string num(double v) {
   return Svg::number(std::round(v * 100) / 100);

@@ -1,4 +1,4 @@
-// The report's pictures of a run and a sweep, as inline SVG documents (bench/common/svg.hpp):
+// The report's pictures of a run and a sweep, as inline SVG documents (base/svg.hpp):
 // the resolved graph, the timeline of the nodes, and scatter charts with error bars.
 #pragma once
 

@@ -5,11 +5,11 @@
 #include <map>
 #include <set>
 
+#include "base/atomic_file.hpp"
 #include "base/errors.hpp"
 #include "report/charts.hpp"
 #include "report/html.hpp"
 #include "report/timeline.hpp"
-#include "runtime/atomic_file.hpp"
 
 namespace gslift::report {
 

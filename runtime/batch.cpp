@@ -17,10 +17,10 @@
 
 #include <spdlog/spdlog.h>
 
+#include "base/atomic_file.hpp"
 #include "base/hash.hpp"
 #include "base/input_file.hpp"
 #include "base/json_read.hpp"
-#include "runtime/atomic_file.hpp"
 #include "runtime/child_process.hpp"
 #include "runtime/exit_codes.hpp"
 #include "runtime/node.hpp"

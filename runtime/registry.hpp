@@ -10,7 +10,7 @@
 
 #include "base/byte_archive.hpp"
 #include "graph/node_spec.hpp"
-#include "graph/param_table.hpp"
+#include "param/param_table.hpp"
 #include "runtime/node.hpp"
 
 namespace gslift {

@@ -1,7 +1,7 @@
 #include "runtime/run_record.hpp"
 
+#include "base/atomic_file.hpp"
 #include "base/utf8.hpp"
-#include "runtime/atomic_file.hpp"
 #include "runtime/version.hpp"
 
 namespace gslift {

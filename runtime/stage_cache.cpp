@@ -15,9 +15,9 @@
 
 #include <spdlog/spdlog.h>
 
+#include "base/atomic_file.hpp"
 #include "base/cache_root.hpp"
 #include "base/hash.hpp"
-#include "runtime/atomic_file.hpp"
 #include "runtime/registry.hpp"
 #include "runtime/version.hpp"
 

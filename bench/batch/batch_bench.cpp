@@ -22,8 +22,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "bench/common/svg.hpp"
-#include "runtime/atomic_file.hpp"
+#include "base/atomic_file.hpp"
+#include "base/svg.hpp"
 #include "runtime/child_process.hpp"
 
 namespace fs = std::filesystem;
@@ -59,13 +59,13 @@ double slope(const std::vector<double>& y) {
 std::string chart(const std::vector<Capture>& caps, double sum_alone, double batch_wall,
                   double mb_slope) {
   const int w = 720, h = 320, panel = 340, left = 50, top = 70, bottom = 40;
-  bench::Svg svg(w, h, 11, true);
+  Svg svg(w, h, 11, true);
   svg.text(10, 16,
            std::to_string(caps.size()) + " small captures, 2 threads: one gslift batch " +
-               bench::Svg::number(batch_wall) + " s vs " + std::to_string(caps.size()) +
-               " separate gslift runs " + bench::Svg::number(sum_alone) + " s");
+               Svg::number(batch_wall) + " s vs " + std::to_string(caps.size()) +
+               " separate gslift runs " + Svg::number(sum_alone) + " s");
   svg.text(10, 32,
-           "peak memory per capture inside the batch: slope " + bench::Svg::number(mb_slope) +
+           "peak memory per capture inside the batch: slope " + Svg::number(mb_slope) +
                " MB per capture");
   svg.text(10, 50, "grey: gslift run alone", "fill='#777777'");
   svg.text(160, 50, "blue: inside gslift batch", "fill='#2e6da4'");
@@ -80,7 +80,7 @@ std::string chart(const std::vector<Capture>& caps, double sum_alone, double bat
     svg.line(x0 + left, top + inner_h, x0 + left + inner_w, top + inner_h, "black");
     svg.line(x0 + left, top, x0 + left, top + inner_h, "black");
     for (double v : {0.0, top_value / 2, top_value / 1.15})
-      svg.text(x0 + 4, Y(v) + 4, bench::Svg::number(std::round(v * 100) / 100));
+      svg.text(x0 + 4, Y(v) + 4, Svg::number(std::round(v * 100) / 100));
     std::vector<std::array<double, 2>> a, b;
     for (size_t i = 0; i < caps.size(); ++i) {
       a.push_back({X(i), Y(alone(caps[i]))});

@@ -12,9 +12,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include "base/atomic_file.hpp"
 #include "base/statistics.hpp"
-#include "bench/common/svg.hpp"
-#include "runtime/atomic_file.hpp"
+#include "base/svg.hpp"
 #include "runtime/child_process.hpp"
 
 using namespace gslift;
@@ -93,7 +93,7 @@ int main(int argc, char** argv) {
                         {"cold_mIoU", cold_miou},
                         {"last_rerun_mIoU", warm_miou}};
   write_file_atomically(out_dir / "cache.json", doc.dump(2) + "\n");
-  bench::Svg svg(520, 170, 12, true);
+  Svg svg(520, 170, 12, true);
   svg.text(10, 20,
            "LangOR: cold run vs rerun with lift.sigma changed (median of " +
                std::to_string(repeats) + ", seconds)",

@@ -28,15 +28,15 @@
 
 #include <nlohmann/json.hpp>
 
+#include "base/atomic_file.hpp"
 #include "base/statistics.hpp"
-#include "bench/common/svg.hpp"
+#include "base/svg.hpp"
 #include "nodes/boxes/grabcut_priors.hpp"
 #include "nodes/builtin.hpp"
 #include "nodes/eval/semantic_eval.hpp"
 #include "nodes/fusion/bayesian_fusion.hpp"
 #include "nodes/fusion/cluster_smoothing.hpp"
 #include "nodes/fusion/multiview_fusion.hpp"
-#include "runtime/atomic_file.hpp"
 #include "runtime/executor.hpp"
 
 using namespace gslift;
@@ -185,7 +185,7 @@ std::string svg_chart(const std::vector<std::pair<std::string, std::string>>& ba
   const int width = std::max(520, left + group * static_cast<int>(bars.size()) + 20);
   const char* colours[] = {"#4477aa", "#ee6677"};
   const char* sets[] = {"all", "test"};
-  bench::Svg svg(width, top + height + 150, 11, true);
+  Svg svg(width, top + height + 150, 11, true);
   for (int v = 0; v <= 100; v += 25) {
     const double y = top + height - height * v / 100.0;
     svg.line(left, y, width - 10, y, "#ddd");
@@ -208,8 +208,8 @@ std::string svg_chart(const std::vector<std::pair<std::string, std::string>>& ba
     }
     const double tx = x0 + bar, ty = top + height + 10;
     svg.text(tx, ty, label,
-             "text-anchor='end' transform='rotate(-45 " + bench::Svg::number(tx) + " " +
-                 bench::Svg::number(ty) + ")'");
+             "text-anchor='end' transform='rotate(-45 " + Svg::number(tx) + " " + Svg::number(ty) +
+                 ")'");
   }
   svg.rect(left, top + height + 122, 10, 10, colours[0]);
   svg.text(left + 14, top + height + 131, "CA, all views");

@@ -20,11 +20,11 @@
 
 #include <nlohmann/json.hpp>
 
+#include "base/atomic_file.hpp"
 #include "base/statistics.hpp"
 #include "bench/common/tsv.hpp"
 #include "report/charts.hpp"
 #include "report/pareto.hpp"
-#include "runtime/atomic_file.hpp"
 
 using namespace gslift;
 using bench::read_tsv;

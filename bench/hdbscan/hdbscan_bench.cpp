@@ -17,11 +17,11 @@
 #include <nlohmann/json.hpp>
 
 #include "base/random.hpp"
-#include "bench/common/svg.hpp"
+#include "base/svg.hpp"
 
+#include "base/atomic_file.hpp"
 #include "nodes/lifting/hdbscan.hpp"
 #include "runtime/allocator.hpp"
-#include "runtime/atomic_file.hpp"
 
 using namespace gslift;
 
@@ -75,7 +75,7 @@ std::string svg_chart(const std::vector<Row>& rows, const std::vector<int>& size
   const double max_n = sizes.empty() ? 1 : *std::max_element(sizes.begin(), sizes.end());
   auto px = [&](double n) { return L + (W - L - R) * n / max_n; };
   auto py = [&](double t) { return H - B - (H - T - B) * t / max_t; };
-  bench::Svg svg(W, H, 12, true);
+  Svg svg(W, H, 12, true);
   svg.text(W / 2, 20, "HDBSCAN (exact, " + std::to_string(kDim) + "-d): median wall time vs points",
            "text-anchor='middle' font-size='14'");
   svg.line(L, H - B, W - R, H - B, "black");

@@ -29,12 +29,12 @@
 
 #include <nlohmann/json.hpp>
 
+#include "base/atomic_file.hpp"
 #include "base/statistics.hpp"
-#include "bench/common/svg.hpp"
+#include "base/svg.hpp"
 #include "nodes/builtin.hpp"
 #include "nodes/inference/text_query.hpp"
 #include "runtime/allocator.hpp"
-#include "runtime/atomic_file.hpp"
 #include "runtime/child_process.hpp"
 #include "runtime/executor.hpp"
 
@@ -201,7 +201,7 @@ std::string svg_chart(const nlohmann::json& variants) {
   const int width = std::max(420, left + group * static_cast<int>(variants.size()) + 20);
   const char* colours[] = {"#4477aa", "#228833", "#ee6677"};
   const char* names[] = {"mIoU", "mLocAcc", "mAcc"};
-  bench::Svg svg(width, top + height + 70, 11);
+  Svg svg(width, top + height + 70, 11);
   for (int v = 0; v <= 100; v += 25) {
     const double y = top + height - height * v / 100.0;
     svg.line(left, y, width - 10, y, "#ddd");

@@ -25,10 +25,11 @@
 
 #include "graph/loader.hpp"
 #include "nodes/builtin.hpp"
-#include "nodes/lifting/feature_maps.hpp"
 #include "nodes/scene/instances.hpp"
+#include "nodes/scene/lifted_instances.hpp"
 #include "nodes/splat/rasterizer.hpp"
 #include "nodes/splat/render_cache.hpp"
+#include "nodes/splat/training_feature_maps.hpp"
 #include "runtime/allocator.hpp"
 #include "runtime/executor.hpp"
 

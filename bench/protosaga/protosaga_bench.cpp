@@ -40,9 +40,10 @@
 
 #include <nlohmann/json.hpp>
 
+#include "base/atomic_file.hpp"
 #include "base/random.hpp"
 #include "base/statistics.hpp"
-#include "bench/common/svg.hpp"
+#include "base/svg.hpp"
 #include "nodes/association/memory_bank.hpp"
 #include "nodes/builtin.hpp"
 #include "nodes/eval/instance_hungarian.hpp"
@@ -51,7 +52,6 @@
 #include "nodes/inference/label_inference.hpp"
 #include "nodes/splat/ply_io.hpp"
 #include "runtime/allocator.hpp"
-#include "runtime/atomic_file.hpp"
 #include "runtime/child_process.hpp"
 #include "runtime/executor.hpp"
 
@@ -140,7 +140,7 @@ std::string svg_chart(const nlohmann::json& association, const nlohmann::json& e
   const double left = 40, top = 40, height = 220, group = 110, bar = 28;
   const size_t groups = association.size() + end_to_end.size();
   const double width = left + group * groups + 40;
-  bench::Svg svg(width, top + height + 90, 11, true);
+  Svg svg(width, top + height + 90, 11, true);
   for (int v = 0; v <= 100; v += 20) {
     const double y = top + height - height * v / 100.0;
     svg.line(left, y, width - 10, y, "#ddd");

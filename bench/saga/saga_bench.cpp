@@ -26,8 +26,9 @@
 #include <tbb/global_control.h>
 #include <nlohmann/json.hpp>
 
+#include "base/atomic_file.hpp"
 #include "base/random.hpp"
-#include "bench/common/svg.hpp"
+#include "base/svg.hpp"
 #include "nodes/builtin.hpp"
 #include "nodes/eval/binary_segmentation.hpp"
 #include "nodes/features/correspondence_loss.hpp"
@@ -43,7 +44,6 @@
 #include "nodes/masks/auto_masks.hpp"
 #include "nodes/splat/ply_io.hpp"
 #include "runtime/allocator.hpp"
-#include "runtime/atomic_file.hpp"
 #include "runtime/child_process.hpp"
 
 using namespace gslift;
@@ -272,7 +272,7 @@ nlohmann::json auto_vs_sam() {
 std::string svg_chart(const nlohmann::json& entries) {
   const int bar = 18, group = 2 * bar + 30, left = 50, top = 30, height = 200;
   const int width = std::max(460, left + group * static_cast<int>(entries.size()) + 20);
-  bench::Svg svg(width, top + height + 90, 11);
+  Svg svg(width, top + height + 90, 11);
   for (int v = 0; v <= 100; v += 25) {
     const double y = top + height - height * v / 100.0;
     svg.line(left, y, width - 10, y, "#ddd");

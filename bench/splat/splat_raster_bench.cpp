@@ -16,13 +16,13 @@
 #include <tbb/global_control.h>
 #include <nlohmann/json.hpp>
 
+#include "base/atomic_file.hpp"
 #include "base/random.hpp"
-#include "bench/common/svg.hpp"
+#include "base/svg.hpp"
 #include "nodes/splat/raster_state.hpp"
 #include "nodes/splat/rasterizer.hpp"
 #include "nodes/splat/render_cache.hpp"
 #include "runtime/allocator.hpp"
-#include "runtime/atomic_file.hpp"
 
 using namespace gslift;
 
@@ -137,7 +137,7 @@ std::string svg_chart(const std::vector<Row>& rows) {
   max_ms *= 1.1;
   auto y = [&](double ms) { return bottom - (bottom - top) * ms / max_ms; };
   const char* colours[4] = {"#9ecae1", "#3182bd", "#fdae6b", "#e6550d"};
-  bench::Svg svg(W, H, 12, true);
+  Svg svg(W, H, 12, true);
   svg.text(W / 2, 20,
            "CPU rasterizer, " + std::to_string(kWidth) + "x" + std::to_string(kHeight) +
                ", RGB+depth+normal, ms per view (median wall time; black: CPU time of the work, "

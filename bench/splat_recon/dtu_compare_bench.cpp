@@ -28,12 +28,12 @@
 
 #include <nlohmann/json.hpp>
 
-#include "bench/common/svg.hpp"
+#include "base/atomic_file.hpp"
+#include "base/svg.hpp"
 #include "nodes/ingest/capture_loader.hpp"
 #include "nodes/splat/rasterizer.hpp"
 #include "nodes/splat/reconstruct.hpp"
 #include "runtime/allocator.hpp"
-#include "runtime/atomic_file.hpp"
 
 using namespace gslift;
 namespace fs = std::filesystem;
@@ -61,7 +61,7 @@ std::array<double, 2> held_out_psnr(const GaussianModel& model, const View& v) {
 
 std::string chart(const nlohmann::json& runs) {
   const double left = 60, top = 40, w = 520, h = 300;
-  bench::Svg svg(left + w + 260, top + h + 60, 12, true);
+  Svg svg(left + w + 260, top + h + 60, 12, true);
   svg.text(10, 20, "DTU scan 24, view 000024 held out: held-out PSNR (every pixel) vs wall time",
            "font-size='14'");
   double max_t = 1, lo = 1e9, hi = 0;
@@ -77,7 +77,7 @@ std::string chart(const nlohmann::json& runs) {
   svg.line(left, top, left, top + h, "black");
   for (double p = lo; p <= hi; p += 1) {
     svg.line(left - 4, Y(p), left + w, Y(p), "#ddd");
-    svg.text(left - 30, Y(p) + 4, bench::Svg::number(p));
+    svg.text(left - 30, Y(p) + 4, Svg::number(p));
   }
   svg.text(left + w / 2 - 40, top + h + 35, "wall seconds (2 threads)");
   const std::vector<std::string> colours = {"#4c72b0", "#dd8452", "#55a868", "#c44e52",

@@ -14,9 +14,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include "base/atomic_file.hpp"
 #include "base/statistics.hpp"
 #include "report/charts.hpp"
-#include "runtime/atomic_file.hpp"
 
 using namespace gslift;
 using nlohmann::json;

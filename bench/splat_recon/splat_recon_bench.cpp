@@ -35,12 +35,12 @@
 #include <tbb/global_control.h>
 #include <nlohmann/json.hpp>
 
-#include "bench/common/svg.hpp"
+#include "base/atomic_file.hpp"
+#include "base/svg.hpp"
 #include "nodes/ingest/capture_loader.hpp"
 #include "nodes/splat/reconstruct.hpp"
 #include "recon_flops.hpp"
 #include "runtime/allocator.hpp"
-#include "runtime/atomic_file.hpp"
 
 using namespace gslift;
 namespace fs = std::filesystem;
@@ -152,7 +152,7 @@ std::string svg_chart(const nlohmann::json& cases) {
   const int row = 26, left = 700, width = 300, top = 40;  // left: room for sweep labels
   const int n = static_cast<int>(cases.size());
   const int panel = n * row + 30;
-  bench::Svg svg(left + width + 120, top + 2 * panel + 20);
+  Svg svg(left + width + 120, top + 2 * panel + 20);
   svg.text(10, 20, "splat reconstruction: time and PSNR", "font-size='14'");
   double max_s = 1, max_p = 1;
   for (const auto& c : cases) {
@@ -165,8 +165,7 @@ std::string svg_chart(const nlohmann::json& cases) {
     const double sec = charted_seconds(c);
     svg.text(10, y + 13, c["case"].get<std::string>());
     svg.rect(left, y, width * sec / max_s, 18, "#4c72b0");
-    svg.text(left + width * sec / max_s + 5, y + 13,
-             bench::Svg::number(std::round(sec * 10) / 10) + " s");
+    svg.text(left + width * sec / max_s + 5, y + 13, Svg::number(std::round(sec * 10) / 10) + " s");
     const int yp = top + panel + 20 + i * row;
     const double train = c["train_psnr"].get<double>();
     const double test = c["test_psnr"].is_null() ? 0 : c["test_psnr"].get<double>();
@@ -174,8 +173,8 @@ std::string svg_chart(const nlohmann::json& cases) {
     svg.rect(left, yp, width * train / max_p, 9, "#55a868");
     svg.rect(left, yp + 9, width * test / max_p, 9, "#c44e52");
     svg.text(left + width * train / max_p + 5, yp + 13,
-             bench::Svg::number(std::round(train * 10) / 10) + " / " +
-                 bench::Svg::number(std::round(test * 10) / 10) + " dB");
+             Svg::number(std::round(train * 10) / 10) + " / " +
+                 Svg::number(std::round(test * 10) / 10) + " dB");
   }
   const bool cpu = !cases.empty() && cases[0].contains("cpu_seconds");
   svg.text(10, top + 10, cpu ? "CPU time, 1 thread (s)" : "wall time (s)");

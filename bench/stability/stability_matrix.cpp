@@ -18,10 +18,10 @@
 
 #include <nlohmann/json.hpp>
 
+#include "base/atomic_file.hpp"
 #include "base/statistics.hpp"
-#include "bench/common/svg.hpp"
+#include "base/svg.hpp"
 #include "bench/common/tsv.hpp"
-#include "runtime/atomic_file.hpp"
 
 using namespace gslift;
 using bench::read_tsv;
@@ -206,8 +206,7 @@ int main(int argc, char** argv) {
     const double cw = 150, ch = 34, left = 190, top = 50;
     size_t columns = 0;
     for (const Knob* k : shown) columns = std::max(columns, k->levels.size());
-    bench::Svg svg(left + cw * double(columns) + 20, top + ch * double(shown.size()) + 40, 12,
-                   true);
+    Svg svg(left + cw * double(columns) + 20, top + ch * double(shown.size()) + 40, 12, true);
     svg.text(10, 22,
              name + ": " + headline + " under one failure knob at a time (mean ± std, " + "seeds)",
              "font-weight='bold'");

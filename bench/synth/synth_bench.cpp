@@ -20,7 +20,8 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include "bench/common/svg.hpp"
+#include "base/atomic_file.hpp"
+#include "base/svg.hpp"
 #include "nodes/synth/bvh.hpp"
 #include "nodes/synth/or_capture.hpp"
 #include "nodes/synth/render_view.hpp"
@@ -28,7 +29,6 @@
 #include "nodes/synth/visible_instances.hpp"
 #include "nodes/synth/vlm_simulator.hpp"
 #include "runtime/allocator.hpp"
-#include "runtime/atomic_file.hpp"
 
 namespace fs = std::filesystem;
 using namespace gslift;
@@ -41,10 +41,10 @@ std::string bar_chart_svg(const std::vector<double>& seconds, double median, dou
   const double top_value =
       std::max(target, *std::max_element(seconds.begin(), seconds.end())) * 1.15;
   auto y = [&](double v) { return h - bottom - (h - bottom - top) * v / top_value; };
-  bench::Svg svg(w, h);
-  svg.text(left, 18,
-           "gslift synth, default capture (5 views, 640x480): median " +
-               bench::Svg::number(median) + " s");
+  Svg svg(w, h);
+  svg.text(
+      left, 18,
+      "gslift synth, default capture (5 views, 640x480): median " + Svg::number(median) + " s");
   svg.line(left, h - bottom, w - 10, h - bottom, "black");
   svg.line(left, top, left, h - bottom, "black");
   const double slot = double(w - left - 20) / seconds.size();
@@ -54,7 +54,7 @@ std::string bar_chart_svg(const std::vector<double>& seconds, double median, dou
     svg.text(x, h - bottom + 15, "run " + std::to_string(i + 1));
   }
   svg.line(left, y(target), w - 10, y(target), "#c0392b", "stroke-dasharray='6,4'");
-  svg.text(w - 120, y(target) - 5, "target " + bench::Svg::number(target) + " s", "fill='#c0392b'");
+  svg.text(w - 120, y(target) - 5, "target " + Svg::number(target) + " s", "fill='#c0392b'");
   svg.text(8, y(top_value / 2), "s");
   return svg.str();
 }

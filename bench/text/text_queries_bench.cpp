@@ -13,8 +13,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "bench/common/svg.hpp"
-#include "nodes/boxes/context_prompt.hpp"
+#include "base/svg.hpp"
+#include "nodes/scene/context_prompt.hpp"
 #include "nodes/text/lexical_text_encoder.hpp"
 #include "nodes/text/query_set.hpp"
 
@@ -108,7 +108,7 @@ int main(int argc, char** argv) {
       << "load_s," << load_s << "\n";
 
   // Two accuracy bars against the 75% target, and the latencies as text.
-  bench::Svg svg(360, 230, 12, true);
+  Svg svg(360, 230, 12, true);
   const double base = 170, height = 140;
   svg.text(20, 20, "Offline encoder on the OR paraphrases (top-1)");
   const double target_y = base - 0.75 * height;
@@ -119,7 +119,7 @@ int main(int argc, char** argv) {
   for (int i = 0; i < 2; ++i) {
     const double x = 70 + i * 120, h = acc[i] * height;
     svg.rect(x, base - h, 60, h, i ? "#2a6fb0" : "#9bbbd9");
-    svg.text(x + 8, base - h - 4, bench::Svg::number(100 * acc[i]) + "%");
+    svg.text(x + 8, base - h - 4, Svg::number(100 * acc[i]) + "%");
     svg.text(x + 18, base + 16, names[i]);
   }
   char latency[160];

@@ -18,14 +18,14 @@
 
 #include <Eigen/Core>
 
-#include "graph/param_table.hpp"
-#include "nodes/lifting/feature_maps.hpp"
 #include "nodes/scene/feature_map.hpp"
 #include "nodes/scene/gaussian_model.hpp"
 #include "nodes/scene/instances.hpp"
 #include "nodes/scene/lifted_instances.hpp"
 #include "nodes/scene/masks.hpp"
 #include "nodes/scene/text_encoder.hpp"
+#include "nodes/splat/training_feature_maps.hpp"
+#include "param/param_table.hpp"
 
 namespace gslift {
 

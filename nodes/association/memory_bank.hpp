@@ -28,11 +28,11 @@
 
 #include <opencv2/core.hpp>
 
-#include "graph/param_table.hpp"
 #include "nodes/scene/camera.hpp"
 #include "nodes/scene/capture.hpp"
 #include "nodes/scene/gaussian_model.hpp"
 #include "nodes/scene/label_maps.hpp"
+#include "param/param_table.hpp"
 
 namespace gslift {
 

@@ -5,11 +5,11 @@
 
 #include <nlohmann/json.hpp>
 
+#include "base/atomic_file.hpp"
 #include "nodes/association/instance_mask_gaussian.hpp"
 #include "nodes/association/memory_bank.hpp"
 #include "nodes/association/sam_partition.hpp"
-#include "nodes/lifting/feature_maps.hpp"
-#include "runtime/atomic_file.hpp"
+#include "nodes/splat/training_feature_maps.hpp"
 
 namespace gslift {
 namespace {

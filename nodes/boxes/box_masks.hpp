@@ -19,11 +19,11 @@
 
 #include <opencv2/core.hpp>
 
-#include "graph/param_table.hpp"
 #include "nodes/boxes/duplicate_masks.hpp"
 #include "nodes/scene/boxes.hpp"
 #include "nodes/scene/capture.hpp"
 #include "nodes/scene/masks.hpp"
+#include "param/param_table.hpp"
 
 namespace gslift {
 

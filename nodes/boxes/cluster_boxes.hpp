@@ -21,8 +21,8 @@
 #include <string>
 #include <vector>
 
-#include "graph/param_table.hpp"
 #include "nodes/scene/boxes.hpp"
+#include "param/param_table.hpp"
 
 namespace gslift {
 

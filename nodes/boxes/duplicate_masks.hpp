@@ -15,9 +15,9 @@
 
 #include <opencv2/core.hpp>
 
-#include "graph/param_table.hpp"
 #include "nodes/scene/boxes.hpp"
 #include "nodes/scene/masks.hpp"
+#include "param/param_table.hpp"
 
 namespace gslift {
 

@@ -11,12 +11,12 @@
 
 #include <opencv2/core.hpp>
 
-#include "graph/param_table.hpp"
 #include "nodes/boxes/box_masks.hpp"
 #include "nodes/scene/boxes.hpp"
 #include "nodes/scene/capture.hpp"
 #include "nodes/scene/masks.hpp"
 #include "nodes/scene/semantic_maps.hpp"
+#include "param/param_table.hpp"
 
 namespace gslift {
 

@@ -2,8 +2,8 @@
 
 #include "nodes/boxes/box_masks.hpp"
 #include "nodes/boxes/cluster_boxes.hpp"
-#include "nodes/boxes/context_prompt.hpp"
 #include "nodes/boxes/grabcut_priors.hpp"
+#include "nodes/scene/context_prompt.hpp"
 
 namespace gslift {
 namespace {

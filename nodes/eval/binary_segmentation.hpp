@@ -12,8 +12,8 @@
 
 #include <opencv2/core.hpp>
 
-#include "graph/param_table.hpp"
 #include "nodes/scene/masks.hpp"
+#include "param/param_table.hpp"
 
 namespace gslift {
 

@@ -15,10 +15,10 @@
 #include <string>
 #include <vector>
 
-#include "graph/param_table.hpp"
 #include "nodes/eval/langor_metrics.hpp"
 #include "nodes/scene/capture.hpp"
 #include "nodes/scene/text_query_results.hpp"
+#include "param/param_table.hpp"
 
 namespace gslift {
 

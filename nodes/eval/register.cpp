@@ -4,13 +4,13 @@
 
 #include <cstdio>
 
+#include "base/atomic_file.hpp"
 #include "nodes/eval/binary_segmentation.hpp"
 #include "nodes/eval/instance_hungarian.hpp"
 #include "nodes/eval/langor_eval.hpp"
 #include "nodes/eval/semantic_eval.hpp"
 #include "nodes/scene/image_io.hpp"
 #include "nodes/splat/reconstruct.hpp"
-#include "runtime/atomic_file.hpp"
 
 namespace gslift {
 

@@ -10,11 +10,11 @@
 #include <cstdint>
 #include <functional>
 
-#include "graph/param_table.hpp"
 #include "nodes/features/neighbour_kl.hpp"
 #include "nodes/scene/capture.hpp"
 #include "nodes/scene/gaussian_model.hpp"
 #include "nodes/scene/label_maps.hpp"
+#include "param/param_table.hpp"
 
 namespace gslift {
 

@@ -16,11 +16,11 @@
 #include <functional>
 #include <optional>
 
-#include "graph/param_table.hpp"
 #include "nodes/scene/capture.hpp"
 #include "nodes/scene/gaussian_model.hpp"
 #include "nodes/scene/label_maps.hpp"
 #include "nodes/splat/reconstruct.hpp"
+#include "param/param_table.hpp"
 
 namespace gslift {
 

@@ -14,10 +14,10 @@
 
 #include <opencv2/core.hpp>
 
-#include "graph/param_table.hpp"
 #include "nodes/scene/camera.hpp"
 #include "nodes/scene/capture.hpp"
 #include "nodes/scene/semantic_maps.hpp"
+#include "param/param_table.hpp"
 
 namespace gslift {
 

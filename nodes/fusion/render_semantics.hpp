@@ -10,10 +10,10 @@
 #include <string>
 #include <vector>
 
-#include "graph/param_table.hpp"
 #include "nodes/scene/capture.hpp"
 #include "nodes/scene/gaussian_model.hpp"
 #include "nodes/scene/semantic_maps.hpp"
+#include "param/param_table.hpp"
 
 namespace gslift {
 

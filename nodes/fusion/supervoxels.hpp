@@ -15,8 +15,8 @@
 
 #include <opencv2/core.hpp>
 
-#include "graph/param_table.hpp"
 #include "nodes/scene/camera.hpp"
+#include "param/param_table.hpp"
 
 namespace gslift {
 

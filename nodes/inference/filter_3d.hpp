@@ -15,7 +15,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "graph/param_table.hpp"
+#include "param/param_table.hpp"
 
 namespace gslift {
 

@@ -22,11 +22,11 @@
 #include <cstdint>
 #include <vector>
 
-#include "graph/param_table.hpp"
 #include "nodes/scene/capture.hpp"
 #include "nodes/scene/gaussian_model.hpp"
 #include "nodes/scene/masks.hpp"
 #include "nodes/scene/prompts.hpp"
+#include "param/param_table.hpp"
 
 namespace gslift {
 

@@ -7,8 +7,8 @@
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 
+#include "base/atomic_file.hpp"
 #include "nodes/scene/image_io.hpp"
-#include "runtime/atomic_file.hpp"
 
 namespace gslift {
 namespace {

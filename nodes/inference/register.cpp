@@ -8,6 +8,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include "base/atomic_file.hpp"
 #include "nodes/inference/filter_3d.hpp"
 #include "nodes/inference/label_inference.hpp"
 #include "nodes/inference/prompt_io.hpp"
@@ -15,9 +16,8 @@
 #include "nodes/inference/query_files.hpp"
 #include "nodes/inference/selection_output.hpp"
 #include "nodes/inference/text_query.hpp"
+#include "nodes/scene/vocabulary_match.hpp"
 #include "nodes/splat/ply_io.hpp"
-#include "nodes/text/vocabulary_match.hpp"
-#include "runtime/atomic_file.hpp"
 
 namespace gslift {
 namespace {

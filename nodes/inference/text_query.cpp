@@ -7,8 +7,8 @@
 #include <opencv2/core.hpp>
 
 #include "base/errors.hpp"
+#include "nodes/scene/vocabulary_match.hpp"
 #include "nodes/splat/rasterizer.hpp"
-#include "nodes/text/vocabulary_match.hpp"
 
 namespace gslift {
 namespace {

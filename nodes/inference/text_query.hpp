@@ -24,7 +24,6 @@
 #include <Eigen/Core>
 #include <opencv2/core.hpp>
 
-#include "graph/param_table.hpp"
 #include "nodes/inference/instance_retrieval.hpp"
 #include "nodes/scene/capture.hpp"
 #include "nodes/scene/gaussian_model.hpp"
@@ -32,6 +31,7 @@
 #include "nodes/scene/text_encoder.hpp"
 #include "nodes/scene/text_query_results.hpp"
 #include "nodes/splat/render_cache.hpp"
+#include "param/param_table.hpp"
 
 namespace gslift {
 
@@ -82,7 +82,7 @@ struct TextQueryOptions {
   bool normalise_relevancy = false;
   std::vector<std::string> negatives = canonical_negatives();
   // Extra closed-set vocabulary entries that compete with the queries (e.g. every class name).
-  // A query that lands on an entry (nodes/text/vocabulary_match.hpp: its nearest entry, at the
+  // A query that lands on an entry (nodes/scene/vocabulary_match.hpp: its nearest entry, at the
   // encoder's match_threshold or above) stands for it: the entry leaves the closed set, so
   // "nurse" selects the circulating nurse instead of losing it to the class name itself.
   std::vector<std::string> vocabulary;

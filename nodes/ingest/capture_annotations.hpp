@@ -7,11 +7,11 @@
 
 #include <string>
 
-#include "graph/param_table.hpp"
 #include "nodes/ingest/vlm_reply.hpp"
 #include "nodes/scene/boxes.hpp"
 #include "nodes/scene/capture.hpp"
 #include "nodes/scene/masks.hpp"
+#include "param/param_table.hpp"
 
 namespace gslift {
 

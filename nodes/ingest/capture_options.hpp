@@ -1,7 +1,7 @@
 // How a capture is read, shared by every capture format reader and the ingest.capture node.
 #pragma once
 
-#include "graph/param_table.hpp"
+#include "param/param_table.hpp"
 
 namespace gslift {
 

@@ -10,11 +10,11 @@
 #include <set>
 #include <sstream>
 
+#include "base/atomic_file.hpp"
 #include "base/errors.hpp"
 #include "base/input_file.hpp"
 #include "nodes/ingest/colmap_camera_model.hpp"
 #include "nodes/ingest/numeric_text.hpp"
-#include "runtime/atomic_file.hpp"
 
 namespace gslift {
 namespace {

@@ -15,11 +15,11 @@
 
 #include <Eigen/Core>
 
-#include "graph/param_table.hpp"
 #include "nodes/lifting/hdbscan.hpp"
 #include "nodes/scene/feature_map.hpp"
 #include "nodes/scene/lifted_instances.hpp"
 #include "nodes/scene/masks.hpp"
+#include "param/param_table.hpp"
 
 namespace gslift {
 

@@ -19,9 +19,9 @@
 #include <string>
 #include <vector>
 
-#include "graph/param_table.hpp"
 #include "nodes/lifting/condensed_tree.hpp"
 #include "nodes/lifting/single_linkage.hpp"
+#include "param/param_table.hpp"
 
 namespace gslift {
 

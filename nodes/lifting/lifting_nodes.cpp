@@ -4,7 +4,7 @@
 #include <string>
 
 #include "nodes/lifting/cvp_lifting.hpp"
-#include "nodes/lifting/feature_maps.hpp"
+#include "nodes/splat/training_feature_maps.hpp"
 
 namespace gslift {
 namespace {

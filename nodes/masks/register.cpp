@@ -2,9 +2,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include "base/atomic_file.hpp"
 #include "nodes/ingest/sam_masks.hpp"
 #include "nodes/masks/auto_masks.hpp"
-#include "runtime/atomic_file.hpp"
 
 namespace gslift {
 namespace {

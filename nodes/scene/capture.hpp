@@ -12,9 +12,9 @@
 #include <Eigen/Core>
 
 #include "base/port_type.hpp"
-#include "graph/param_table.hpp"
 #include "nodes/scene/camera.hpp"
 #include "nodes/scene/image_source.hpp"
+#include "param/param_table.hpp"
 
 namespace gslift {
 

@@ -8,11 +8,11 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "base/atomic_file.hpp"
 #include "base/errors.hpp"
 #include "base/input_file.hpp"
 #include "nodes/scene/camera.hpp"
 #include "nodes/scene/image_header.hpp"
-#include "runtime/atomic_file.hpp"
 
 namespace gslift {
 

@@ -8,7 +8,7 @@
 #include <opencv2/core.hpp>
 
 #include "base/port_type.hpp"
-#include "graph/param_table.hpp"
+#include "param/param_table.hpp"
 
 namespace gslift {
 

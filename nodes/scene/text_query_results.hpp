@@ -16,8 +16,9 @@ struct TextQueryResults {
   std::vector<std::string> queries;
   std::vector<std::vector<int>> instances;  // per query: the selected instances
   std::vector<Eigen::VectorXf> relevancy;   // per query: relevancy of every instance
-  // Per query: the class of the closed-set vocabulary it lands on (nodes/text/vocabulary_match.hpp)
-  // and the cosine it lands with; "" and the nearest class's cosine when none is near.
+  // Per query: the class of the closed-set vocabulary it lands on
+  // (nodes/scene/vocabulary_match.hpp) and the cosine it lands with; "" and the nearest class's
+  // cosine when none is near.
   std::vector<std::string> query_classes;
   std::vector<float> query_class_scores;
   struct ViewAnswers {

@@ -1,5 +1,5 @@
 // The vocabulary of OR entity classes with their contexts (LangOR §1.1 context-aware prompting):
-// what boxes.prompt loads from YAML (nodes/boxes/context_prompt.hpp) and the VLM is prompted with.
+// what boxes.prompt loads from YAML (nodes/scene/context_prompt.hpp) and the VLM is prompted with.
 #pragma once
 
 #include <string>

@@ -9,9 +9,9 @@
 
 #include <Eigen/Core>
 
-#include "graph/param_table.hpp"
 #include "nodes/scene/capture.hpp"
 #include "nodes/scene/gaussian_model.hpp"
+#include "param/param_table.hpp"
 
 namespace gslift {
 

@@ -9,10 +9,10 @@
 #include <string>
 #include <vector>
 
+#include "base/atomic_file.hpp"
 #include "base/errors.hpp"
 #include "base/input_file.hpp"
 #include "base/utf8.hpp"
-#include "runtime/atomic_file.hpp"
 
 namespace gslift {
 namespace {

@@ -17,7 +17,7 @@
 
 namespace gslift {
 
-// Writes atomically (runtime/atomic_file.hpp).
+// Writes atomically (base/atomic_file.hpp).
 void write_ply(const GaussianModel& model, const std::filesystem::path& path);
 
 // Reads binary little-endian or ASCII PLY files with the INRIA properties in any order and any

@@ -17,10 +17,10 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include "base/errors.hpp"
 #include "nodes/splat/raster_state.hpp"
 #include "nodes/splat/rasterizer_shared.hpp"
 #include "nodes/splat/sh.hpp"
-#include "runtime/node.hpp"
 
 namespace gslift {
 

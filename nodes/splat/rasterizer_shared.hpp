@@ -12,10 +12,10 @@
 
 #include <Eigen/Core>
 
+#include "base/errors.hpp"
 #include "nodes/scene/gaussian_model.hpp"
 #include "nodes/splat/projection.hpp"
 #include "nodes/splat/raster_state.hpp"
-#include "runtime/node.hpp"
 
 namespace gslift {
 

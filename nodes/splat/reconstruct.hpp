@@ -11,7 +11,6 @@
 
 #include <opencv2/core.hpp>
 
-#include "graph/param_table.hpp"
 #include "nodes/scene/capture.hpp"
 #include "nodes/scene/gaussian_model.hpp"
 #include "nodes/splat/adam.hpp"
@@ -23,6 +22,7 @@
 #include "nodes/splat/initialise.hpp"
 #include "nodes/splat/pseudo_views.hpp"
 #include "nodes/splat/view_geometry.hpp"
+#include "param/param_table.hpp"
 
 namespace gslift {
 

@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "base/atomic_file.hpp"
 #include "base/utf8.hpp"
 #include "nodes/ingest/colmap_model.hpp"
 #include "nodes/ingest/sam_masks.hpp"
@@ -27,7 +28,6 @@
 #include "nodes/synth/stream_purpose.hpp"
 #include "nodes/synth/visible_instances.hpp"
 #include "nodes/synth/vlm_simulator.hpp"
-#include "runtime/atomic_file.hpp"
 
 namespace gslift::synth {
 

@@ -10,9 +10,9 @@
 
 #include <Eigen/Core>
 
-#include "graph/param_table.hpp"
 #include "nodes/scene/camera.hpp"
 #include "nodes/synth/primitive.hpp"
+#include "param/param_table.hpp"
 
 namespace gslift::synth {
 

@@ -1,4 +1,5 @@
-// `gslift synth`: writes an embedded OR capture to a folder. runtime/cli.cpp dispatches to it.
+// `gslift synth`: writes an embedded OR capture to a folder. app/main.cpp adds it to the command
+// table (cli/program_command.hpp).
 #pragma once
 
 namespace gslift {

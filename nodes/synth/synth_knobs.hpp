@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "graph/param_table.hpp"
+#include "param/param_table.hpp"
 
 namespace gslift::synth {
 

@@ -7,10 +7,10 @@
 
 #include <nlohmann/json.hpp>
 
+#include "base/atomic_file.hpp"
 #include "base/errors.hpp"
 #include "base/hash.hpp"
 #include "base/json_read.hpp"
-#include "runtime/atomic_file.hpp"
 
 namespace gslift {
 namespace {

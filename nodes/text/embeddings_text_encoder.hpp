@@ -1,6 +1,6 @@
 // Text embeddings from a server (issue 30): POST {"model": m, "input": [texts]} to an
 // OpenAI-compatible /v1/embeddings endpoint (vLLM, llama.cpp's server and Ollama serve it) and
-// read data[i].embedding. Calls go through vlm.query's client (nodes/vlm/http_post.hpp: the same
+// read data[i].embedding. Calls go through vlm.query's client (base/http_post.hpp: the same
 // timeouts, retries with backoff, bearer key and redaction, failures as InputError naming the url).
 //
 // The vocabulary's embeddings are asked for once, in one request, and kept per (server, model) in
@@ -13,8 +13,8 @@
 #include <mutex>
 #include <vector>
 
+#include "base/http_post.hpp"
 #include "nodes/scene/text_encoder.hpp"
-#include "nodes/vlm/http_post.hpp"
 
 namespace gslift {
 

@@ -5,7 +5,7 @@
 #include <fstream>
 
 #include "base/errors.hpp"
-#include "nodes/text/normalise_text.hpp"
+#include "base/normalise_text.hpp"
 
 namespace gslift {
 

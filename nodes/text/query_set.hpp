@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "nodes/text/vocabulary_match.hpp"
+#include "nodes/scene/vocabulary_match.hpp"
 
 namespace gslift {
 

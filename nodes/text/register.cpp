@@ -3,7 +3,7 @@
 #include <memory>
 
 #include "base/cache_root.hpp"
-#include "nodes/boxes/context_prompt.hpp"
+#include "nodes/scene/context_prompt.hpp"
 #include "nodes/text/embeddings_text_encoder.hpp"
 #include "nodes/text/hashing_text_encoder.hpp"
 #include "nodes/text/lexical_text_encoder.hpp"

@@ -10,7 +10,7 @@
 
 #include "base/errors.hpp"
 #include "base/json_read.hpp"
-#include "nodes/text/normalise_text.hpp"
+#include "base/normalise_text.hpp"
 
 namespace gslift {
 namespace {

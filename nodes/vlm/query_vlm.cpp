@@ -7,9 +7,9 @@
 #include <tbb/task_arena.h>
 
 #include "base/errors.hpp"
+#include "base/http_post.hpp"
 #include "base/random.hpp"
 #include "nodes/vlm/chat_request.hpp"
-#include "nodes/vlm/http_post.hpp"
 
 namespace gslift {
 

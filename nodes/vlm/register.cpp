@@ -7,15 +7,14 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "base/atomic_file.hpp"
+#include "base/http_post.hpp"
 #include "nodes/ingest/vlm_reply.hpp"
 #include "nodes/scene/boxes.hpp"
 #include "nodes/scene/capture.hpp"
 #include "nodes/scene/vocabulary.hpp"
-#include "nodes/text/label_mapping.hpp"
-#include "nodes/text/lexical_text_encoder.hpp"
-#include "nodes/vlm/http_post.hpp"
+#include "nodes/vlm/label_mapping.hpp"
 #include "nodes/vlm/query_vlm.hpp"
-#include "runtime/atomic_file.hpp"
 
 namespace gslift {
 namespace {
@@ -83,12 +82,13 @@ std::string round_name(int k) {
   return "round_" + std::to_string(k) + ".txt";
 }
 
-void map_labels(NodeContext& ctx, const Vocabulary& vocabulary, BoxSet& boxes) {
+void map_labels(NodeContext& ctx, const Vocabulary& vocabulary, BoxSet& boxes,
+                const UnwiredLabelEncoder& unwired_encoder) {
   std::shared_ptr<const TextEncoder> encoder;
   if (ctx.has_input("encoder"))
     encoder = ctx.input<TextEncoder>("encoder");
   else
-    encoder = std::make_shared<const LexicalTextEncoder>(vocabulary);
+    encoder = unwired_encoder(vocabulary);
   const LabelMappingReport mapping =
       map_box_labels(boxes, VocabularyMatcher(*encoder, vocabulary.class_names()));
   std::string mapped, unmapped;
@@ -101,7 +101,7 @@ void map_labels(NodeContext& ctx, const Vocabulary& vocabulary, BoxSet& boxes) {
   if (!unmapped.empty()) ctx.record("labels_unmapped", unmapped);
 }
 
-void run_vlm_query(NodeContext& ctx, VlmQueryParams p) {
+void run_vlm_query(NodeContext& ctx, VlmQueryParams p, const UnwiredLabelEncoder& unwired_encoder) {
   const Capture& capture = *ctx.input<Capture>("capture");
   const Vocabulary& vocabulary = *ctx.input<Vocabulary>("prompt");
   VlmQueryOptions& o = p.query;
@@ -147,7 +147,7 @@ void run_vlm_query(NodeContext& ctx, VlmQueryParams p) {
   }
   // Free labels onto the vocabulary, through the wired encoder or the offline lexical one (a
   // prompt without classes has nothing to map onto).
-  if (!vocabulary.entities.empty()) map_labels(ctx, vocabulary, boxes);
+  if (!vocabulary.entities.empty()) map_labels(ctx, vocabulary, boxes, unwired_encoder);
   ctx.record("boxes", static_cast<double>(count));
   ctx.record("requests", static_cast<double>(views.size() * o.rounds));
   ctx.record("rounds_unparsed", static_cast<double>(unparsed));
@@ -157,7 +157,7 @@ void run_vlm_query(NodeContext& ctx, VlmQueryParams p) {
 
 }  // namespace
 
-void register_vlm_nodes(Registry& registry) {
+void register_vlm_nodes(Registry& registry, UnwiredLabelEncoder unwired_encoder) {
   NodeSpec spec{
       "vlm.query",
       "ask a live OpenAI-compatible VLM server for grounding boxes, several rounds per view; "
@@ -174,7 +174,10 @@ void register_vlm_nodes(Registry& registry) {
   // A live server's answers are not a function of the request: asked again, it may answer
   // otherwise (and the replies it wrote are the record of what it said), so it is never cached.
   spec.cacheable = false;
-  registry.add(std::move(spec), vlm_query_node_param_table(), run_vlm_query);
+  registry.add(std::move(spec), vlm_query_node_param_table(),
+               [unwired_encoder = std::move(unwired_encoder)](NodeContext& ctx, VlmQueryParams p) {
+                 run_vlm_query(ctx, std::move(p), unwired_encoder);
+               });
 }
 
 }  // namespace gslift

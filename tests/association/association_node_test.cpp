@@ -9,10 +9,10 @@
 #include <nlohmann/json.hpp>
 
 #include "nodes/association/register.hpp"
-#include "nodes/lifting/feature_maps.hpp"
 #include "nodes/lifting/register.hpp"
 #include "nodes/scene/instances.hpp"
 #include "nodes/splat/rasterizer.hpp"
+#include "nodes/splat/training_feature_maps.hpp"
 #include "nodes/text/register.hpp"
 #include "runtime/executor.hpp"
 #include "tests/test_support.hpp"

@@ -3,9 +3,9 @@
 #include <fstream>
 
 #include "graph/loader.hpp"
-#include "nodes/boxes/context_prompt.hpp"
 #include "nodes/boxes/register.hpp"
 #include "nodes/scene/boxes.hpp"
+#include "nodes/scene/context_prompt.hpp"
 #include "runtime/executor.hpp"
 #include "tests/test_support.hpp"
 

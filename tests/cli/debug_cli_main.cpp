@@ -1,7 +1,10 @@
-#include "runtime/cli.hpp"
+#include "cli/cli.hpp"
+#include "cli/runtime_commands.hpp"
 #include "tests/runtime/debug_nodes.hpp"
 
 int main(int argc, char** argv) {
   const gslift::Registry registry = gslift::test::debug_registry();
-  return gslift::cli_main(argc, argv, registry);
+  gslift::CommandTable commands;
+  gslift::add_runtime_commands(commands);
+  return gslift::cli_main(argc, argv, registry, commands);
 }

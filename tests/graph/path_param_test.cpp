@@ -5,7 +5,7 @@
 #include <catch2/catch.hpp>
 
 #include "graph/loader.hpp"
-#include "graph/param_table.hpp"
+#include "param/param_table.hpp"
 #include "tests/test_support.hpp"
 
 using namespace gslift;

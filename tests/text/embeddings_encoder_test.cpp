@@ -8,8 +8,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "nodes/scene/vocabulary_match.hpp"
 #include "nodes/text/embeddings_text_encoder.hpp"
-#include "nodes/text/vocabulary_match.hpp"
 #include "tests/test_support.hpp"
 #include "tests/vlm/loopback_server.hpp"
 

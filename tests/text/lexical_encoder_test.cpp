@@ -4,10 +4,10 @@
 
 #include <fstream>
 
-#include "nodes/boxes/context_prompt.hpp"
-#include "nodes/text/label_mapping.hpp"
+#include "nodes/scene/context_prompt.hpp"
 #include "nodes/text/lexical_text_encoder.hpp"
 #include "nodes/text/query_set.hpp"
+#include "nodes/vlm/label_mapping.hpp"
 #include "tests/test_support.hpp"
 
 using namespace gslift;

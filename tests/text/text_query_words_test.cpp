@@ -2,9 +2,9 @@
 // of query per class (issue 30), with the lexical encoder over the OR vocabulary.
 #include <catch2/catch.hpp>
 
-#include "nodes/boxes/context_prompt.hpp"
 #include "nodes/eval/langor_eval.hpp"
 #include "nodes/inference/text_query.hpp"
+#include "nodes/scene/context_prompt.hpp"
 #include "nodes/text/lexical_text_encoder.hpp"
 
 using namespace gslift;

@@ -3,8 +3,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "base/http_post.hpp"
 #include "nodes/vlm/chat_request.hpp"
-#include "nodes/vlm/http_post.hpp"
 #include "nodes/vlm/query_vlm.hpp"
 #include "runtime/node.hpp"
 #include "tests/test_support.hpp"

@@ -4,10 +4,11 @@
 
 #include <nlohmann/json.hpp>
 
-#include "nodes/boxes/context_prompt.hpp"
 #include "nodes/ingest/register.hpp"
 #include "nodes/scene/boxes.hpp"
 #include "nodes/scene/capture.hpp"
+#include "nodes/scene/context_prompt.hpp"
+#include "nodes/text/lexical_text_encoder.hpp"
 #include "nodes/vlm/register.hpp"
 #include "runtime/executor.hpp"
 #include "tests/pinhole.hpp"
@@ -22,7 +23,9 @@ namespace {
 // Two 100 x 50 views, "left" and "right"; `root` is the folder the capture claims to come from.
 Registry registry_with_capture(const std::filesystem::path& root = {}) {
   Registry r;
-  register_vlm_nodes(r);
+  register_vlm_nodes(r, [](const Vocabulary& vocabulary) {
+    return std::make_shared<const LexicalTextEncoder>(vocabulary);
+  });
   register_ingest_nodes(r);
   r.add(NodeSpec{"test.capture", "two small views", {}, {{"capture", "Capture", ""}}, {}},
         [root](NodeContext& ctx) {

@@ -1,2 +1,2 @@
 // Planted: base/ reaching up into graph/.
-#include "graph/param_table.hpp"
+#include "graph/graph.hpp"

@@ -1,2 +1,2 @@
 // Planted: report/ including a benchmark.
-#include "bench/common/svg.hpp"
+#include "bench/common/tsv.hpp"

@@ -1,0 +1,48 @@
+#include "cli/node_catalogue.hpp"
+#include "tests/runtime/debug_nodes.hpp"
+#include "tests/test_support.hpp"
+
+using namespace gslift;
+
+TEST_CASE("the catalogue lists every type, aligned, with its doc", "[catalogue]") {
+  const Registry reg = test::debug_registry();
+  const std::string text = catalogue_text(reg);
+  // "debug.constant" is the longest type name (14 characters): docs start at column 16.
+  CHECK(text.find("debug.add       a + b\n") == 0);
+  CHECK(text.find("debug.constant  a constant\n") != std::string::npos);
+  size_t lines = 0;
+  for (char c : text) lines += c == '\n';
+  CHECK(lines == reg.types().size());
+}
+
+TEST_CASE("one type's page shows ports and params with defaults, ranges and choices",
+          "[catalogue]") {
+  const Registry reg = test::debug_registry();
+  CHECK(node_type_text(*reg.find("debug.sleep")) ==
+        "debug.sleep: sleeps, polling cancellation\n"
+        "inputs:\n"
+        "  in: Number (optional)\n"
+        "      a number\n"
+        "outputs:\n"
+        "  out: Number\n"
+        "      a number\n"
+        "params:\n"
+        "  ms: int = 100 in [0, inf]\n"
+        "      milliseconds\n"
+        "  write: bool = false\n"
+        "      write partial.txt into the node folder first\n");
+  const std::string fail = node_type_text(*reg.find("debug.fail"));
+  CHECK(fail.find("  kind: string = \"other\" one of {input, other}\n") != std::string::npos);
+  CHECK(node_type_text(*reg.find("debug.random")).find("inputs:\n  (none)\n") != std::string::npos);
+}
+
+TEST_CASE("one type's page names the file that registers it", "[catalogue]") {
+  const Registry reg = test::debug_registry();
+  // The debug nodes are registered in tests/runtime/debug_nodes.cpp: the registry keeps the
+  // caller's file, relative to the repository root.
+  CHECK(reg.source("debug.sleep") == "tests/runtime/debug_nodes.cpp");
+  CHECK(node_type_text(*reg.find("debug.sleep"), reg.source("debug.sleep"))
+            .rfind("debug.sleep: sleeps, polling cancellation\n"
+                   "source: tests/runtime/debug_nodes.cpp\ninputs:\n",
+                   0) == 0);
+}
