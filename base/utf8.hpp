@@ -112,10 +112,13 @@ inline std::string printable(std::string_view s, size_t max_bytes = kMaxQuotedBy
 
 // A whole message as the command line prints it: its control characters as "\xNN" but its own
 // newlines and tabs, raw bytes that an 8-bit terminal obeys (0x80-0x9F) escaped too, other bytes
-// as they are, nothing cut (the input it quotes was capped where it was quoted). The last guard
-// against an escape sequence from a file or a param reaching the terminal.
-inline std::string terminal_safe(std::string_view s) {
-  return utf8_detail::escape_bytes(s, utf8_detail::Mode::Terminal, std::string_view::npos);
+// as they are; cut after `max_bytes` like printable (by default nothing is cut: the input it
+// quotes was capped where it was quoted). The last guard against an escape sequence from a file or
+// a param reaching the terminal.
+inline std::string terminal_safe(std::string_view s, size_t max_bytes = std::string_view::npos) {
+  std::string out = utf8_detail::escape_bytes(s, utf8_detail::Mode::Terminal, max_bytes);
+  if (s.size() > max_bytes) out += "... (" + std::to_string(s.size()) + " bytes)";
+  return out;
 }
 
 // `s` without ANSI terminal escape sequences (ESC '[' parameters final-byte, e.g. the colour codes

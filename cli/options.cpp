@@ -9,6 +9,7 @@
 
 #include "base/errors.hpp"
 #include "graph/suggest.hpp"
+#include "runtime/log_format.hpp"
 #include "runtime/signals.hpp"
 
 namespace gslift {
@@ -122,7 +123,7 @@ int64_t parse_threads(const Args& args) {
 
 void set_up_logging(const Args& args) {
   if (!spdlog::get("gslift")) spdlog::set_default_logger(spdlog::stderr_color_mt("gslift"));
-  spdlog::set_pattern("[%H:%M:%S.%e] [%^%l%$] %v");
+  spdlog::set_formatter(log_formatter());
   const std::string level = args.last("log-level", "info");
   static const std::vector<std::string> levels = {"trace", "debug",    "info", "warn",
                                                   "error", "critical", "off"};

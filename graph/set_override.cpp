@@ -1,5 +1,6 @@
 #include "graph/set_override.hpp"
 
+#include "base/utf8.hpp"
 #include "graph/suggest.hpp"
 
 namespace gslift {
@@ -13,7 +14,8 @@ std::string trim(const std::string& s) {
 }
 
 void apply_set(GraphDocument& doc, const std::string& set, Diagnostics& diagnostics) {
-  const SourceLoc at{"--set " + set, 0, 0};
+  // The whole --set is the location every diagnostic below prints: quoted like any input.
+  const SourceLoc at{"--set " + printable(set), 0, 0};
   const size_t eq = set.find('=');
   const std::string key = trim(set.substr(0, eq));
   const size_t dot = key.find('.');
@@ -38,7 +40,7 @@ void apply_set(GraphDocument& doc, const std::string& set, Diagnostics& diagnost
     if (p == doc.params.end()) {
       std::vector<std::string> known;
       for (const auto& [k, v] : doc.params) known.push_back(k);
-      diagnostics.error(at, "bad-set", "the graph has no param '" + name + "'",
+      diagnostics.error(at, "bad-set", "the graph has no param '" + printable(name) + "'",
                         suggest(name, known));
       return;
     }
@@ -47,7 +49,7 @@ void apply_set(GraphDocument& doc, const std::string& set, Diagnostics& diagnost
   }
   DocNode* node = doc.find(target);
   if (!node) {
-    diagnostics.error(at, "bad-set", "the graph has no node '" + target + "'",
+    diagnostics.error(at, "bad-set", "the graph has no node '" + printable(target) + "'",
                       suggest(target, doc.node_ids()));
     return;
   }

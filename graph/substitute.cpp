@@ -4,6 +4,7 @@
 #include <optional>
 #include <regex>
 
+#include "base/utf8.hpp"
 #include "graph/suggest.hpp"
 
 namespace gslift {
@@ -95,16 +96,16 @@ class Substitution {
       const std::string name =
           close == std::string::npos ? std::string() : text.substr(i + 2, close - i - 2);
       if (!std::regex_match(name, var_name_re())) {
-        diagnostics_.error(at, "bad-substitution", "malformed '${' in \"" + text + "\"",
+        diagnostics_.error(at, "bad-substitution", "malformed '${' in \"" + printable(text) + "\"",
                            "write ${name}, or $${ for a literal ${");
         return std::nullopt;
       }
       const auto source = lookup(name, at);
       if (!source) return std::nullopt;
       if (!source->IsScalar()) {
-        diagnostics_.error(
-            at, "bad-substitution",
-            "'${" + name + "}' is not a scalar and cannot be inserted into \"" + text + "\"");
+        diagnostics_.error(at, "bad-substitution",
+                           "'${" + name + "}' is not a scalar and cannot be inserted into \"" +
+                               printable(text) + "\"");
         return std::nullopt;
       }
       out += source->Scalar();

@@ -5,6 +5,7 @@
 #include <regex>
 #include <set>
 
+#include "base/utf8.hpp"
 #include "graph/suggest.hpp"
 #include "graph/yaml_param.hpp"
 
@@ -32,7 +33,7 @@ std::string resolve_path(const std::string& value, const std::filesystem::path& 
 }
 
 std::string describe(const DocNode& node) {
-  return "node '" + node.id + "' (" + node.type + ")";
+  return "node '" + printable(node.id) + "' (" + printable(node.type) + ")";
 }
 
 // A resolved input edge: `producer`'s output `out_port` feeds `consumer`'s input `port`.
@@ -112,14 +113,15 @@ class Validator {
  private:
   const NodeSpec* find_spec(const DocNode& node) {
     if (node.type.empty()) {
-      diagnostics_.error(node.loc, "missing-type", "node '" + node.id + "' has no type");
+      diagnostics_.error(node.loc, "missing-type", "node '" + printable(node.id) + "' has no type");
       return nullptr;
     }
     const NodeSpec* spec = catalog_.find(node.type);
     if (!spec)
-      diagnostics_.error(node.type_loc, "unknown-type",
-                         "node '" + node.id + "' has unknown type '" + node.type + "'",
-                         unknown_type_hint(node.type));
+      diagnostics_.error(
+          node.type_loc, "unknown-type",
+          "node '" + printable(node.id) + "' has unknown type '" + printable(node.type) + "'",
+          unknown_type_hint(node.type));
     return spec;
   }
 
@@ -130,8 +132,9 @@ class Validator {
         hint = "'" + key + "' is a param of " + node.type + ": write it under params:";
       else if (spec && spec->find_input(key))
         hint = "'" + key + "' is an input of " + node.type + ": write it under in:";
-      diagnostics_.error(value.key_loc, "unknown-key",
-                         "unknown key '" + key + "' in node '" + node.id + "'", hint);
+      diagnostics_.error(
+          value.key_loc, "unknown-key",
+          "unknown key '" + printable(key) + "' in node '" + printable(node.id) + "'", hint);
     }
   }
 
@@ -140,7 +143,7 @@ class Validator {
       const ParamSpec* param = spec.find_param(name);
       if (!param) {
         diagnostics_.error(given.key_loc, "unknown-param",
-                           describe(doc_node) + " has no param '" + name + "'",
+                           describe(doc_node) + " has no param '" + printable(name) + "'",
                            suggest(name, names_of(spec.params), true));
         continue;
       }
@@ -181,11 +184,11 @@ class Validator {
       if (spec && !in) {
         if (doc_node.inputs_of_replaced_type.count(port)) {
           diagnostics_.warning(ref.key_loc, "dropped-inputs",
-                               describe(doc_node) + " has no input '" + port +
+                               describe(doc_node) + " has no input '" + printable(port) +
                                    "'; the input wired for its earlier type is dropped");
         } else {
           diagnostics_.error(ref.key_loc, "unknown-input-port",
-                             describe(doc_node) + " has no input '" + port + "'",
+                             describe(doc_node) + " has no input '" + printable(port) + "'",
                              suggest(port, names_of(spec->inputs), true));
         }
         continue;
@@ -216,8 +219,8 @@ class Validator {
     if (dot == std::string::npos || dot == 0 || dot + 1 == text.size() ||
         text.find('.', dot + 1) != std::string::npos) {
       diagnostics_.error(ref.value_loc, "bad-reference",
-                         "input '" + port + "' of node '" + consumer.id +
-                             "' must be of the form node.port, got '" + text + "'");
+                         "input '" + printable(port) + "' of node '" + printable(consumer.id) +
+                             "' must be of the form node.port, got '" + printable(text) + "'");
       return std::nullopt;
     }
     const std::string producer_id = text.substr(0, dot);
@@ -225,8 +228,8 @@ class Validator {
     const auto producer = index_.find(producer_id);
     if (producer == index_.end()) {
       diagnostics_.error(ref.value_loc, "unknown-node",
-                         "input '" + port + "' of node '" + consumer.id +
-                             "' refers to missing node '" + producer_id + "'",
+                         "input '" + printable(port) + "' of node '" + printable(consumer.id) +
+                             "' refers to missing node '" + printable(producer_id) + "'",
                          suggest(producer_id, doc_.node_ids()));
       return std::nullopt;
     }
@@ -235,17 +238,18 @@ class Validator {
     const PortSpec* out = producer_spec->find_output(out_port);
     if (!out) {
       diagnostics_.error(ref.value_loc, "unknown-output-port",
-                         "input '" + port + "' of node '" + consumer.id + "' refers to '" + text +
-                             "', but " + describe(doc_.nodes[producer->second]) +
-                             " has no output '" + out_port + "'",
+                         "input '" + printable(port) + "' of node '" + printable(consumer.id) +
+                             "' refers to '" + printable(text) + "', but " +
+                             describe(doc_.nodes[producer->second]) + " has no output '" +
+                             printable(out_port) + "'",
                          suggest(out_port, names_of(producer_spec->outputs), true));
       return std::nullopt;
     }
     if (in && in->type != out->type)
       diagnostics_.error(ref.value_loc, "type-mismatch",
-                         "input '" + port + "' of " + describe(consumer) + " takes " + in->type +
-                             ", but '" + text + "' of " + describe(doc_.nodes[producer->second]) +
-                             " gives " + out->type,
+                         "input '" + printable(port) + "' of " + describe(consumer) + " takes " +
+                             in->type + ", but '" + printable(text) + "' of " +
+                             describe(doc_.nodes[producer->second]) + " gives " + out->type,
                          outputs_of_type(in->type, consumer_index));
     return std::make_pair(producer->second, out_port);
   }

@@ -4,6 +4,8 @@
 #include <regex>
 #include <sstream>
 
+#include "base/utf8.hpp"
+
 namespace gslift {
 
 namespace {
@@ -34,7 +36,7 @@ std::optional<T> parse_number(const std::string& s, std::string& error) {
   is.imbue(std::locale::classic());
   T x{};
   if (is >> x && is.peek() == std::char_traits<char>::eof()) return x;
-  error = "number " + s + " is out of range";
+  error = "number " + printable(s) + " is out of range";
   return std::nullopt;
 }
 

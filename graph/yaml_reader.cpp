@@ -7,6 +7,7 @@
 #include <set>
 #include <sstream>
 
+#include "base/utf8.hpp"
 #include "graph/suggest.hpp"
 
 namespace gslift {
@@ -73,7 +74,7 @@ void check_values(const YAML::Node& node, const std::string& file, const std::st
     const std::string key = it->first.Scalar();
     const SourceLoc at = loc_of(it->first, file);
     if (auto [first, inserted] = seen.emplace(key, at); !inserted)
-      diagnostics.error(at, "duplicate-key", "duplicate " + what + " '" + key + "'",
+      diagnostics.error(at, "duplicate-key", "duplicate " + what + " '" + printable(key) + "'",
                         "first defined at line " + std::to_string(first->second.line));
     const bool node_ids = ancestors.size() == 1 && key == "nodes";
     check_values(it->second, file, node_ids ? "node id" : "key", ancestors, walk, diagnostics);
@@ -114,12 +115,12 @@ DocNode read_node(const YAML::Node& key, const YAML::Node& value, const std::str
   node.loc = loc_of(key, file);
   if (!is_node_id(node.id))
     diagnostics.error(node.loc, "bad-id",
-                      "node id '" + node.id + "' is not of the form [a-z][a-z0-9_]*");
+                      "node id '" + printable(node.id) + "' is not of the form [a-z][a-z0-9_]*");
   else if (node.id == "params")
     diagnostics.error(node.loc, "bad-id",
                       "node id 'params' is reserved: --set params.NAME=VALUE sets graph params");
-  if (!expect_map(value, "node '" + node.id + "'", file, diagnostics)) return node;
-  const std::string where = "node '" + node.id + "'";
+  if (!expect_map(value, "node '" + printable(node.id) + "'", file, diagnostics)) return node;
+  const std::string where = "node '" + printable(node.id) + "'";
   for (const auto& [k, v] : unique_entries(value)) {
     const std::string name = k.Scalar();
     if (name == "type") {
@@ -218,9 +219,9 @@ std::optional<GraphDocument> read(const std::string& text, const std::string& na
       if (!expect_map(v, "'params'", name, diagnostics)) continue;
       for (const auto& [pk, pv] : unique_entries(v)) {
         if (!is_param_name(pk.Scalar()))
-          diagnostics.error(
-              loc_of(pk, name), "bad-id",
-              "graph param '" + pk.Scalar() + "' is not of the form [A-Za-z_][A-Za-z0-9_]*");
+          diagnostics.error(loc_of(pk, name), "bad-id",
+                            "graph param '" + printable(pk.Scalar()) +
+                                "' is not of the form [A-Za-z_][A-Za-z0-9_]*");
         own.params[pk.Scalar()] = DocValue(pv, loc_of(pk, name), loc_of(pv, name), base_dir);
       }
     } else if (key == "nodes") {
@@ -232,7 +233,7 @@ std::optional<GraphDocument> read(const std::string& text, const std::string& na
       base_failed = !base;
     } else {
       diagnostics.error(loc_of(k, name), "unknown-key",
-                        "unknown key '" + key + "' in the graph file",
+                        "unknown key '" + printable(key) + "' in the graph file",
                         suggest(key, {"graph", "params", "nodes", "extends"}, true));
     }
   }

@@ -5,6 +5,8 @@
 #include <locale>
 #include <sstream>
 
+#include "base/utf8.hpp"
+
 namespace gslift {
 
 const char* to_string(ParamType t) {
@@ -140,7 +142,7 @@ std::string check_param(const ParamSpec& spec, const ParamValue& value) {
         if (c == s) return {};
       std::string all;
       for (const auto& c : spec.choices) all += (all.empty() ? "" : ", ") + c;
-      return "value \"" + s + "\" is not one of: " + all;
+      return "value \"" + printable(s) + "\" is not one of: " + all;
     }
     default:
       return {};

@@ -19,6 +19,7 @@
 #include <utility>
 #include <vector>
 
+#include "base/utf8.hpp"
 #include "param/param.hpp"
 
 namespace gslift {
@@ -41,14 +42,15 @@ std::vector<std::string> enum_choices(const EnumNames<E>& names) {
   return out;
 }
 
-// Throws std::invalid_argument naming `what` and every accepted name.
+// Throws std::invalid_argument naming `what` and every accepted name; the rejected text is quoted
+// capped and escaped (it comes from a file or the command line).
 template <class E>
 E parse_enum(const std::string& text, const EnumNames<E>& names, const std::string& what) {
   for (const auto& [v, name] : names)
     if (name == text) return v;
   std::string all;
   for (const auto& entry : names) all += (all.empty() ? "" : ", ") + entry.second;
-  throw std::invalid_argument(what + ": '" + text + "' is not one of {" + all + "}");
+  throw std::invalid_argument(what + ": '" + printable(text) + "' is not one of {" + all + "}");
 }
 
 template <class O>

@@ -154,7 +154,11 @@ Filter3dResult filter_instances_3d(const std::vector<float>& means,
   if (o.grow && !kept_all.empty()) {
     std::vector<char> is_kept(instance_ids.size(), 0);
     for (const size_t g : kept_all) is_kept[g] = 1;
-    const open3d::geometry::KDTreeFlann tree(centres(means, kept_all));
+    // Open3D 0.16's KDTreeFlann searches the matrix it was built from, not its own copy: the
+    // matrix must outlive the tree. (It was a temporary: the searches read freed memory, whose
+    // reuse depended on the other threads' allocations, so growth changed with the thread count.)
+    const Eigen::MatrixXd kept_centres = centres(means, kept_all);
+    const open3d::geometry::KDTreeFlann tree(kept_centres);
     std::vector<int32_t> joined(instance_ids.size(), -1);
     tbb::parallel_for(size_t(0), instance_ids.size(), [&](size_t g) {
       if (is_kept[g]) return;

@@ -4,6 +4,7 @@
 
 #include <catch2/catch.hpp>
 
+#include "graph/diagnostics.hpp"
 #include "graph/loader.hpp"
 #include "tests/graph/fake_catalog.hpp"
 
@@ -407,4 +408,38 @@ TEST_CASE("mangled graph files give diagnostics with documented codes, never an 
     }
   }
   CHECK(failed > 100);  // the mutations do break most files
+}
+
+// Issue 33: a diagnostic quoted the graph file and --set whole and raw, so a 1 MB type gave 1 MB of
+// stderr and an escape sequence in a value reached the terminal.
+TEST_CASE("diagnostics quote input capped, with control characters escaped") {
+  const std::string huge = "\x1b]0;title\x07" + std::string(1000000, 'x');
+  const auto bounded = [&](const Diagnostic& d) {
+    INFO(d.str().substr(0, 300));
+    CHECK(d.str().size() < 1000);
+    CHECK(d.str().find_first_of("\x1b\x07") == std::string::npos);
+    CHECK(d.str().find("\\x1B]0;title\\x07xxx") != std::string::npos);
+    CHECK(d.str().find("... (1000010 bytes)") != std::string::npos);
+  };
+  bounded(only(load("nodes:\n  a: {type: \"" + huge + "\"}\n"), "unknown-type"));
+  bounded(only(load("nodes:\n  a: {type: sink.number, in: {value: \"" + huge + "\"}}\n"),
+               "bad-reference"));
+  LoadOptions set;
+  set.sets = {"a.value=1", huge + ".value=2"};
+  bounded(only(load("nodes:\n  a: {type: src.make}\n", set), "bad-set"));
+  // The node type stays named after a long node id (YAML keys stop at 1024 bytes).
+  const auto both =
+      only(load("nodes:\n  " + std::string(1000, 'a') + ": {type: \"\x1b[2J\"}\n"), "unknown-type");
+  CHECK(both.message.find("has unknown type '\\x1B[2J'") != std::string::npos);
+}
+
+TEST_CASE("Diagnostics bounds a message whatever its site quoted") {
+  Diagnostics d;
+  d.error(SourceLoc{"g.yaml", 1, 1}, "x", std::string(1000000, 'm') + "\x1b[2J",
+          "hint \x9b" + std::string(1000000, 'h'));
+  const Diagnostic& only_one = d.list().at(0);
+  CHECK(only_one.message.size() < 1000);
+  CHECK(only_one.message.find("... (1000004 bytes)") != std::string::npos);
+  CHECK(only_one.hint.size() < 1000);
+  CHECK(only_one.hint.rfind("hint \\x9B", 0) == 0);
 }

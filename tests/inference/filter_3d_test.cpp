@@ -1,6 +1,10 @@
 // 3D post-processing on hand-built point sets whose answers follow from the definitions.
 #include "nodes/inference/filter_3d.hpp"
 
+#include <random>
+
+#include <tbb/global_control.h>
+
 #include "tests/test_support.hpp"
 
 using namespace gslift;
@@ -126,4 +130,51 @@ TEST_CASE("filter_3d: small instances are left alone; bad options and sizes are 
                     Catch::Contains("min_component_fraction"));
   p.ids.pop_back();
   CHECK_THROWS_AS(filter_instances_3d(p.means, p.ids, Filter3dOptions{}), std::invalid_argument);
+}
+
+TEST_CASE("filter_3d: the same answer at 1, 2 and 4 threads", "[inference][filter_3d]") {
+  // Issue 33: graphs/saga.yaml's masks differed between 1 and 2 threads. Three noisy instances
+  // that touch, grid points at equal distances (ties in every neighbour search), duplicates and
+  // unassigned Gaussians among them.
+  Points p;
+  std::mt19937 rng(7);
+  std::normal_distribution<double> noise(0, 0.6);
+  for (int32_t id = 0; id < 3; ++id)
+    for (int i = 0; i < 400; ++i) p.add(3 * id + noise(rng), noise(rng), noise(rng), id);
+  p.grid(-2, -2, 12, 5, 1);
+  p.grid(-2, -2, 12, 5, -1);  // the same places, unassigned
+  for (int i = 0; i < 300; ++i) p.add(8 * noise(rng), 3 * noise(rng), noise(rng), -1);
+  const auto run = [&](int threads) {
+    tbb::global_control c(tbb::global_control::max_allowed_parallelism, threads);
+    return filter_instances_3d(p.means, p.ids, Filter3dOptions{});
+  };
+  const Filter3dResult one = run(1);
+  // Every step had something to do, so each is compared.
+  CHECK(one.outliers > 0);
+  CHECK(one.grown > 0);
+  CHECK(one.restored > 0);
+  for (const int threads : {2, 4}) {
+    INFO(threads << " threads");
+    const Filter3dResult r = run(threads);
+    CHECK(r.instance_ids == one.instance_ids);
+    CHECK(r.outliers == one.outliers);
+    CHECK(r.component_dropped == one.component_dropped);
+    CHECK(r.grown == one.grown);
+    CHECK(r.restored == one.restored);
+  }
+}
+
+TEST_CASE("filter_3d: growth searches the kept centres themselves", "[inference][filter_3d]") {
+  // Issue 33: the growth search ran on a freed copy of the kept centres (Open3D 0.16's tree keeps
+  // a view of the matrix it is given, not its own copy), so what it found depended on who reused
+  // the memory: growth changed with the thread count. Before the fix the Gaussian that only the
+  // first kept centre reaches was not grown.
+  Points p;
+  p.grid(100, 100, 100, 90, 0);                    // the first kept Gaussian is (100, 100, 0)
+  const size_t edge = p.add(99.5, 100, 0, -1);     // 0.5 from it, > 1 from every other one
+  const size_t corner = p.add(199.4, 189, 0, -1);  // 0.4 from the last one, (199, 189, 0)
+  const Filter3dResult r = filter_instances_3d(p.means, p.ids, only(false, false, true));
+  CHECK(r.instance_ids[edge] == 0);
+  CHECK(r.instance_ids[corner] == 0);
+  CHECK(r.grown == 2);
 }

@@ -140,3 +140,21 @@ TEST_CASE("symlink loops, directories and FIFOs as files are bad input naming th
   CHECK(zero.code == exit_code::kBadInput);
   CHECK(contains(zero.output, "/dev/zero: graph file is not a regular file"));
 }
+
+TEST_CASE("a capture.yaml value quoted in an error is capped and escaped", "[hostile]") {
+  // Issue 33: a value went into the message whole (a megabyte of stderr and of run.json) and its
+  // terminal escapes raw.
+  const fs::path capture = test::write_small_capture(
+      "hostile_coords", "vlm: {coords: \"\\e]0;pwned\\a" + std::string(1000000, 'x') + "\"}\n");
+  const fs::path out = test::scratch_dir("hostile_coords_out");
+  const auto r =
+      run_command(kBinary + " run " + shell_quoted(kDemo) + " --input " + shell_quoted(capture) +
+                  " --out " + shell_quoted(out) + " --log-level warn");
+  CHECK(r.code == exit_code::kBadInput);
+  CHECK(r.output.size() < 4000);
+  CHECK(r.output.find_first_of("\x1b\x07") == std::string::npos);
+  CHECK(contains(r.output, "vlm.coords: '\\x1B]0;pwned\\x07xxx"));
+  CHECK(contains(r.output, "... (1000010 bytes)' is not one of {"));
+  const json j = read_json(out / "run.json");
+  CHECK(j["run"]["error"]["message"].get<std::string>().size() < 4000);
+}

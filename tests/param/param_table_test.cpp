@@ -130,6 +130,17 @@ TEST_CASE("enum names: a string that is not a mode is an error naming the accept
   } catch (const std::invalid_argument& e) {
     CHECK(std::string(e.what()) == "param 'mode': 'quick' is not one of {fast, exact}");
   }
+  // The rejected text comes from a file: quoted capped, its control characters escaped (issue 33).
+  try {
+    parse_enum("\x1b[2J" + std::string(1000000, 'q'), mode_names(), "param 'mode'");
+    FAIL("unknown mode accepted");
+  } catch (const std::invalid_argument& e) {
+    const std::string what = e.what();
+    CHECK(what.size() < 400);
+    CHECK(what.find('\x1b') == std::string::npos);
+    CHECK(what.rfind("param 'mode': '\\x1B[2Jqqq", 0) == 0);
+    CHECK(what.find("... (1000004 bytes)' is not one of {fast, exact}") != std::string::npos);
+  }
 }
 
 }  // namespace

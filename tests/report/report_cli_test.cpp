@@ -2,6 +2,8 @@
 // files that the runtime itself wrote (so that the reader follows the writer).
 #include <fstream>
 
+#include <nlohmann/json.hpp>
+
 #include "runtime/exit_codes.hpp"
 #include "tests/cli/command.hpp"
 #include "tests/test_support.hpp"
@@ -109,4 +111,27 @@ TEST_CASE("diff of two real runs: exit 1 with the changed param and record, 0 wh
   CHECK(r.code == exit_code::kOk);
   const std::string html = read_text(dir / "two" / "report.html");
   CHECK(html.find("<title>s (debug.add)") != std::string::npos);
+}
+
+TEST_CASE("diff prints what a run.json holds capped and with its escapes escaped",
+          "[report][cli]") {
+  // Issue 33: diff's output passed terminal escape sequences from run.json through raw.
+  const fs::path dir = test::scratch_dir("report_cli_diff_escapes");
+  std::ofstream(dir / "one.yaml") << "graph: one\nnodes:\n"
+                                     "  a: {type: debug.constant, params: {value: 1.5}}\n";
+  REQUIRE(run_command(kBinary + " run " + quoted(dir / "one.yaml") + " --log-level off --out " +
+                      quoted(dir / "one"))
+              .code == exit_code::kOk);
+  fs::copy(dir / "one", dir / "two", fs::copy_options::recursive);
+  nlohmann::json j = nlohmann::json::parse(read_text(dir / "two" / "run.json"));
+  j["graph"]["nodes"][0]["params"]["value"] = "\x1b]0;pwned\x07" + std::string(1000000, 'v');
+  j["graph"]["name"] = "\x1b[2Jname";
+  std::ofstream(dir / "two" / "run.json") << j.dump();
+  const auto d = run_command(kBinary + " diff " + quoted(dir / "one") + " " + quoted(dir / "two"));
+  INFO(d.output.substr(0, 2000));
+  CHECK(d.code == exit_code::kRunsDiffer);
+  CHECK(d.output.size() < 4000);
+  CHECK(d.output.find_first_of("\x1b\x07") == std::string::npos);
+  CHECK(d.output.find("a.value: 1.5 -> \\x1B]0;pwned\\x07vvv") != std::string::npos);
+  CHECK(d.output.find("\\x1B[2Jname") != std::string::npos);
 }
