@@ -39,6 +39,7 @@
 #include "runtime/exit_codes.hpp"
 #include "runtime/graph_yaml.hpp"
 #include "runtime/node_catalogue.hpp"
+#include "runtime/preflight.hpp"
 #include "runtime/progress.hpp"
 #include "runtime/run_record.hpp"
 #include "runtime/signals.hpp"
@@ -343,7 +344,8 @@ const std::vector<Command>& commands() {
        "options:\n"
        "  --set NODE.PARAM=VALUE  override a param (repeatable); NODE.type=TYPE swaps a stage,\n"
        "                          NAME=VALUE sets the graph param NAME\n"
-       "  --input PATH            graph var ${input}\n"
+       "  --input PATH            graph var ${input}; the capture is opened and checked for what\n"
+       "                          every node needs of it (exit 4 naming each missing thing)\n"
        "  --seed S                graph var ${seed}\n"
        "  --print                 print the resolved graph (defaults filled in) as YAML\n"
        "  --log-level L           trace, debug, info, warn, error, critical, off (default info)\n"
@@ -512,6 +514,7 @@ int cmd_validate(int argc, char** argv, const Registry& registry) {
   set_up_logging(args);
   const auto graph = load_checked(args.positional[0], registry, load_options(args));
   if (!graph) return exit_code::kInvalidGraph;
+  if (args.has("input")) check_preflight(*graph, registry);  // the capture and what it lacks
   if (args.flags.count("print")) {
     const std::string text = graph_yaml(*graph);
     std::fwrite(text.data(), 1, text.size(), stdout);  // all of it, should it hold a NUL
