@@ -88,7 +88,8 @@ void run_text_query(NodeContext& ctx, TextQueryNodeOptions o) {
     const std::string& c = results.query_classes[q];
     landed +=
         (q ? "; " : "") + o.queries[q] + " -> " + (c.empty() ? "none" : c) + " (" + score + ")";
-    if (c.empty())
+    // Without class names (a capture with no ground truth) there is nothing to land on or explain.
+    if (c.empty() && !o.answer.vocabulary.empty())
       spdlog::warn("inference.text_query: {}",
                    VocabularyMatcher(*ctx.input<TextEncoder>("encoder"), o.answer.vocabulary)
                        .explain_miss(o.queries[q]));
