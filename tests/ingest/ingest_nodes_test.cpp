@@ -24,6 +24,10 @@ fs::path capture_with_replies(const std::string& name) {
   std::ofstream(dir / "vlm/cam_01/round_0.txt")
       << "[{\"bbox_2d\": [0, 0, 4, 6], \"label\": \"nurse\"}]";
   std::ofstream(dir / "sam_box/cam_01/round_0.json") << "[{\"size\": [6, 8], \"counts\": [6, 42]}]";
+  // SAM's automatic masks found nothing in cam_02 (an empty list): the capture has them, so the
+  // preflight lets kind auto run, and its masks are empty.
+  fs::create_directories(dir / "sam_auto");
+  std::ofstream(dir / "sam_auto/cam_02.json") << "[]";
   return dir;
 }
 
