@@ -190,7 +190,7 @@ ReconstructResult reconstruct(const Capture& capture, const ReconstructOptions& 
   GaussianModel model = initialise_gaussians(capture, init);
   if (objective && objective->initialise) objective->initialise(model.size(), model.features);
   result.initial_gaussians = model.size();
-  const double extent = scene_extent(capture);
+  const double extent = reconstruction_extent(capture, model.means);
   result.scene_extent = extent;
 
   std::vector<TrainTarget> targets;
