@@ -7,6 +7,7 @@
 #include "cli/graph_yaml.hpp"
 #include "cli/runtime_commands.hpp"
 #include "runtime/exit_codes.hpp"
+#include "runtime/preflight.hpp"
 
 namespace gslift {
 
@@ -18,7 +19,7 @@ const CommandHelp& validate_help() {
       "                             [--print]\n\n"
       "Prints every diagnostic (file:line:col) and exits 3 when the graph is invalid.\n\n",
       {kSetOption,
-       kInputOption.described("graph var ${input}"),
+       kInputOption.described("graph var ${input}; the capture is checked for what each node needs"),
        kSeedOption.described("graph var ${seed}"),
        {"print", "", "print the resolved graph (defaults filled in) as YAML"},
        kLogLevelOption,
@@ -34,6 +35,7 @@ int cmd_validate(int argc, char** argv, const Registry& registry) {
   set_up_logging(args);
   const auto graph = load_checked(args.positional[0], registry, load_options(args));
   if (!graph) return exit_code::kInvalidGraph;
+  if (args.has("input")) check_preflight(*graph, registry);  // the capture and what it lacks
   if (args.flags.count("print")) {
     const std::string text = graph_yaml(*graph);
     std::fwrite(text.data(), 1, text.size(), stdout);  // all of it, should it hold a NUL

@@ -1,5 +1,9 @@
 #include "graph/graph_document.hpp"
 
+#include <algorithm>
+
+#include "graph/suggest.hpp"
+
 namespace gslift {
 
 SourceLoc loc_of(const YAML::Node& node, const std::string& file) {
@@ -64,6 +68,19 @@ void merge_document(GraphDocument& base, const GraphDocument& derived, Diagnosti
   base.files.insert(base.files.end(), derived.files.begin(), derived.files.end());
   for (const auto& [name, value] : derived.params) base.params[name] = value;
   for (const auto& node : derived.nodes) {
+    if (node.removed) {
+      const auto before = base.nodes.size();
+      base.nodes.erase(std::remove_if(base.nodes.begin(), base.nodes.end(),
+                                      [&](const DocNode& n) { return n.id == node.id; }),
+                       base.nodes.end());
+      if (base.nodes.size() == before)
+        diagnostics.error(node.loc, "nothing-to-remove",
+                          "node '" + node.id +
+                              "' is declared null, but the base graph has no "
+                              "such node to remove",
+                          suggest(node.id, base.node_ids()));
+      continue;
+    }
     if (DocNode* existing = base.find(node.id))
       merge_node(*existing, node, diagnostics);
     else

@@ -50,6 +50,9 @@ struct DocNode {
   // Keys other than type/in/params: reported by validation, which knows the type and can tell
   // a param or input written outside `params:`/`in:`.
   std::map<std::string, DocValue> unknown_keys;
+  // Declared `id: null` (or `~`) in a derived file: the base's node is removed (a production
+  // graph drops the evaluated graph's ground-truth branch this way).
+  bool removed = false;
 };
 
 struct GraphDocument {
@@ -69,7 +72,8 @@ struct GraphDocument {
 void merge_node(DocNode& node, const DocNode& over, Diagnostics& diagnostics);
 
 // Applies a derived file onto its base: name and params key by key, nodes by id (merge_node),
-// new nodes appended in their order.
+// new nodes appended in their order, nodes declared null removed (`nothing-to-remove` when the
+// base has no such node).
 void merge_document(GraphDocument& base, const GraphDocument& derived, Diagnostics& diagnostics);
 
 }  // namespace gslift

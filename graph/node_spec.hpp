@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "graph/capture_need.hpp"
 #include "param/param.hpp"
 
 namespace gslift {
@@ -16,6 +17,10 @@ struct PortSpec {
   std::string type;
   std::string doc;
   bool optional = false;  // inputs only: the node runs without it
+  // Capture inputs only: what the node reads from the capture besides its posed views (VLM
+  // replies, SAM masks, ground truth, held-out views). Checked before the run
+  // (runtime/preflight.hpp); {} so that a port written without it is complete.
+  std::vector<CaptureNeed> needs{};
 };
 
 struct NodeSpec {

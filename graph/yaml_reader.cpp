@@ -119,6 +119,10 @@ DocNode read_node(const YAML::Node& key, const YAML::Node& value, const std::str
   else if (node.id == "params")
     diagnostics.error(node.loc, "bad-id",
                       "node id 'params' is reserved: --set params.NAME=VALUE sets graph params");
+  if (value.IsNull()) {  // removes a base's node (merge_document); alone, removes nothing
+    node.removed = true;
+    return node;
+  }
   if (!expect_map(value, "node '" + printable(node.id) + "'", file, diagnostics)) return node;
   const std::string where = "node '" + printable(node.id) + "'";
   for (const auto& [k, v] : unique_entries(value)) {
@@ -239,7 +243,18 @@ std::optional<GraphDocument> read(const std::string& text, const std::string& na
   }
   // Without its base a derived file is incomplete: checking it alone would only add noise.
   if (base_failed) return std::nullopt;
-  if (!base) return own;
+  if (!base) {
+    for (const auto& node : own.nodes)
+      if (node.removed)
+        diagnostics.error(node.loc, "nothing-to-remove",
+                          "node '" + node.id +
+                              "' is declared null, which removes a base graph's "
+                              "node, but this file extends none");
+    own.nodes.erase(std::remove_if(own.nodes.begin(), own.nodes.end(),
+                                   [](const DocNode& n) { return n.removed; }),
+                    own.nodes.end());
+    return own;
+  }
   merge_document(*base, own, diagnostics);
   return base;
 }

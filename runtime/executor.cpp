@@ -13,6 +13,7 @@
 #include <sys/resource.h>
 
 #include "runtime/node_seed.hpp"
+#include "runtime/preflight.hpp"
 #include "runtime/run_record.hpp"
 #include "runtime/utc_time.hpp"
 
@@ -351,6 +352,17 @@ RunResult execute(const Graph& graph, const Registry& registry, const RunOptions
     result.status = RunStatus::Running;
     write_run_record(options.out_dir / "run.json", graph, result);
     result.status = RunStatus::Ok;
+  }
+  if (options.preflight) {
+    // What the nodes need of the capture, before any of them runs (runtime/preflight.hpp).
+    try {
+      check_preflight(graph, registry);
+    } catch (const InputError& e) {
+      result.status = RunStatus::Failed;
+      result.error = RunError{RunError::Kind::BadInput, {}, {}, {}, e.what()};
+      if (!options.out_dir.empty()) write_run_record(options.out_dir / "run.json", graph, result);
+      return result;
+    }
   }
   Execution run(graph, registry, options, result);
   {

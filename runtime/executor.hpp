@@ -33,6 +33,9 @@ struct RunOptions {
   ProgressSink* progress = nullptr;  // null = silent
   // Where nodes' results are looked up and stored (runtime/stage_cache.hpp); null = no cache.
   StageCache* cache = nullptr;
+  // Check what the nodes need of the capture before any runs (runtime/preflight.hpp); a run that
+  // fails it runs nothing and fails as bad input.
+  bool preflight = true;
 };
 
 // Running: what run.json says while the run is under way (and after a SIGKILL or power loss).

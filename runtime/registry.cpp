@@ -36,6 +36,17 @@ const PortCodec* Registry::codec(const std::string& port_type) const {
   return it == codecs_.end() ? nullptr : &it->second;
 }
 
+void Registry::add_capture_probe(const std::string& type, CaptureProbe probe) {
+  if (!entries_.count(type))
+    throw std::logic_error("capture probe for unregistered node type '" + type + "'");
+  probes_[type] = std::move(probe);
+}
+
+const Registry::CaptureProbe* Registry::capture_probe(const std::string& type) const {
+  auto it = probes_.find(type);
+  return it == probes_.end() ? nullptr : &it->second;
+}
+
 const NodeSpec* Registry::find(const std::string& type) const {
   auto it = entries_.find(type);
   return it == entries_.end() ? nullptr : &it->second.spec;

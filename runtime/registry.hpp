@@ -66,6 +66,15 @@ class Registry : public NodeCatalog {
   // Null when the type has no binary form.
   const PortCodec* codec(const std::string& port_type) const;
 
+  // How a node type that opens a capture (ingest.capture) tells, from its params alone and
+  // before the run, what the capture holds: the preflight (runtime/preflight.hpp) checks the
+  // needs its consumers declare (PortSpec::needs) against it. Throws InputError when the capture
+  // cannot be opened; reads no image.
+  using CaptureProbe = std::function<CaptureInventory(const std::map<std::string, ParamValue>&)>;
+  void add_capture_probe(const std::string& type, CaptureProbe probe);
+  // Null when `type` opens no capture.
+  const CaptureProbe* capture_probe(const std::string& type) const;
+
   const NodeSpec* find(const std::string& type) const override;
   std::vector<std::string> types() const override;  // sorted
   const NodeFn& body(const std::string& type) const;
@@ -80,6 +89,7 @@ class Registry : public NodeCatalog {
   };
   std::map<std::string, Entry> entries_;
   std::map<std::string, PortCodec> codecs_;
+  std::map<std::string, CaptureProbe> probes_;
 };
 
 }  // namespace gslift

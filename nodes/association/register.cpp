@@ -10,6 +10,7 @@
 #include "nodes/association/memory_bank.hpp"
 #include "nodes/association/sam_partition.hpp"
 #include "nodes/splat/training_feature_maps.hpp"
+#include "runtime/empty_result.hpp"
 
 namespace gslift {
 namespace {
@@ -35,7 +36,8 @@ std::string instances_json(const InstanceSet& set, const MaskSet& masks,
   return out.dump(2) + "\n";
 }
 
-void run_association(NodeContext& ctx, const AssociationParams& p) {
+void run_association(NodeContext& ctx, const EmptyAllowed<AssociationParams>& params) {
+  const AssociationParams& p = params.options;
   const auto model = ctx.input<GaussianModel>("model");
   const auto capture = ctx.input<Capture>("capture");
   const auto masks = ctx.input<MaskSet>("masks");
@@ -59,6 +61,11 @@ void run_association(NodeContext& ctx, const AssociationParams& p) {
     write_file_atomically(dir / "instances.json",
                           instances_json(a.instances, *masks, a.gaussian_instance));
 
+  fail_if_empty(assigned == 0, params.allow_empty, "association.instance_mask_gaussian",
+                a.instances.size() == 0
+                    ? std::string("no instance to associate (the lifting found none)")
+                    : "no Gaussian joined any of the " + std::to_string(a.instances.size()) +
+                          " instances (min_similarity, min_contribution)");
   GaussianModel out = *model;
   out.instance_ids = std::move(a.gaussian_instance);
   ctx.output("model", std::move(out));
@@ -164,7 +171,9 @@ void register_association_nodes(Registry& registry) {
        {"instances", PortTypeName<InstanceSet>::value,
         "prototypes, labels (\"\" = no mask, keep out of retrieval), text embeddings; "
         "mask_instance indexed like the input masks (-1 for held-out views)"}}};
-  registry.add(std::move(spec), association_param_table(), run_association);
+  registry.add(std::move(spec),
+               with_allow_empty(association_param_table(), "no Gaussian in any instance"),
+               run_association);
   add_memory_bank_nodes(registry);
 }
 

@@ -143,7 +143,11 @@ void register_eval_nodes(Registry& registry) {
                "matching; mIoU, precision and recall at IoU > 0.5 (and PSNR with a model)",
                {{"predictions", PortTypeName<LabelMapSet>::value,
                  "label maps of the views to score (held-out: end to end; training: association)"},
-                {"capture", PortTypeName<Capture>::value, "views with ground-truth instances"},
+                {"capture",
+                 PortTypeName<Capture>::value,
+                 "views with ground-truth instances",
+                 false,
+                 {{CaptureItem::GtInstances}}},
                 {"model", PortTypeName<GaussianModel>::value,
                  "the reconstruction, for PSNR on the scored views", true}},
                {}},
@@ -153,14 +157,22 @@ void register_eval_nodes(Registry& registry) {
       "mIoU, mLocAcc and mAcc of text queries on the held-out views (LangOR 4.1, LangSplat)",
       {{"predictions", PortTypeName<TextQueryResults>::value,
         "masks and relevancy maps of the class-name queries (inference.text_query)"},
-       {"capture", PortTypeName<Capture>::value, "held-out views with ground-truth semantics"}},
+       {"capture",
+        PortTypeName<Capture>::value,
+        "held-out views with ground-truth semantics",
+        false,
+        {{CaptureItem::HeldOutViews}, {CaptureItem::GtSemantics}, {CaptureItem::GtClasses}}}},
       {}};
   registry.add(std::move(spec), langor_eval_param_table(), run_langor_eval);
   registry.add({"eval.semantic",
                 "GA, CA, CP of per-pixel class maps on every view with ground truth, training and "
                 "held-out views apart (paper 002 §4.2); confusion matrix CSV + PNG",
                 {{"predictions", PortTypeName<SemanticMaps>::value, "per-pixel class maps"},
-                 {"capture", PortTypeName<Capture>::value, "views with gt/semantic maps"}},
+                 {"capture",
+                  PortTypeName<Capture>::value,
+                  "views with gt/semantic maps",
+                  false,
+                  {{CaptureItem::GtSemantics}}}},
                 {}},
                semantic_eval_param_table(), run_semantic_eval);
 }

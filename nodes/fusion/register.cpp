@@ -58,7 +58,11 @@ void register_fusion_nodes(Registry& registry) {
        "bottom-up source of paper 002)",
        {{"model", PortTypeName<GaussianModel>::value, "Gaussians with instance_ids"},
         {"instances", PortTypeName<InstanceSet>::value, "instance labels (class names)"},
-        {"capture", PortTypeName<Capture>::value, "views and the class vocabulary"}},
+        {"capture",
+         PortTypeName<Capture>::value,
+         "views and the class vocabulary",
+         false,
+         {{CaptureItem::GtClasses}}}},
        {{"semantics", kSemantics, "rendered class distributions, every capture view"}}},
       render_semantics_param_table(), run_render_semantics);
   registry.add({"fusion.bayesian",
@@ -72,14 +76,22 @@ void register_fusion_nodes(Registry& registry) {
                 "multi-view frame fusion with depth validation and Moore-neighbourhood votes, "
                 "every view the reference in turn (paper 002 §3.2, Eq. 1)",
                 {{"semantics", kSemantics, "per-view distributions and labels"},
-                 {"capture", PortTypeName<Capture>::value, "posed views with depth priors"}},
+                 {"capture",
+                  PortTypeName<Capture>::value,
+                  "posed views with depth priors",
+                  false,
+                  {{CaptureItem::Depth}}}},
                 {{"semantics", kSemantics, "fused per view"}}},
                multiview_fusion_param_table(), run_multiview);
   registry.add({"fusion.cluster_smoothing",
                 "majority label and confidences over each supervoxel of the view's back-projected "
                 "depth (paper 002 Algorithm 2 line 5)",
                 {{"semantics", kSemantics, "per-view distributions and labels"},
-                 {"capture", PortTypeName<Capture>::value, "views with RGB and depth priors"}},
+                 {"capture",
+                  PortTypeName<Capture>::value,
+                  "views with RGB and depth priors",
+                  false,
+                  {{CaptureItem::Depth}}}},
                 {{"semantics", kSemantics, "smoothed per view"}}},
                supervoxel_param_table(), run_cluster_smoothing);
 }

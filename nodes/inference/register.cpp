@@ -88,7 +88,8 @@ void run_text_query(NodeContext& ctx, TextQueryNodeOptions o) {
     const std::string& c = results.query_classes[q];
     landed +=
         (q ? "; " : "") + o.queries[q] + " -> " + (c.empty() ? "none" : c) + " (" + score + ")";
-    if (c.empty())
+    // Without class names (a capture with no ground truth) there is nothing to land on or explain.
+    if (c.empty() && !o.answer.vocabulary.empty())
       spdlog::warn("inference.text_query: {}",
                    VocabularyMatcher(*ctx.input<TextEncoder>("encoder"), o.answer.vocabulary)
                        .explain_miss(o.queries[q]));
@@ -241,7 +242,11 @@ void add_render_selection(Registry& registry) {
       "inference.render_selection",
       "selected Gaussians -> a 2D mask per view and prompt (PNGs, overlays) and PLY exports",
       {{"model", PortTypeName<GaussianModel>::value, "instance_ids = selection (inference.prompt)"},
-       {"capture", PortTypeName<Capture>::value, "the views to render in"},
+       {"capture",
+        PortTypeName<Capture>::value,
+        "the views to render in",
+        false,
+        {{CaptureItem::HeldOutViews, "views", "test"}}},
        {"prompts", PortTypeName<PromptSet>::value, "names of the selections"}},
       {{"masks", PortTypeName<MaskSet>::value,
         "per view one mask per prompt, labelled with its name (files: <view>__<name>_mask.png, "
@@ -278,7 +283,11 @@ void output_labels(NodeContext& ctx, const Capture& capture, LabelMapSet labels)
 void add_label_inference(Registry& registry) {
   const PortSpec model{"model", PortTypeName<GaussianModel>::value,
                        "Gaussians with lifted features"};
-  const PortSpec capture{"capture", PortTypeName<Capture>::value, "the views"};
+  const PortSpec capture{"capture",
+                         PortTypeName<Capture>::value,
+                         "the views",
+                         false,
+                         {{CaptureItem::HeldOutViews, "views", "test"}}};
   const PortSpec consistent{
       "labels", PortTypeName<LabelMapSet>::value,
       "consistent label maps of the training views (association.memory_bank)"};
@@ -334,7 +343,12 @@ void register_inference_nodes(Registry& registry) {
       {{"model", PortTypeName<GaussianModel>::value, "segmented Gaussians (instance_ids set)"},
        {"instances", PortTypeName<InstanceSet>::value, "instances with their semantics"},
        {"encoder", PortTypeName<TextEncoder>::value, "the encoder that embedded the semantics"},
-       {"capture", PortTypeName<Capture>::value, "the views to render the answers in"}},
+       {"capture",
+        PortTypeName<Capture>::value,
+        "the views to render the answers in",
+        false,
+        // Without queries of its own it asks for the capture's ground-truth class names.
+        {{CaptureItem::HeldOutViews, "views", "test"}, {CaptureItem::GtClasses, "queries", "[]"}}}},
       {{"predictions", PortTypeName<TextQueryResults>::value,
         "per query the selected instances; per view and query a mask and a relevancy map "
         "(files: query_files.hpp; segmented.ply: the model with class_ids = 1 + index of the "

@@ -1,14 +1,16 @@
 #include "nodes/ingest/register.hpp"
 
 #include "nodes/ingest/capture_annotations.hpp"
+#include "nodes/ingest/capture_inventory.hpp"
 #include "nodes/ingest/capture_loader.hpp"
 #include "nodes/ingest/capture_provider.hpp"
+#include "runtime/empty_result.hpp"
 
 namespace gslift {
 namespace {
 
-PortSpec capture_port(const std::string& doc) {
-  return {"capture", PortTypeName<Capture>::value, doc};
+PortSpec capture_port(const std::string& doc, std::vector<CaptureNeed> needs = {}) {
+  return {"capture", PortTypeName<Capture>::value, doc, false, std::move(needs)};
 }
 
 double count_boxes(const BoxSet& set) {
@@ -50,23 +52,33 @@ void add_capture(Registry& registry) {
       {},
       {capture_port("posed views with depth prior and ground truth when present")}};
   registry.add(std::move(spec), capture_node_param_table(), run_capture);
+  registry.add_capture_probe("ingest.capture", [](const std::map<std::string, ParamValue>& params) {
+    const CaptureNodeParams p = capture_node_param_table().read(params, {});
+    return capture_inventory(load_capture(resolve_capture_path(p.path), p.options));
+  });
 }
 
-void run_vlm(NodeContext& ctx, const VlmLoadOptions& o) {
+void run_vlm(NodeContext& ctx, const EmptyAllowed<VlmLoadOptions>& p) {
   int unparsed = 0;
-  BoxSet boxes = load_vlm_boxes(*ctx.input<Capture>("capture"), o, &unparsed);
+  const Capture& capture = *ctx.input<Capture>("capture");
+  BoxSet boxes = load_vlm_boxes(capture, p.options, &unparsed);
   ctx.record("boxes", count_boxes(boxes));
   ctx.record("rounds_unparsed", static_cast<double>(unparsed));
+  fail_if_empty(count_boxes(boxes) == 0, p.allow_empty, "ingest.vlm",
+                "no box in any of the " + std::to_string(capture.views.size()) +
+                    " views of capture '" + capture.name + "' (" + std::to_string(unparsed) +
+                    " replies did not parse)");
   ctx.output("boxes", std::move(boxes));
 }
 
 void add_vlm(Registry& registry) {
   NodeSpec spec{"ingest.vlm",
                 "read the capture's VLM grounding replies (vlm/<view>/round_<k>.txt) as boxes",
-                {capture_port("the capture the replies belong to")},
+                {capture_port("the capture the replies belong to", {{CaptureItem::VlmReplies}})},
                 {{"boxes", PortTypeName<BoxSet>::value,
                   "every round's boxes per view, XYXY pixels, with round and reply position"}}};
-  registry.add(std::move(spec), vlm_load_param_table(), run_vlm);
+  registry.add(std::move(spec), with_allow_empty(vlm_load_param_table(), "no box in any view"),
+               run_vlm);
 }
 
 enum class SamMaskKind { Auto, Box };
@@ -113,7 +125,9 @@ void add_sam_masks(Registry& registry) {
   NodeSpec spec{
       "ingest.sam_masks",
       "read the capture's SAM masks: automatic (sam_auto/) or box-prompted (sam_box/)",
-      {capture_port("the capture the masks belong to"),
+      // Box masks are not a need: boxes.to_masks makes GrabCut masks of the boxes without one.
+      {capture_port("the capture the masks belong to",
+                    {{CaptureItem::SamAutoMasks, "kind", "auto"}}),
        {"boxes", PortTypeName<BoxSet>::value,
         "kind box (needed there, refused by kind auto): the boxes the masks were prompted "
         "with, each keeping its VLM round and reply position (ingest.vlm's boxes, or "

@@ -5,6 +5,7 @@
 
 #include "nodes/lifting/cvp_lifting.hpp"
 #include "nodes/splat/training_feature_maps.hpp"
+#include "runtime/empty_result.hpp"
 
 namespace gslift {
 namespace {
@@ -27,7 +28,7 @@ std::vector<PortSpec> lifting_outputs() {
 // std::invalid_argument only for unusable data (e.g. an all-zero feature under the cosine
 // metric), which is the input's fault.
 template <class Lift>
-void run_lifting(NodeContext& ctx, const Lift& lift) {
+void run_lifting(NodeContext& ctx, bool allow_empty, const Lift& lift) {
   const auto model = ctx.input<GaussianModel>("model");
   const auto capture = ctx.input<Capture>("capture");
   const auto masks = ctx.input<MaskSet>("masks");
@@ -47,17 +48,24 @@ void run_lifting(NodeContext& ctx, const Lift& lift) {
   ctx.record("instances", static_cast<double>(lifted.prototypes.rows()));
   ctx.record("noise_fraction",
              lifted.labels.empty() ? 0.0 : static_cast<double>(noise) / lifted.labels.size());
+  fail_if_empty(lifted.prototypes.rows() == 0, allow_empty, ctx.node().type,
+                "no instance lifted from " + std::to_string(lifted.samples.size()) +
+                    " samples of " + std::to_string(views.maps.size()) +
+                    " training views (every sample was noise, or no view had a mask)");
   ctx.output("instances", std::move(lifted));
 }
 
-void run_cvp(NodeContext& ctx, CvpLiftingParams p) {
-  p.seed = ctx.seed();
-  run_lifting(ctx, [&](const TrainingFeatureMaps& v) { return cvp_lifting(v.maps, v.masks, p); });
+void run_cvp(NodeContext& ctx, EmptyAllowed<CvpLiftingParams> p) {
+  p.options.seed = ctx.seed();
+  run_lifting(ctx, p.allow_empty, [&](const TrainingFeatureMaps& v) {
+    return cvp_lifting(v.maps, v.masks, p.options);
+  });
 }
 
-void run_mask_level(NodeContext& ctx, const MaskLevelLiftingParams& p) {
-  run_lifting(ctx,
-              [&](const TrainingFeatureMaps& v) { return mask_level_lifting(v.maps, v.masks, p); });
+void run_mask_level(NodeContext& ctx, const EmptyAllowed<MaskLevelLiftingParams>& p) {
+  run_lifting(ctx, p.allow_empty, [&](const TrainingFeatureMaps& v) {
+    return mask_level_lifting(v.maps, v.masks, p.options);
+  });
 }
 
 void add_cvp(Registry& registry) {
@@ -66,7 +74,8 @@ void add_cvp(Registry& registry) {
                 "every training mask, HDBSCAN over their rendered features, one prototype per "
                 "instance",
                 lifting_inputs(), lifting_outputs()};
-  registry.add(std::move(spec), cvp_lifting_param_table(), run_cvp);
+  registry.add(std::move(spec), with_allow_empty(cvp_lifting_param_table(), "no instance"),
+               run_cvp);
 }
 
 void add_mask_level(Registry& registry) {
@@ -74,7 +83,8 @@ void add_mask_level(Registry& registry) {
                 "mask-level lifting (LangOR's w/o CVP-L ablation, LaGa-style): HDBSCAN over one "
                 "masked-mean feature per training mask",
                 lifting_inputs(), lifting_outputs()};
-  registry.add(std::move(spec), mask_level_lifting_param_table(), run_mask_level);
+  registry.add(std::move(spec), with_allow_empty(mask_level_lifting_param_table(), "no instance"),
+               run_mask_level);
 }
 
 }  // namespace

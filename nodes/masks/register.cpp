@@ -92,7 +92,11 @@ void register_masks_nodes(Registry& registry) {
   registry.add(NodeSpec{"masks.auto",
                         "class-agnostic automatic masks at several granularities from graph-based "
                         "segmentation (a fallback for SAM automatic masks)",
-                        {{"capture", PortTypeName<Capture>::value, "views with RGB"}},
+                        {{"capture",
+                          PortTypeName<Capture>::value,
+                          "views with RGB",
+                          false,
+                          {{CaptureItem::Images}}}},
                         {{"masks", PortTypeName<MaskSet>::value,
                           "per view the segments of every scale, with granularity (files: "
                           "sam_auto/<view>.json as SAM writes them)"}}},
@@ -101,7 +105,11 @@ void register_masks_nodes(Registry& registry) {
       NodeSpec{"masks.ground_truth",
                "the capture's ground-truth instance masks (labels = instance ids), for prompts "
                "and evaluation",
-               {{"capture", PortTypeName<Capture>::value, "views with ground-truth instance maps"}},
+               {{"capture",
+                 PortTypeName<Capture>::value,
+                 "views with ground-truth instance maps",
+                 false,
+                 {{CaptureItem::GtInstances}}}},
                {{"masks", PortTypeName<MaskSet>::value, "per view one mask per instance"}}},
       ground_truth_table(), run_ground_truth);
   registry.add(

@@ -65,8 +65,15 @@ DensityChange densify_and_prune(GaussianModel& model, const DensityStats& stats,
   std::vector<char> prune(n, 0);
   for (size_t i = 0; i < n; ++i) {
     const double opacity = 1 / (1 + std::exp(-static_cast<double>(model.opacity_logits[i])));
-    prune[i] = opacity < o.prune_opacity || max_scale(model, i) > o.prune_max_scale * extent ||
-               (i < also_prune.size() && also_prune[i]);
+    if (opacity < o.prune_opacity)
+      ++change.pruned_opacity;
+    else if (max_scale(model, i) > o.prune_max_scale * extent)
+      ++change.pruned_scale;
+    else if (i < also_prune.size() && also_prune[i])
+      ++change.pruned_marked;
+    else
+      continue;
+    prune[i] = 1;
   }
   // Growth candidates by mean gradient, largest first (index breaks ties: deterministic).
   std::vector<std::pair<double, size_t>> grow;

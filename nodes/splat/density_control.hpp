@@ -49,6 +49,9 @@ struct DensityChange {
   // as 3DGS's densification_postfix gives new Gaussians). Feed it to AdamGroup::remap.
   std::vector<int> source;
   size_t cloned = 0, split = 0, pruned = 0;
+  // Why the pruned went, each counted under its first reason: opacity below prune_opacity, a
+  // scale above prune_max_scale x extent, or marked by the caller (free-space pruning).
+  size_t pruned_opacity = 0, pruned_scale = 0, pruned_marked = 0;
   size_t refused = 0;  // growth candidates the Gaussian budget left out (max_gaussians reached)
 };
 

@@ -208,6 +208,21 @@ double scene_extent(const Capture& capture) {
   return radius > 0 ? 1.1 * radius : 1.0;
 }
 
+double reconstruction_extent(const Capture& capture, const std::vector<float>& means) {
+  const double cameras = scene_extent(capture);
+  const std::vector<int> train = capture.train_views();
+  if (train.empty() || means.size() < 3) return cameras;
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  for (int v : train) centre += capture.views[v].pose.centre();
+  centre /= static_cast<double>(train.size());
+  std::vector<double> distances;
+  for (size_t i = 0; i + 2 < means.size(); i += 3)
+    distances.push_back((Eigen::Vector3d(means[i], means[i + 1], means[i + 2]) - centre).norm());
+  auto middle = distances.begin() + static_cast<std::ptrdiff_t>(distances.size() / 2);
+  std::nth_element(distances.begin(), middle, distances.end());
+  return std::max(cameras, *middle);
+}
+
 ColouredPoints random_volume_points(const Capture& capture, const std::vector<int>& views,
                                     int count, double near, double far, double min_view_fraction,
                                     uint64_t seed) {

@@ -94,6 +94,14 @@ ColouredPoints backproject_depth(const Capture& capture, const std::vector<int>&
 // centroid (1 when there is a single camera).
 double scene_extent(const Capture& capture);
 
+// The extent the reconstruction scales its lengths by (position learning rate, clone and prune
+// scales): the larger of scene_extent and the median distance of the initial Gaussians from the
+// training cameras' centroid. 3DGS's camera extent assumes cameras around the scene; a room
+// filmed from inside along a short path has cameras 0.1 m apart looking at walls 2 m away
+// (Replica room0: camera extent 0.122, so prune_max_scale 0.1 x extent pruned every Gaussian over
+// 1.2 cm, all 2,756 of them, at the first density round; issue 29).
+double reconstruction_extent(const Capture& capture, const std::vector<float>& means);
+
 // Sparse points with colours as read from the capture (rgb / 255).
 ColouredPoints sparse_points(const Capture& capture);
 

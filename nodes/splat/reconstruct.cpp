@@ -190,7 +190,7 @@ ReconstructResult reconstruct(const Capture& capture, const ReconstructOptions& 
   GaussianModel model = initialise_gaussians(capture, init);
   if (objective && objective->initialise) objective->initialise(model.size(), model.features);
   result.initial_gaussians = model.size();
-  const double extent = scene_extent(capture);
+  const double extent = reconstruction_extent(capture, model.means);
   result.scene_extent = extent;
 
   std::vector<TrainTarget> targets;
@@ -411,6 +411,9 @@ ReconstructResult reconstruct(const Capture& capture, const ReconstructOptions& 
         const DensityChange change = densify_and_prune(model, density_step ? stats : DensityStats{},
                                                        d, extent, options.seed + step, floaters);
         result.growth_refused += change.refused;
+        if (model.size() == 0 && !result.emptied)
+          result.emptied = ReconstructResult::Emptied{step, change.pruned_opacity,
+                                                      change.pruned_scale, change.pruned_marked};
         adam.remap(change.source);
         pruner.remap(change.source);
         if (density_step)

@@ -160,7 +160,15 @@ struct ReconstructResult {
   size_t growth_refused = 0;  // densification candidates the Gaussian budget left out, all rounds
   double seconds = 0;         // wall time of initialisation and optimisation
   PhaseSeconds phases;
-  double scene_extent = 0;  // the extent position rates and density thresholds were scaled by
+  // The extent position rates and density thresholds were scaled by (reconstruction_extent).
+  double scene_extent = 0;
+  // The pruning round that removed the last Gaussians, when one did: its step and the reasons
+  // (DensityChange's counts), so that an empty model says what emptied it.
+  struct Emptied {
+    int step = 0;
+    size_t opacity = 0, scale = 0, free_space = 0;
+  };
+  std::optional<Emptied> emptied;
   LossSummary final_loss;
   std::vector<double> loss_history;  // total loss per step
   // Mean PSNR (dB) of the final model over the training / held-out views; NaN without such views.

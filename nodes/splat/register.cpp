@@ -9,19 +9,41 @@
 #include "nodes/splat/ply_io.hpp"
 #include "nodes/splat/rasterizer.hpp"
 #include "nodes/splat/reconstruct.hpp"
+#include "nodes/splat/reconstruction_check.hpp"
 
 namespace gslift {
 namespace {
 
-PortSpec capture_port() {
-  return {"capture", PortTypeName<Capture>::value, "posed views with an optional depth prior"};
+PortSpec capture_port(std::vector<CaptureNeed> needs) {
+  return {"capture", PortTypeName<Capture>::value, "posed views with an optional depth prior",
+          false, std::move(needs)};
 }
 
 PortSpec model_port(const std::string& doc) {
   return {"model", PortTypeName<GaussianModel>::value, doc};
 }
 
-void run_reconstruct(NodeContext& ctx, ReconstructOptions o) {
+// splat.reconstruct's params: the reconstruction's, then when its result counts as none.
+struct ReconstructNodeParams {
+  ReconstructOptions recon;
+  double min_train_psnr = kDefaultMinTrainPsnr;
+};
+
+const ParamTable<ReconstructNodeParams>& reconstruct_node_param_table() {
+  using P = ReconstructNodeParams;
+  static const ParamTable<P> table =
+      ParamTable<P>()
+          .nest(&P::recon, reconstruct_param_table())
+          .add("min_train_psnr", &P::min_train_psnr,
+               "fail when the final train PSNR (dB) is under this floor: a model that explains its "
+               "own training views this badly is no result; 0 = no floor (an empty model always "
+               "fails)",
+               0);
+  return table;
+}
+
+void run_reconstruct(NodeContext& ctx, ReconstructNodeParams p) {
+  ReconstructOptions& o = p.recon;
   o.seed = ctx.seed();
   ReconstructResult r =
       reconstruct(*ctx.input<Capture>("capture"), o, [&](int step, int total, double, size_t) {
@@ -98,6 +120,9 @@ void run_reconstruct(NodeContext& ctx, ReconstructOptions o) {
       write_rgb_png(dir / (capture.views[test[k]].name + "_heldout_geometry.png"),
                     r.test_pictures[k]);
   }
+  // Recorded and written above first, so that run.json and model.ply show the failure.
+  const std::string failure = reconstruction_failure(r, p.min_train_psnr);
+  if (!failure.empty()) throw InputError(failure);
   ctx.output("model", std::move(r.model));
 }
 
@@ -105,11 +130,11 @@ void add_reconstruct(Registry& registry) {
   NodeSpec spec{
       "splat.reconstruct",
       "geometry-constrained 3DGS reconstruction of the capture's training views (LangOR 3.2)",
-      {capture_port()},
+      {capture_port({{CaptureItem::Images}})},
       {model_port("the trained Gaussians; also written as model.ply (INRIA layout), and with "
                   "ground-truth depth <view>_heldout_geometry.png per held-out view (floaters "
                   "red, holes blue, surfaces no training view saw grey)")}};
-  registry.add(std::move(spec), reconstruct_param_table(), run_reconstruct);
+  registry.add(std::move(spec), reconstruct_node_param_table(), run_reconstruct);
 }
 
 // splat.load's one param.
@@ -172,7 +197,8 @@ void add_render(Registry& registry) {
   using O = RenderNodeOptions;
   NodeSpec spec{"splat.render",
                 "renders channels of a Gaussian model at the capture's views and writes PNGs",
-                {model_port("the Gaussians to render"), capture_port()},
+                {model_port("the Gaussians to render"),
+                 capture_port({{CaptureItem::HeldOutViews, "views", "test"}})},
                 {}};
   registry.add(
       std::move(spec),

@@ -162,7 +162,11 @@ void register_vlm_nodes(Registry& registry, UnwiredLabelEncoder unwired_encoder)
       "vlm.query",
       "ask a live OpenAI-compatible VLM server for grounding boxes, several rounds per view; "
       "stores the raw replies and parses them like ingest.vlm",
-      {{"capture", PortTypeName<Capture>::value, "the views to show the VLM"},
+      {{"capture",
+        PortTypeName<Capture>::value,
+        "the views to show the VLM",
+        false,
+        {{CaptureItem::Images}}},
        {"prompt", PortTypeName<Vocabulary>::value, "the grounding prompt (boxes.prompt)"},
        {"encoder", PortTypeName<TextEncoder>::value,
         "maps labels outside the vocabulary onto it; unwired: the lexical encoder over the "

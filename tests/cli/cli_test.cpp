@@ -111,9 +111,11 @@ TEST_CASE("every graph shipped in graphs/ validates against the built-in catalog
     const std::string text = "\n" + std::string((std::istreambuf_iterator<char>(in)), {});
     if (text.find("\nnodes:") == std::string::npos && text.find("\nextends:") == std::string::npos)
       continue;
-    // Validation never opens the input, so any path stands in for ${input}.
+    // With --input the capture is opened and checked against what every node needs of it: the
+    // embedded OR holds everything a shipped graph reads (images, depth, VLM replies, SAM masks,
+    // ground truth, held-out views).
     const auto r = run_command(kBinary + " validate '" + e.path().string() +
-                               "' --input /captures/any_scene --log-level warn");
+                               "' --input embedded:or --log-level warn");
     INFO(e.path().string() << "\n" << r.output);
     CHECK(r.code == exit_code::kOk);
     ++graphs;
@@ -147,4 +149,60 @@ TEST_CASE("the demo graph runs with no data: the embedded operating room", "[cli
   const std::string text((std::istreambuf_iterator<char>(in)), {});
   CHECK(text.find("\"input\": \"embedded:or\"") != std::string::npos);
   CHECK(text.find("\"status\": \"ok\"") != std::string::npos);
+}
+
+TEST_CASE("validate --input refuses a capture that is not there or is no capture",
+          "[cli][preflight]") {
+  const std::string graph = std::string(GSLIFT_SOURCE_DIR) + "/graphs/langor.yaml";
+  const auto missing =
+      run_command(kBinary + " validate '" + graph + "' --input /nonexistent/capture");
+  INFO(missing.output);
+  CHECK(missing.code == exit_code::kBadInput);
+  CHECK(missing.output.find("node 'capture' (ingest.capture) cannot open its capture: "
+                            "/nonexistent/capture: no such capture folder") != std::string::npos);
+  const fs::path empty = test::scratch_dir("cli_validate_not_a_capture");
+  const auto not_capture =
+      run_command(kBinary + " validate '" + graph + "' --input '" + empty.string() + "'");
+  INFO(not_capture.output);
+  CHECK(not_capture.code == exit_code::kBadInput);
+  CHECK(not_capture.output.find(": not a capture; looked for capture.yaml") != std::string::npos);
+  // Without --input, validate checks the graph alone, as before.
+  CHECK(run_command(kBinary + " validate '" + graph + "'").code == exit_code::kOk);
+}
+
+TEST_CASE("LangOR on a capture without VLM replies is refused before any node runs",
+          "[cli][preflight]") {
+  const fs::path dir = test::scratch_dir("cli_langor_no_vlm");
+  const fs::path capture = dir / "capture";
+  const auto synth = run_command(kBinary + " synth --out '" + capture.string() +
+                                 "' --width 96 --height 72 --views 5 --log-level warn");
+  REQUIRE(synth.code == exit_code::kOk);
+  fs::remove_all(capture / "vlm");
+  const std::string graph = std::string(GSLIFT_SOURCE_DIR) + "/graphs/langor.yaml";
+  const std::string expected =
+      "node 'vlm' (ingest.vlm) needs VLM grounding replies of capture "
+      "'capture': looked for " +
+      (capture / "vlm" / "").string() + "<view>/round_0.txt";
+  const auto v =
+      run_command(kBinary + " validate '" + graph + "' --input '" + capture.string() + "'");
+  INFO(v.output);
+  CHECK(v.code == exit_code::kBadInput);
+  CHECK(v.output.find(expected) != std::string::npos);
+  CHECK(v.output.find("vlm.query") != std::string::npos);  // what produces the replies
+
+  const fs::path out = dir / "out";
+  const auto r = run_command(kBinary + " run '" + graph + "' --input '" + capture.string() +
+                             "' --out '" + out.string() + "' --no-cache --log-level warn");
+  INFO(r.output);
+  CHECK(r.code == exit_code::kBadInput);
+  CHECK(r.output.find(expected) != std::string::npos);
+  // One message for the one thing missing: the box masks and everything else are there.
+  CHECK(r.output.find("preflight: 1 problem with") != std::string::npos);
+  // No node ran: run.json says failed with every node pending, and no node folder was made.
+  std::ifstream in(out / "run.json");
+  const std::string text((std::istreambuf_iterator<char>(in)), {});
+  CHECK(text.find("\"status\": \"failed\"") != std::string::npos);
+  CHECK(text.find("\"status\": \"ok\"") == std::string::npos);
+  CHECK_FALSE(fs::exists(out / "capture"));
+  CHECK_FALSE(fs::exists(out / "recon"));
 }

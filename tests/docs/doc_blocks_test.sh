@@ -12,11 +12,13 @@
 #     `gslift SUB` command must name a subcommand (`gslift SUB --help` succeeds); `gslift nodes
 #     TYPE` must know TYPE; `gslift run|validate|sweep|batch GRAPH ...` must pass `gslift validate
 #     GRAPH` with the command's --input, --seed and --set (a sweep's --grid contributes its first
-#     value). Nothing heavier runs: a few dozen starts of gslift, each answer asked once.
+#     value; an --input only where it exists, and then validate checks the capture too). Nothing
+#     heavier runs: a few dozen starts of gslift, each answer asked once.
 #   - every relative link of a page reaches a file, and docs/README.md links every page of docs/.
 #
 # usage: doc_blocks_test.sh [--expect-failures N] GSLIFT REPO_ROOT [FILE.md...]
-# Without files it checks README.md, docs/*.md, bench/README.md and bench/*/README.md
+# Without files it checks README.md, docs/*.md, graphs/README.md, bench/README.md and
+# bench/*/README.md
 # (CHANGELOG.md is a record of the past and may name what is gone). With --expect-failures it
 # succeeds only when exactly N problems are found (the test of this test).
 set -u
@@ -31,7 +33,8 @@ if [ $# -gt 0 ]; then
   files=("$@")
 else
   default_set=1
-  files=("$src/README.md" "$src"/docs/*.md "$src/bench/README.md" "$src"/bench/*/README.md)
+  files=("$src/README.md" "$src"/docs/*.md "$src/graphs/README.md" "$src/bench/README.md"
+    "$src"/bench/*/README.md)
 fi
 
 tmp=$(mktemp -d)
@@ -151,8 +154,15 @@ check_command() {
       while [ $j -lt ${#args[@]} ]; do
         a=${args[$j]}
         case $a in
-          --input | --seed | --set)
+          --seed | --set)
             opts+=("$a" "${args[$((j + 1))]:-}"); j=$((j + 2)); continue ;;
+          --input)
+            # validate --input opens the capture and checks what the graph needs of it: an input
+            # that exists here (shared data, relative to the repository) is checked, a
+            # placeholder (CAPTURE, <capture>) or a generated one (embedded:...) is left out.
+            a=${args[$((j + 1))]:-}
+            if [ -n "$a" ] && [ -e "$src/$a" ]; then opts+=(--input "$a"); fi
+            j=$((j + 2)); continue ;;
           --grid)
             local g=${args[$((j + 1))]:-}
             opts+=(--set "${g%%,*}"); j=$((j + 2)); continue ;;

@@ -120,3 +120,26 @@ TEST_CASE("extends errors: a missing base and a cycle of files") {
   REQUIRE(with_code(absent, "unreadable-file").size() == 1);
   CHECK(with_code(absent, "unreadable-file")[0].loc.line == 0);
 }
+
+TEST_CASE("a node declared null removes the base's node; one the base lacks is an error") {
+  // A production graph drops the evaluated graph's leaf this way.
+  const auto r = load_graph_text("extends: base.yaml\nnodes:\n  show: null\n", "prod.yaml",
+                                 catalog(), {}, test_data("graphs"));
+  for (const auto& d : r.diagnostics) INFO(d.str());
+  REQUIRE(r.ok());
+  CHECK(ids(*r.graph) == std::vector<std::string>{"one", "two", "total"});
+  // `~` says the same; a consumer left without its producer is the usual unknown-node error.
+  const auto consumer = load_graph_text("extends: base.yaml\nnodes:\n  total: ~\n", "prod.yaml",
+                                        catalog(), {}, test_data("graphs"));
+  REQUIRE(with_code(consumer, "unknown-node").size() == 1);
+  const auto typo = load_graph_text("extends: base.yaml\nnodes:\n  shw: null\n", "prod.yaml",
+                                    catalog(), {}, test_data("graphs"));
+  const auto nothing = with_code(typo, "nothing-to-remove");
+  REQUIRE(nothing.size() == 1);
+  CHECK(nothing[0].loc.str() == "prod.yaml:3:3");
+  CHECK(nothing[0].hint.find("show") != std::string::npos);
+  // In a file that extends nothing there is nothing to remove.
+  const auto alone = load_graph_text("graph: g\nnodes:\n  one: {type: src.make}\n  two: null\n",
+                                     "alone.yaml", catalog());
+  REQUIRE(with_code(alone, "nothing-to-remove").size() == 1);
+}

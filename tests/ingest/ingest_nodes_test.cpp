@@ -24,6 +24,10 @@ fs::path capture_with_replies(const std::string& name) {
   std::ofstream(dir / "vlm/cam_01/round_0.txt")
       << "[{\"bbox_2d\": [0, 0, 4, 6], \"label\": \"nurse\"}]";
   std::ofstream(dir / "sam_box/cam_01/round_0.json") << "[{\"size\": [6, 8], \"counts\": [6, 42]}]";
+  // SAM's automatic masks found nothing in cam_02 (an empty list): the capture has them, so the
+  // preflight lets kind auto run, and its masks are empty.
+  fs::create_directories(dir / "sam_auto");
+  std::ofstream(dir / "sam_auto/cam_02.json") << "[]";
   return dir;
 }
 
@@ -105,4 +109,28 @@ TEST_CASE("ingest.capture resolves scheme paths through registered providers") {
   REQUIRE(bad.error);
   CHECK(bad.error->kind == RunError::Kind::BadInput);
   CHECK_THAT(bad.error->message, Contains("unknown capture scheme"));
+}
+
+TEST_CASE("ingest.vlm with no box in any view fails, unless allow_empty says the graph means it") {
+  const fs::path dir = capture_with_replies("ingest_nodes_no_box");
+  std::ofstream(dir / "vlm/cam_01/round_0.txt", std::ios::trunc) << "[]";  // the VLM found nothing
+  const auto graph = [&](const std::string& vlm_params) {
+    Registry registry;
+    register_ingest_nodes(registry);
+    return run_graph_text(
+        "graph: g\nnodes:\n  capture: {type: ingest.capture, params: {path: \"" + dir.string() +
+            "\"}}\n  vlm: {type: ingest.vlm, in: {capture: capture.capture}" + vlm_params + "}\n",
+        registry);
+  };
+  const RunResult empty = graph("");
+  REQUIRE_FALSE(empty.ok());
+  CHECK(empty.error->kind == RunError::Kind::BadInput);
+  CHECK(empty.error->node == "vlm");
+  CHECK_THAT(empty.error->message,
+             Contains("ingest.vlm: no box in any of the 3 views of capture 'small' (0 replies did "
+                      "not parse)") &&
+                 Contains("allow_empty: true"));
+  const RunResult allowed = graph(", params: {allow_empty: true}");
+  INFO((allowed.error ? allowed.error->str() : std::string()));
+  CHECK(allowed.ok());
 }

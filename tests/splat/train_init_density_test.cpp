@@ -210,3 +210,24 @@ TEST_CASE("initial scale: RMS (3DGS) or mean (OpenSplat) distance to the 3 neare
   CHECK(std::exp(mean.log_scales[0]) == Approx(5.0 / 3).epsilon(1e-6));
   CHECK(mean.log_scales[0] == mean.log_scales[2]);  // no normals: isotropic
 }
+
+TEST_CASE("the reconstruction's extent follows the scene, not only the cameras' spread") {
+  // Identity-rotation cameras at x = -0.1, 0, 0.1 (world -> camera t = -centre): 3DGS's camera
+  // extent is 1.1 x 0.1 = 0.11.
+  Capture c;
+  for (const double x : {-0.1, 0.0, 0.1}) {
+    View v;
+    v.name = "cam_" + std::to_string(c.views.size());
+    v.pose.t = Eigen::Vector3d(-x, 0, 0);
+    c.views.push_back(v);
+  }
+  CHECK(scene_extent(c) == Approx(0.11));
+  // A room filmed from inside: Gaussians 1, 2 and 3 m from the cameras' centroid. The median
+  // distance, 2 m, sets the scale (a prune at 0.1 x extent then takes Gaussians over 0.2 m,
+  // not over 1.1 cm).
+  const std::vector<float> room = {0, 0, 1, 0, 2, 0, 3, 0, 0};
+  CHECK(reconstruction_extent(c, room) == Approx(2.0));
+  // An object in the middle of cameras spread wider keeps the cameras' extent.
+  const std::vector<float> object = {0, 0, 0.01f, 0, 0.02f, 0, 0.03f, 0, 0};
+  CHECK(reconstruction_extent(c, object) == Approx(0.11));
+}
