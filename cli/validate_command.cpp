@@ -19,7 +19,8 @@ const CommandHelp& validate_help() {
       "                             [--print]\n\n"
       "Prints every diagnostic (file:line:col) and exits 3 when the graph is invalid.\n\n",
       {kSetOption,
-       kInputOption.described("graph var ${input}; the capture is checked for what each node needs"),
+       kInputOption.described(
+           "graph var ${input}; the capture is checked for what each node needs"),
        kSeedOption.described("graph var ${seed}"),
        {"print", "", "print the resolved graph (defaults filled in) as YAML"},
        kLogLevelOption,

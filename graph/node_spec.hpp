@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "graph/capture_need.hpp"
+#include "param/capture_need.hpp"
 #include "param/param.hpp"
 
 namespace gslift {

@@ -3,8 +3,8 @@
 // capture.yaml only, never an image, so the check stays well under a second on any capture.
 #pragma once
 
-#include "graph/capture_need.hpp"
 #include "nodes/scene/capture.hpp"
+#include "param/capture_need.hpp"
 
 namespace gslift {
 

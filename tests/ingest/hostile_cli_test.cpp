@@ -9,9 +9,9 @@
 #include <nlohmann/json.hpp>
 
 #include "runtime/exit_codes.hpp"
-#include "tests/json_file.hpp"
 #include "tests/cli/command.hpp"
 #include "tests/ingest/small_capture.hpp"
+#include "tests/json_file.hpp"
 #include "tests/test_support.hpp"
 
 using namespace gslift;
@@ -32,7 +32,6 @@ fs::path write_text(const fs::path& file, const std::string& text) {
 std::string shell_quoted(const fs::path& p) {
   return "'" + p.string() + "'";
 }
-
 
 bool contains(const std::string& text, const std::string& part) {
   return text.find(part) != std::string::npos;

@@ -1,4 +1,4 @@
-#include "graph/capture_need.hpp"
+#include "param/capture_need.hpp"
 
 namespace gslift {
 
