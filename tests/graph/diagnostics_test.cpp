@@ -421,15 +421,16 @@ TEST_CASE("diagnostics quote input capped, with control characters escaped") {
     CHECK(d.str().find("\\x1B]0;title\\x07xxx") != std::string::npos);
     CHECK(d.str().find("... (1000010 bytes)") != std::string::npos);
   };
-  bounded(only(load("nodes:\n  a: {type: \"" + huge + "\"}\n"), "unknown-type"));
-  bounded(only(load("nodes:\n  a: {type: sink.number, in: {value: \"" + huge + "\"}}\n"),
+  bounded(only(load_test_yaml("nodes:\n  a: {type: \"" + huge + "\"}\n"), "unknown-type"));
+  bounded(only(load_test_yaml("nodes:\n  a: {type: sink.number, in: {value: \"" + huge + "\"}}\n"),
                "bad-reference"));
   LoadOptions set;
   set.sets = {"a.value=1", huge + ".value=2"};
-  bounded(only(load("nodes:\n  a: {type: src.make}\n", set), "bad-set"));
+  bounded(only(load_test_yaml("nodes:\n  a: {type: src.make}\n", set), "bad-set"));
   // The node type stays named after a long node id (YAML keys stop at 1024 bytes).
   const auto both =
-      only(load("nodes:\n  " + std::string(1000, 'a') + ": {type: \"\x1b[2J\"}\n"), "unknown-type");
+      only(load_test_yaml("nodes:\n  " + std::string(1000, 'a') + ": {type: \"\x1b[2J\"}\n"),
+           "unknown-type");
   CHECK(both.message.find("has unknown type '\\x1B[2J'") != std::string::npos);
 }
 
