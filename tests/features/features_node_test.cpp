@@ -33,7 +33,8 @@ nodes:
   cluster: {type: boxes.cluster, in: {boxes: vlm.boxes}}
   sam: {type: ingest.sam_masks, in: {capture: cap.capture, boxes: cluster.clusters}, params: {kind: box}}
   masks: {type: boxes.to_masks, in: {clusters: cluster.clusters, capture: cap.capture, sam: sam.masks}}
-  splat: {type: splat.reconstruct, in: {capture: cap.capture}, params: {iterations: 20}}
+  splat: {type: splat.reconstruct, in: {capture: cap.capture},
+          params: {iterations: 20, min_train_psnr: 0}}  # a model to train on, not judged
   features: {type: features.contrastive,
              in: {model: splat.model, capture: cap.capture, masks: masks.masks},
              params: {iterations: 40, dim: 8, pixels_per_iteration: 64}}
