@@ -31,7 +31,7 @@ namespace {
 
 const CommandHelp& sweep_help() {
   static const CommandHelp help{
-      "usage: gslift sweep GRAPH --grid NODE.PARAM=V1,V2,... [--grid ...] [--seeds 0-4]\n"
+      "usage: gslift sweep GRAPH [--grid NODE.PARAM=V1,V2,...]... [--seeds 0-4]\n"
       "                    --out DIR [--input PATH] [--set NODE.PARAM=VALUE]... [--threads N]\n"
       "                    [--log-level L] [--cache-dir DIR] [--cache-size GB] [--no-cache]\n\n"
       "Runs GRAPH once per combination of the --grid values (the cartesian product) and seed,\n"
@@ -79,7 +79,9 @@ int cmd_sweep(int argc, char** argv, const Registry& registry) {
   if (args.flags.count("help")) return print_command_help(sweep_help()), 0;
   if (args.positional.size() != 1) throw UsageError("sweep expects one GRAPH file");
   if (!args.has("out")) throw UsageError("sweep needs --out DIR");
-  if (!args.has("grid")) throw UsageError("sweep needs at least one --grid NODE.PARAM=V1,V2");
+  // Seeds alone are a sweep too: the graph as it is, once per seed (a mean over rooms).
+  if (!args.has("grid") && !args.has("seeds"))
+    throw UsageError("sweep needs a --grid NODE.PARAM=V1,V2 or --seeds LIST");
   set_up_logging(args);
   const fs::path out = args.last("out");
   check_output_folder(out);

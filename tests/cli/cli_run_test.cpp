@@ -2,6 +2,7 @@
 // cli_main, argument parsing, run.json, batch folders and exit codes.
 #include <csignal>
 #include <fstream>
+#include <set>
 
 #include <sys/wait.h>
 #include <unistd.h>
@@ -10,8 +11,8 @@
 
 #include "runtime/child_process.hpp"
 #include "runtime/exit_codes.hpp"
-#include "tests/json_file.hpp"
 #include "tests/cli/command.hpp"
+#include "tests/json_file.hpp"
 #include "tests/test_support.hpp"
 
 using namespace gslift;
@@ -28,7 +29,6 @@ fs::path write_text(const fs::path& file, const std::string& text) {
   std::ofstream(file) << text;
   return file;
 }
-
 
 std::string quoted(const fs::path& p) {
   return "'" + p.string() + "'";
@@ -314,6 +314,36 @@ nodes:
   CHECK(huge.code == exit_code::kUsage);
   CHECK(huge.output.find("more than 10000 runs") != std::string::npos);
   CHECK_FALSE(fs::exists(dir / "huge" / "runs"));
+}
+
+TEST_CASE(
+    "sweep over seeds alone runs the graph once per seed; neither grid nor seeds is a usage "
+    "error",
+    "[cli]") {
+  const fs::path dir = test::scratch_dir("cli_sweep_seeds");
+  const fs::path graph = write_text(dir / "seeds.yaml", R"(graph: seeds
+nodes:
+  r: {type: debug.random}
+)");
+  const auto none =
+      run_command(kBinary + " sweep " + quoted(graph) + " --out " + quoted(dir / "none"));
+  CHECK(none.code == exit_code::kUsage);
+  CHECK(none.output.find("--grid NODE.PARAM=V1,V2 or --seeds LIST") != std::string::npos);
+  const fs::path out = dir / "out";
+  const auto r =
+      run_command(kBinary + " sweep " + quoted(graph) + " --seeds 0-2 --out " + quoted(out));
+  INFO(r.output);
+  REQUIRE(r.code == 0);
+  const json sweep = read_json(out / "sweep.json");
+  REQUIRE(sweep["runs"].size() == 3);
+  std::set<double> draws;  // each seed's own random stream
+  for (const auto& run : sweep["runs"]) {
+    CHECK(run["status"] == "ok");
+    const json record = read_json(out / run["dir"].get<std::string>() / "run.json");
+    for (const auto& n : record["nodes"])
+      if (n["id"] == "r") draws.insert(n["records"]["draw"].get<double>());
+  }
+  CHECK(draws.size() == 3);
 }
 
 TEST_CASE("two runs sharing a cache folder at once both finish and leave whole entries", "[cli]") {
