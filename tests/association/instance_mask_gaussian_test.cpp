@@ -194,11 +194,13 @@ TEST_CASE("association rejects feature maps that do not come from the masks give
   TrainingFeatureMaps views = training_views(s, {0, 1});
   MaskSet other = s.masks;
   other.views[1].masks.pop_back();
-  CHECK_THROWS_AS(associate_instances(views, other, s.lifted, six_gaussians(), furniture_encoder(), {}),
-                  InputError);
+  CHECK_THROWS_AS(
+      associate_instances(views, other, s.lifted, six_gaussians(), furniture_encoder(), {}),
+      InputError);
   views.mask_views = {0, 2};
-  CHECK_THROWS_AS(associate_instances(views, s.masks, s.lifted, six_gaussians(), furniture_encoder(), {}),
-                  InputError);
+  CHECK_THROWS_AS(
+      associate_instances(views, s.masks, s.lifted, six_gaussians(), furniture_encoder(), {}),
+      InputError);
 }
 
 TEST_CASE("association rejects lifted instances that do not come from the masks") {

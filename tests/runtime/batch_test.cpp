@@ -18,7 +18,6 @@ using gslift::test::read_json;
 
 namespace {
 
-
 fs::path write_manifest(const fs::path& dir, const std::string& text) {
   std::ofstream(dir / "manifest.txt") << text;
   return dir / "manifest.txt";

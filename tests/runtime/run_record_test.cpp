@@ -15,7 +15,6 @@ using nlohmann::json;
 namespace fs = std::filesystem;
 using gslift::test::read_json;
 
-
 TEST_CASE("run.json records the resolved graph, the run and every node", "[run_record]") {
   const Registry reg = test::debug_registry();
   Graph g;
