@@ -11,14 +11,17 @@
 #include <spdlog/spdlog.h>
 
 #include "base/atomic_file.hpp"
+#include "base/errors.hpp"
 #include "base/input_file.hpp"
 #include "base/json_read.hpp"
 #include "cli/child_run.hpp"
 #include "cli/graph_file.hpp"
 #include "cli/output_folder.hpp"
 #include "cli/runtime_commands.hpp"
+#include "runtime/batch.hpp"
 #include "runtime/child_process.hpp"
 #include "runtime/exit_codes.hpp"
+#include "runtime/preflight.hpp"
 #include "runtime/run_record.hpp"
 #include "runtime/signals.hpp"
 #include "runtime/sweep.hpp"
@@ -32,22 +35,30 @@ namespace {
 const CommandHelp& sweep_help() {
   static const CommandHelp help{
       "usage: gslift sweep GRAPH [--grid NODE.PARAM=V1,V2,...]... [--seeds 0-4]\n"
-      "                    --out DIR [--input PATH] [--set NODE.PARAM=VALUE]... [--threads N]\n"
+      "                    --out DIR [--input PATH | --inputs SET] [--set NODE.PARAM=VALUE]...\n"
+      "                    [--threads N]\n"
       "                    [--log-level L] [--cache-dir DIR] [--cache-size GB] [--no-cache]\n\n"
-      "Runs GRAPH once per combination of the --grid values (the cartesian product) and seed,\n"
-      "each as a `gslift run` of its own in DIR/runs/NNNN/ (its output in gslift.log there)\n"
+      "Runs GRAPH once per combination of the --grid values (the cartesian product), capture of\n"
+      "--inputs and seed, each as a `gslift run` of its own in DIR/runs/NNNN/ (its output in\n"
+      "gslift.log there)\n"
       "through the stage cache (a changed downstream param reuses everything upstream). Every\n"
       "combination is validated before the first run. DIR/sweep.json, DIR/results.csv (a row\n"
       "per run: params, seed, status, error, time, peak memory, every numeric record as\n"
-      "node.key, wall time per node) and DIR/summary.csv (mean and std over seeds) are\n"
-      "rewritten after every run, so an interrupted sweep keeps what finished. A failed run is\n"
-      "a row with its error; the sweep goes on. gslift report DIR draws it.\n\n",
+      "node.key, wall time per node) and DIR/summary.csv (mean and std over seeds and\n"
+      "captures) are rewritten after every run, so an interrupted sweep keeps what finished. A\n"
+      "failed run is a row with its error; the sweep goes on. With two or more combinations,\n"
+      "each is compared with the first capture by capture and seed: the mean difference and\n"
+      "its 95% interval (sweep.json's paired, and the table's last lines). gslift report DIR\n"
+      "draws it.\n\n",
       {{"grid", "NODE.PARAM=V,...",
         "the values of one param (repeatable); commas inside [] or\n"
         "quotes belong to a value; NODE.type=A,B swaps stages"},
        {"seeds", "LIST", "0-4, 0,2,7 or 3 (default: the graph's seed)"},
        kOutOption.described("sweep folder (required)"),
        kInputOption.described("the capture (graph var ${input})"),
+       {"inputs", "SET",
+        "a set of captures, one per line as a batch manifest\n"
+        "(bench/sets/or_test.txt): every combination runs on each"},
        kSetOption.described("a param fixed for every run (repeatable)\n"
                             "({seed} in --input, --set and --grid values is the run's seed:\n"
                             "--input 'embedded:or?seed={seed}' varies the capture too)"),
@@ -80,8 +91,10 @@ int cmd_sweep(int argc, char** argv, const Registry& registry) {
   if (args.positional.size() != 1) throw UsageError("sweep expects one GRAPH file");
   if (!args.has("out")) throw UsageError("sweep needs --out DIR");
   // Seeds alone are a sweep too: the graph as it is, once per seed (a mean over rooms).
-  if (!args.has("grid") && !args.has("seeds"))
-    throw UsageError("sweep needs a --grid NODE.PARAM=V1,V2 or --seeds LIST");
+  if (!args.has("grid") && !args.has("seeds") && !args.has("inputs"))
+    throw UsageError("sweep needs a --grid NODE.PARAM=V1,V2, --seeds LIST or --inputs SET");
+  if (args.has("input") && args.has("inputs"))
+    throw UsageError("sweep takes --input PATH or --inputs SET, not both");
   set_up_logging(args);
   const fs::path out = args.last("out");
   check_output_folder(out);
@@ -95,6 +108,12 @@ int cmd_sweep(int argc, char** argv, const Registry& registry) {
     throw UsageError(e.what());
   }
   parse_threads(args);  // a bad --threads is one usage error, before the first run
+  std::vector<std::string> inputs;
+  if (args.has("inputs")) {
+    for (const auto& e : read_manifest(args.last("inputs"))) inputs.push_back(e.path);
+    if (inputs.empty())
+      throw InputError(args.last("inputs") + ": the capture set lists no capture");
+  }
   // Every combination is validated up front: a misspelt grid param is one error, not N failed
   // runs.
   // "{seed}" in --input, --set and --grid values is the run's seed: --input
@@ -104,11 +123,14 @@ int cmd_sweep(int argc, char** argv, const Registry& registry) {
       v.replace(at, 6, std::to_string(seed));
     return v;
   };
+  const auto input_of = [&](const SweepPoint& p) {
+    return with_seed(p.input.empty() ? args.last("input") : p.input, p.seed);
+  };
   const auto combination_options = [&](const SweepPoint& p) {
     LoadOptions lopt = load_options(args);
     for (const auto& [param, value] : p.params) lopt.sets.push_back(param + "=" + value);
     for (auto& set : lopt.sets) set = with_seed(set, p.seed);
-    if (args.has("input")) lopt.vars["input"] = with_seed(args.last("input"), p.seed);
+    if (args.has("input") || !p.input.empty()) lopt.vars["input"] = input_of(p);
     return lopt;
   };
   if (seeds.empty()) {
@@ -118,13 +140,18 @@ int cmd_sweep(int argc, char** argv, const Registry& registry) {
   }
   std::vector<SweepPoint> points;
   try {
-    points = sweep_points(axes, seeds);
+    points = inputs.empty() ? sweep_points(axes, seeds) : sweep_points(axes, seeds, inputs);
   } catch (const std::invalid_argument& e) {
     throw UsageError(e.what());
   }
-  for (const auto& p : points)
-    if (p.seed == seeds.front() && !load_checked(graph_file, registry, combination_options(p)))
-      return exit_code::kInvalidGraph;
+  for (const auto& p : points) {
+    if (p.seed != seeds.front()) continue;
+    const auto graph = load_checked(graph_file, registry, combination_options(p));
+    if (!graph) return exit_code::kInvalidGraph;
+    // Each capture of a set is checked as `gslift validate --input` would, before the first run:
+    // a misspelt line of the set is one error now, not a failed room an hour in.
+    if (!p.input.empty()) check_preflight(*graph, registry);
+  }
 
   install_interrupt_handlers();
   std::vector<SweepRun> runs;
@@ -141,12 +168,13 @@ int cmd_sweep(int argc, char** argv, const Registry& registry) {
     const fs::path dir = out / run.dir;
     std::vector<std::string> child = child_run_command(args, graph_file, dir, "warn");
     child.insert(child.end(), {"--seed", std::to_string(run.point.seed)});
-    if (args.has("input"))
-      child.insert(child.end(), {"--input", with_seed(args.last("input"), run.point.seed)});
+    if (args.has("input") || !run.point.input.empty())
+      child.insert(child.end(), {"--input", input_of(run.point)});
     for (const auto& s : combination_options(run.point).sets)
       child.insert(child.end(), {"--set", s});
     std::string label;
     for (const auto& [param, value] : run.point.params) label += param + "=" + value + " ";
+    if (!run.point.input.empty()) label += run.point.input + " ";
     spdlog::info("sweep {}/{}: {}seed {}", i + 1, points.size(), label, run.point.seed);
     fs::create_directories(dir);
     const ChildRun r = run_child_process(child, (dir / "gslift.log").string(), &interrupt_flag());
@@ -167,7 +195,7 @@ int cmd_sweep(int argc, char** argv, const Registry& registry) {
     }
     if (run.status != "ok") spdlog::warn("sweep {}: {}: {}", run.dir, run.status, run.error);
     runs.push_back(run);
-    table = sweep_json(graph_file, axes, seeds, runs);
+    table = sweep_json(graph_file, axes, seeds, runs, inputs);
     table["headline"] = headline;
     write_file_atomically(out / "sweep.json", json_text(table));
     write_file_atomically(out / "results.csv", sweep_runs_csv(axes, runs));

@@ -103,9 +103,12 @@ std::vector<uint64_t> parse_seeds(const std::string& text) {
 }
 
 std::vector<SweepPoint> sweep_points(const std::vector<GridAxis>& axes,
-                                     const std::vector<uint64_t>& seeds) {
+                                     const std::vector<uint64_t>& seeds,
+                                     const std::vector<std::string>& inputs) {
   std::set<std::string> params;
-  size_t runs = seeds.size();
+  size_t runs = inputs.size() > 0 && seeds.size() > kMaxSweepRuns / inputs.size()
+                    ? kMaxSweepRuns + 1
+                    : seeds.size() * inputs.size();
   for (const auto& axis : axes) {
     if (!params.insert(axis.param).second)
       throw std::invalid_argument("--grid " + printable(axis.param) +
@@ -130,7 +133,8 @@ std::vector<SweepPoint> sweep_points(const std::vector<GridAxis>& axes,
   }
   std::vector<SweepPoint> points;
   for (const auto& combo : combos)
-    for (uint64_t seed : seeds) points.push_back({combo, seed});
+    for (const auto& input : inputs)
+      for (uint64_t seed : seeds) points.push_back({combo, seed, input});
   return points;
 }
 
@@ -177,8 +181,41 @@ std::string number(double x) {
 
 }  // namespace
 
+namespace {
+
+// The first group's runs by (input, seed), and each metric's differences to them.
+json paired_against(const std::vector<const SweepRun*>& base,
+                    const std::vector<const SweepRun*>& members) {
+  std::map<std::pair<std::string, uint64_t>, const SweepRun*> by_room;
+  for (const SweepRun* r : base)
+    if (r->status == "ok") by_room[{r->point.input, r->point.seed}] = r;
+  std::map<std::string, std::vector<double>> diffs;
+  for (const SweepRun* r : members) {
+    if (r->status != "ok") continue;
+    auto it = by_room.find({r->point.input, r->point.seed});
+    if (it == by_room.end()) continue;
+    for (const auto& [k, v] : r->metrics) {
+      auto b = it->second->metrics.find(k);
+      if (b != it->second->metrics.end()) diffs[k].push_back(v - b->second);
+    }
+  }
+  json metrics = json::object();
+  const auto finite_or_null = [](double x) { return std::isfinite(x) ? json(x) : json(); };
+  for (const auto& [k, d] : diffs) {
+    const MeanInterval m = mean_interval_95(d);
+    metrics[k] = {{"n", m.n},
+                  {"mean", m.mean},
+                  {"low", finite_or_null(m.low)},
+                  {"high", finite_or_null(m.high)}};
+  }
+  return metrics;
+}
+
+}  // namespace
+
 json sweep_json(const std::string& graph, const std::vector<GridAxis>& axes,
-                const std::vector<uint64_t>& seeds, const std::vector<SweepRun>& runs) {
+                const std::vector<uint64_t>& seeds, const std::vector<SweepRun>& runs,
+                const std::vector<std::string>& inputs) {
   json grid = json::object();
   for (const auto& a : axes) grid[a.param] = a.values;
   json rows = json::array();
@@ -189,6 +226,7 @@ json sweep_json(const std::string& graph, const std::vector<GridAxis>& axes,
     rows.push_back({{"dir", r.dir},
                     {"params", r.point.params},
                     {"seed", r.point.seed},
+                    {"input", r.point.input.empty() ? json() : json(r.point.input)},
                     {"status", r.status},
                     {"error", r.error.empty() ? json() : json(r.error)},
                     {"total_s", r.total_s},
@@ -215,14 +253,19 @@ json sweep_json(const std::string& graph, const std::vector<GridAxis>& axes,
     }
     json metrics = json::object();
     for (const auto& [k, v] : values) metrics[k] = mean_std_json(v);
-    summary.push_back({{"params", params},
-                       {"n", members.size() - size_t(failed)},
-                       {"failed", failed},
-                       {"metrics", metrics},
-                       {"total_s", mean_std_json(times)},
-                       {"peak_rss_mb", mean_std_json(memory)}});
+    json group = {{"params", params},
+                  {"n", members.size() - size_t(failed)},
+                  {"failed", failed},
+                  {"metrics", metrics},
+                  {"total_s", mean_std_json(times)},
+                  {"peak_rss_mb", mean_std_json(memory)}};
+    if (params != order.front())
+      group["paired"] = {{"against", order.front()},
+                         {"metrics", paired_against(groups[order.front()], members)}};
+    summary.push_back(std::move(group));
   }
-  return {{"graph", graph}, {"grid", grid}, {"seeds", seeds}, {"runs", rows}, {"summary", summary}};
+  return {{"graph", graph},   {"grid", grid}, {"seeds", seeds},
+          {"inputs", inputs}, {"runs", rows}, {"summary", summary}};
 }
 
 std::string sweep_runs_csv(const std::vector<GridAxis>& axes, const std::vector<SweepRun>& runs) {
@@ -231,14 +274,18 @@ std::string sweep_runs_csv(const std::vector<GridAxis>& axes, const std::vector<
     for (const auto& [k, v] : r.metrics) metric_keys.insert(k);
     for (const auto& [k, v] : r.node_wall_s) nodes.insert(k);
   }
-  std::string out = "run,seed,status,error";
+  bool with_input = false;
+  for (const auto& r : runs) with_input = with_input || !r.point.input.empty();
+  std::string out = with_input ? "run,seed,input,status,error" : "run,seed,status,error";
   for (const auto& a : axes) out += "," + csv_field(a.param);
   out += ",total_s,peak_rss_mb";
   for (const auto& k : metric_keys) out += "," + csv_field(k);
   for (const auto& n : nodes) out += "," + csv_field("wall_s." + n);
   out += "\n";
   for (const auto& r : runs) {
-    out += r.dir + "," + std::to_string(r.point.seed) + "," + r.status + "," + csv_field(r.error);
+    out += r.dir + "," + std::to_string(r.point.seed) + ",";
+    if (with_input) out += csv_field(r.point.input) + ",";
+    out += r.status + "," + csv_field(r.error);
     for (const auto& a : axes) out += "," + csv_field(r.point.params.at(a.param));
     out += "," + number(r.total_s) + "," + number(r.peak_rss_mb);
     for (const auto& k : metric_keys) {
@@ -306,6 +353,29 @@ std::string sweep_table(const std::vector<GridAxis>& axes, const json& sweep,
     for (const auto& k : headline)
       cells.push_back(s["metrics"].contains(k) ? cell(s["metrics"][k]) : std::string("-"));
     line(cells);
+  }
+  for (const auto& s : sweep.at("summary")) {
+    if (!s.contains("paired")) continue;
+    std::string label, against;
+    for (const auto& a : axes) {
+      label += (label.empty() ? "" : " ") + a.param + "=" + s["params"][a.param].get<std::string>();
+      against += (against.empty() ? "" : " ") + s["paired"]["against"][a.param].get<std::string>();
+    }
+    out += "paired, " + label + " minus " + against + ":";
+    for (const auto& k : headline) {
+      const json& m = s["paired"]["metrics"].value(k, json());
+      if (m.is_null()) continue;
+      char buf[128];
+      if (m["low"].is_null())
+        std::snprintf(buf, sizeof buf, " %s %+.3g (n %d)", k.c_str(), m["mean"].get<double>(),
+                      m["n"].get<int>());
+      else
+        std::snprintf(buf, sizeof buf, " %s %+.3g [%+.3g, %+.3g] (n %d)", k.c_str(),
+                      m["mean"].get<double>(), m["low"].get<double>(), m["high"].get<double>(),
+                      m["n"].get<int>());
+      out += buf;
+    }
+    out += "\n";
   }
   return out;
 }

@@ -214,6 +214,9 @@ OrCaptureSettings make_settings(const std::vector<std::pair<std::string, std::st
     throw std::invalid_argument("width x height: " + std::to_string(s.scene.width) + " x " +
                                 std::to_string(s.scene.height) + " is not from 1 x 1 to " +
                                 std::to_string(kMaxImagePixels) + " pixels");
+  // The scene's own limits, here too: an embedded: spec with views=2 is bad input, found
+  // before the capture is generated (it was an internal error from inside the generator).
+  check_or_scene_options(s.scene);
   return s;
 }
 

@@ -342,7 +342,7 @@ int held_out_count(int views) {
   return std::max(1, views / 5);
 }
 
-OrScene make_or_scene(const OrSceneOptions& o) {
+void check_or_scene_options(const OrSceneOptions& o) {
   if (o.views < 4 || o.views > 8) {
     throw std::invalid_argument("views must be 4..8, got " + std::to_string(o.views));
   }
@@ -350,6 +350,10 @@ OrScene make_or_scene(const OrSceneOptions& o) {
     throw std::invalid_argument("image size must be at least 16x16, got " +
                                 std::to_string(o.width) + "x" + std::to_string(o.height));
   }
+}
+
+OrScene make_or_scene(const OrSceneOptions& o) {
+  check_or_scene_options(o);
   OrScene scene;
   RandomStream rng(stream_seed(o.seed, kLayoutStream));
   auto jitter = [&](double r) { return static_cast<float>(rng.uniform(-r, r)); };

@@ -77,6 +77,9 @@ struct OrScene {
 // Deterministic in options: the same options give the same scene on every machine.
 // Throws std::invalid_argument for views outside 4..8 or a non-positive image size.
 OrScene make_or_scene(const OrSceneOptions& options);
+// Throws std::invalid_argument when the options are outside what make_or_scene builds (4 to 8
+// views, images of at least 16 x 16).
+void check_or_scene_options(const OrSceneOptions& options);
 
 // Number of held-out (test) views for a capture of n views: LangOR's 4 train : 1 test, at least 1.
 int held_out_count(int views);

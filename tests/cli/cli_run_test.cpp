@@ -328,7 +328,8 @@ nodes:
   const auto none =
       run_command(kBinary + " sweep " + quoted(graph) + " --out " + quoted(dir / "none"));
   CHECK(none.code == exit_code::kUsage);
-  CHECK(none.output.find("--grid NODE.PARAM=V1,V2 or --seeds LIST") != std::string::npos);
+  CHECK(none.output.find("--grid NODE.PARAM=V1,V2, --seeds LIST or --inputs SET") !=
+        std::string::npos);
   const fs::path out = dir / "out";
   const auto r =
       run_command(kBinary + " sweep " + quoted(graph) + " --seeds 0-2 --out " + quoted(out));

@@ -2,8 +2,11 @@
 #include <fstream>
 #include <sstream>
 
+#include <nlohmann/json.hpp>
+
 #include "runtime/exit_codes.hpp"
 #include "tests/cli/command.hpp"
+#include "tests/json_file.hpp"
 #include "tests/test_support.hpp"
 
 using namespace gslift;
@@ -205,4 +208,82 @@ TEST_CASE("LangOR on a capture without VLM replies is refused before any node ru
   CHECK(text.find("\"status\": \"ok\"") == std::string::npos);
   CHECK_FALSE(fs::exists(out / "capture"));
   CHECK_FALSE(fs::exists(out / "recon"));
+}
+
+namespace {
+std::filesystem::path write_file_text(const std::filesystem::path& file, const std::string& text) {
+  std::ofstream(file) << text;
+  return file;
+}
+std::string shell_quoted(const std::filesystem::path& p) {
+  return "'" + p.string() + "'";
+}
+}  // namespace
+
+TEST_CASE("sweep over a capture set runs every combination on each capture and pairs them",
+          "[cli]") {
+  const fs::path dir = test::scratch_dir("cli_sweep_inputs");
+  // Two tiny embedded rooms of 4 and 5 views: ingest's `views` record tells them apart. The
+  // grid's two values change no record, so every paired difference is 0 (the arithmetic of the
+  // interval is runtime_test's hand-computed case).
+  const fs::path graph = write_file_text(dir / "rooms.yaml", R"(graph: rooms
+params: {input: ""}
+nodes:
+  capture: {type: ingest.capture, params: {path: "${input}"}}
+)");
+  const fs::path set = write_file_text(dir / "rooms.txt", R"(# two rooms
+embedded:or?seed=1&views=4&width=64&height=48
+embedded:or?seed=2&views=5&width=64&height=48  # a comment
+)");
+  const fs::path out = dir / "out";
+  const auto r = run_command(kBinary + " sweep " + shell_quoted(graph) +
+                             " --grid capture.allow_outside_paths=false,true" + " --inputs " +
+                             shell_quoted(set) + " --seeds 0-1 --out " + shell_quoted(out));
+  INFO(r.output);
+  REQUIRE(r.code == exit_code::kOk);
+  const nlohmann::json sweep = test::read_json(out / "sweep.json");
+  REQUIRE(sweep["runs"].size() == 8);  // 2 values x 2 rooms x 2 seeds
+  CHECK(sweep["inputs"].size() == 2);
+  for (const auto& run : sweep["runs"]) {
+    const bool second = run["input"].get<std::string>().find("seed=2") != std::string::npos;
+    CHECK(run["metrics"]["capture.views"] == (second ? 5.0 : 4.0));
+  }
+  // Rooms are pooled like seeds: 4 runs per value, views averaging 4.5.
+  REQUIRE(sweep["summary"].size() == 2);
+  CHECK(sweep["summary"][0]["n"] == 4);
+  CHECK(sweep["summary"][0]["metrics"]["capture.views"]["mean"] == Approx(4.5));
+  CHECK_FALSE(sweep["summary"][0].contains("paired"));
+  // The second value against the first, room by room and seed by seed: 4 pairs.
+  const nlohmann::json& paired = sweep["summary"][1]["paired"];
+  CHECK(paired["against"]["capture.allow_outside_paths"] == "false");
+  CHECK(paired["metrics"]["capture.views"]["n"] == 4);
+  CHECK(paired["metrics"]["capture.views"]["mean"].get<double>() == 0.0);
+  CHECK(paired["metrics"]["capture.views"]["low"].get<double>() == 0.0);
+  std::ifstream csv(out / "results.csv");
+  std::string header;
+  std::getline(csv, header);
+  CHECK(header.rfind("run,seed,input,status,error,capture.allow_outside_paths", 0) == 0);
+
+  // A set line naming no capture is refused before any run, with the capture's path.
+  const fs::path bad_set =
+      write_file_text(dir / "bad.txt", "embedded:or?seed=1&views=4\nno_such_room\n");
+  // So is a line whose embedded capture cannot be made, before anything is generated.
+  const fs::path two_views = write_file_text(dir / "two.txt", "embedded:or?seed=1&views=2\n");
+  const auto two = run_command(kBinary + " sweep " + shell_quoted(graph) + " --inputs " +
+                               shell_quoted(two_views) + " --out " + shell_quoted(dir / "two"));
+  CHECK(two.code == exit_code::kBadInput);
+  CHECK(two.output.find("views must be 4..8, got 2") != std::string::npos);
+  const auto bad = run_command(kBinary + " sweep " + shell_quoted(graph) + " --inputs " +
+                               shell_quoted(bad_set) + " --out " + shell_quoted(dir / "bad"));
+  CHECK(bad.code == exit_code::kBadInput);
+  CHECK(bad.output.find("no_such_room") != std::string::npos);
+  CHECK_FALSE(fs::exists(dir / "bad" / "runs"));
+  // An empty set and --input with --inputs are errors before anything runs.
+  const fs::path empty_set = write_file_text(dir / "empty.txt", "# nothing\n");
+  CHECK(run_command(kBinary + " sweep " + shell_quoted(graph) + " --inputs " +
+                    shell_quoted(empty_set) + " --out " + shell_quoted(dir / "empty"))
+            .code == exit_code::kBadInput);
+  CHECK(run_command(kBinary + " sweep " + shell_quoted(graph) + " --inputs " + shell_quoted(set) +
+                    " --input x --out " + shell_quoted(dir / "both"))
+            .code == exit_code::kUsage);
 }
