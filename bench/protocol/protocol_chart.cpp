@@ -1,0 +1,220 @@
+// The dev/test protocol's results (issue 28) from bench/protocol/run.sh's sweeps:
+//  - protocol.json: per method and set the headline metric over its rooms (mean, std, min, max,
+//    each room's value), the method's other evaluation records (means), failed rooms, the median
+//    time of a room; and the paired comparisons of pairs.tsv: first minus second, room by room
+//    (the same capture and seed), with the mean's 95% t interval;
+//  - protocol.svg: per method a dev bar and a test bar (mean, whiskers one std), each room a dot;
+//  - a markdown table on stdout, as the README and bench/README.md show it.
+//   protocol_chart PROTOCOL_DIR TSV_DIR RESULTS_DIR
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "base/atomic_file.hpp"
+#include "base/statistics.hpp"
+#include "base/svg.hpp"
+#include "bench/common/tsv.hpp"
+
+using namespace gslift;
+using bench::read_tsv;
+using nlohmann::json;
+namespace fs = std::filesystem;
+
+namespace {
+
+json read_json(const fs::path& file) {
+  std::ifstream in(file);
+  if (!in) return json();
+  return json::parse(in, nullptr, false);
+}
+
+// One method on one set: its rooms' headline values, keyed by (capture, seed) for pairing.
+struct SetResult {
+  std::string method, set, graph, headline;
+  std::map<std::pair<std::string, uint64_t>, double> rooms;
+  std::map<std::string, std::vector<double>> others;  // the headline node's other records
+  std::vector<double> times;
+  int failed = 0;
+  std::vector<std::string> errors;
+};
+
+SetResult read_set(const fs::path& dir, const std::vector<std::string>& row) {
+  SetResult r{row[0], row[1], row[2], row[3], {}, {}, {}, 0, {}};
+  const json sweep = read_json(dir / "sweep.json");
+  if (!sweep.is_object()) return r;
+  const std::string node = r.headline.substr(0, r.headline.find('.') + 1);
+  for (const auto& run : sweep["runs"]) {
+    if (run["status"] != "ok") {
+      ++r.failed;
+      r.errors.push_back(run.value("error", json("")).is_string() ? run["error"].get<std::string>()
+                                                                  : std::string());
+      continue;
+    }
+    const auto& metrics = run["metrics"];
+    if (!metrics.contains(r.headline)) continue;
+    const std::string input = run["input"].is_string() ? run["input"].get<std::string>() : "";
+    r.rooms[{input, run["seed"].get<uint64_t>()}] = metrics[r.headline].get<double>();
+    for (const auto& [k, v] : metrics.items())
+      if (k.rfind(node, 0) == 0 && k != r.headline && k.find('/') == std::string::npos)
+        r.others[k.substr(node.size())].push_back(v.get<double>());
+    r.times.push_back(run["total_s"].get<double>());
+  }
+  return r;
+}
+
+std::vector<double> values(const SetResult& r) {
+  std::vector<double> v;
+  for (const auto& [room, x] : r.rooms) v.push_back(x);
+  return v;
+}
+
+std::string fixed(double x, int decimals = 1) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.*f", decimals, x);
+  return buf;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc != 4) {
+    std::cerr << "usage: protocol_chart PROTOCOL_DIR TSV_DIR RESULTS_DIR\n";
+    return 2;
+  }
+  const fs::path dir = argv[1], tsv = argv[2], results = argv[3];
+  std::vector<SetResult> sets;
+  for (const auto& row : read_tsv(tsv / "protocol.tsv")) {
+    if (row.size() < 5) continue;
+    SetResult r = read_set(dir / (row[0] + "_" + row[1]), row);
+    if (!r.rooms.empty() || r.failed > 0) sets.push_back(std::move(r));
+  }
+  if (sets.empty()) {
+    std::cerr << "protocol_chart: no finished sweep under " << dir << "\n";
+    return 1;
+  }
+  const auto find = [&](const std::string& method, const std::string& set) -> const SetResult* {
+    for (const auto& s : sets)
+      if (s.method == method && s.set == set) return &s;
+    return nullptr;
+  };
+
+  json out_sets = json::array();
+  std::cout << "| method | set | rooms | headline | mean +- std | min - max | other records "
+               "(means) | time per room (median) |\n|---|---|---|---|---|---|---|---|\n";
+  for (const auto& s : sets) {
+    const auto v = values(s);
+    const auto [mean, sd] = mean_std(v);
+    json others = json::object(), rooms = json::array();
+    std::string other_text;
+    for (const auto& [k, xs] : s.others) {
+      others[k] = mean_std(xs).first;
+      other_text += (other_text.empty() ? "" : ", ") + k + " " + fixed(mean_std(xs).first);
+    }
+    for (const auto& [room, x] : s.rooms)
+      rooms.push_back({{"input", room.first}, {"seed", room.second}, {"value", x}});
+    const double lo = v.empty() ? NAN : *std::min_element(v.begin(), v.end());
+    const double hi = v.empty() ? NAN : *std::max_element(v.begin(), v.end());
+    out_sets.push_back({{"method", s.method},
+                        {"set", s.set},
+                        {"graph", s.graph},
+                        {"headline", s.headline},
+                        {"n", v.size()},
+                        {"failed", s.failed},
+                        {"errors", s.errors},
+                        {"mean", mean},
+                        {"std", sd},
+                        {"min", lo},
+                        {"max", hi},
+                        {"others", others},
+                        {"median_time_s", median(s.times)},
+                        {"rooms", rooms}});
+    std::cout << "| " << s.method << " | " << s.set << " | " << v.size()
+              << (s.failed ? " (" + std::to_string(s.failed) + " failed)" : std::string()) << " | "
+              << s.headline << " | " << fixed(mean) << " +- " << fixed(sd) << " | " << fixed(lo)
+              << " - " << fixed(hi) << " | " << other_text << " | " << fixed(median(s.times), 0)
+              << " s |\n";
+  }
+
+  json out_pairs = json::array();
+  for (const auto& row : read_tsv(tsv / "pairs.tsv")) {
+    if (row.size() < 3) continue;
+    const SetResult *a = find(row[0], row[2]), *b = find(row[1], row[2]);
+    if (!a || !b) continue;
+    std::vector<double> diffs;
+    int wins = 0;
+    for (const auto& [room, x] : a->rooms) {
+      auto it = b->rooms.find(room);
+      if (it == b->rooms.end()) continue;
+      diffs.push_back(x - it->second);
+      wins += x > it->second;
+    }
+    const MeanInterval m = mean_interval_95(diffs);
+    out_pairs.push_back({{"first", row[0]},
+                         {"second", row[1]},
+                         {"set", row[2]},
+                         {"metric", a->headline},
+                         {"n", m.n},
+                         {"first_wins", wins},
+                         {"mean", m.mean},
+                         {"low", std::isfinite(m.low) ? json(m.low) : json()},
+                         {"high", std::isfinite(m.high) ? json(m.high) : json()}});
+    std::cout << "\npaired, " << row[0] << " minus " << row[1] << " on " << row[2] << " ("
+              << a->headline << ", " << m.n << " rooms, first higher in " << wins
+              << "): " << fixed(m.mean, 2) << " [" << fixed(m.low, 2) << ", " << fixed(m.high, 2)
+              << "]\n";
+  }
+
+  // The chart: per method a dev and a test bar side by side, whiskers one std, a dot per room.
+  std::vector<std::string> methods;
+  for (const auto& s : sets)
+    if (std::find(methods.begin(), methods.end(), s.method) == methods.end())
+      methods.push_back(s.method);
+  const double group_w = 130, left = 50, top = 40, plot_h = 260;
+  const double width = std::max(620.0, left + group_w * static_cast<double>(methods.size()) + 20);
+  Svg svg(width, top + plot_h + 70, 12, true);
+  svg.text(left, 20, "Headline metric per method: dev rooms (settings chosen there) | test rooms",
+           "font-weight='bold'");
+  const auto y_of = [&](double v) { return top + plot_h * (1 - std::clamp(v, 0.0, 100.0) / 100); };
+  for (int t = 0; t <= 100; t += 20) {
+    svg.line(left, y_of(t), width - 20, y_of(t), "#ddd");
+    svg.text(left - 6, y_of(t) + 4, std::to_string(t), "text-anchor='end'");
+  }
+  for (size_t m = 0; m < methods.size(); ++m) {
+    const double x0 = left + group_w * static_cast<double>(m) + 15;
+    int slot = 0;
+    for (const char* set : {"dev", "test"}) {
+      const SetResult* s = find(methods[m], set);
+      const double x = x0 + 50 * slot++;
+      if (!s) continue;
+      const auto v = values(*s);
+      const auto [mean, sd] = mean_std(v);
+      const std::string colour = std::string(set) == "dev" ? "#9ecae1" : "#3182bd";
+      svg.begin_group(s->method + " " + set + ": " + s->headline + " " + fixed(mean) + " +- " +
+                      fixed(sd) + " over " + std::to_string(v.size()) + " rooms");
+      svg.rect(x, y_of(mean), 40, y_of(0) - y_of(mean), colour);
+      svg.line(x + 20, y_of(mean - sd), x + 20, y_of(mean + sd), "black");
+      for (size_t i = 0; i < v.size(); ++i)
+        svg.circle(x + 8 + 24.0 * static_cast<double>(i % 7) / 6, y_of(v[i]), 2, "#222");
+      svg.text(x + 20, y_of(mean + sd) - 4, fixed(mean), "text-anchor='middle'");
+      svg.text(x + 20, y_of(0) + 14, set, "text-anchor='middle'");
+      svg.end_group();
+    }
+    svg.text(x0 + 45, y_of(0) + 32, methods[m], "text-anchor='middle'");
+  }
+  svg.text(left, top + plot_h + 60,
+           "bars: mean over rooms, whiskers: one std, dots: rooms; headline metric per method in "
+           "protocol.json",
+           "font-size='10'");
+  write_file_atomically(results / "protocol.svg", svg.str());
+  write_file_atomically(results / "protocol.json",
+                        json({{"sets", out_sets}, {"pairs", out_pairs}}).dump(1) + "\n");
+  std::cout << "\nwrote " << (results / "protocol.json").string() << " and protocol.svg\n";
+  return 0;
+}
