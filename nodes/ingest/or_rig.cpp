@@ -124,8 +124,9 @@ Eigen::Matrix4d transform_of(const json& j, const std::string& where) {
 json parameters_json(const Camera& c) {
   std::vector<double> d = c.distortion;
   if (d.size() > 8)
-    throw std::invalid_argument("a rig calibration holds k1..k6, p1, p2; the thin prism s1..s4 "
-                                "has no field");
+    throw std::invalid_argument(
+        "a rig calibration holds k1..k6, p1, p2; the thin prism s1..s4 "
+        "has no field");
   d.resize(8, 0.0);  // k1 k2 p1 p2 k3 k4 k5 k6
   json radial, tangential, k;
   const double radial_values[6] = {d[0], d[1], d[4], d[5], d[6], d[7]};
