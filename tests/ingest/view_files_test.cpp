@@ -123,13 +123,13 @@ TEST_CASE("rational and thin-prism distortion round trip against cv::projectPoin
   f.camera.fx = f.camera.fy = 80;
   f.camera.cx = 48;
   f.camera.cy = 36;
-  // k1 k2 p1 p2 k3 k4 k5 k6 s1 s2 s3 s4, of the size of an Azure Kinect colour calibration's
-  // terms (large k1 and k4 that nearly cancel) plus a thin prism.
-  f.camera.distortion = {0.45, -2.6, 0.001, -0.0005, 1.5,    0.33,
-                         -2.4, 1.4,  0.002, -0.001,  0.0015, 0.001};
+  // k1 k2 p1 p2 k3 k4 k5 k6 s1 s2 s3 s4: a barrel-type rational model with a thin prism, monotonic
+  // out to the image corners.
+  f.camera.distortion = {-0.3,  0.1,   0.001, -0.0005, -0.01, 0.05,
+                         -0.01, 0.002, 0.004, -0.002,  0.003, 0.002};
   const std::vector<double>& d = f.camera.distortion;
-  // The known answer: camera-frame point (0.25, -0.15, 1), by OpenCV's formula written out.
-  const double x = 0.25, y = -0.15, r2 = x * x + y * y;
+  // The known answer: camera-frame point (0.4, -0.3, 1), by OpenCV's formula written out.
+  const double x = 0.4, y = -0.3, r2 = x * x + y * y;
   const double radial = (1 + d[0] * r2 + d[1] * r2 * r2 + d[4] * r2 * r2 * r2) /
                         (1 + d[5] * r2 + d[6] * r2 * r2 + d[7] * r2 * r2 * r2);
   const double xd =
