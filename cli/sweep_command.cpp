@@ -72,19 +72,6 @@ const CommandHelp& sweep_help() {
   return help;
 }
 
-// The headline metrics of a run for the sweep table: the evaluation nodes' numeric records,
-// without per-class entries ("IoU/table"), at most five.
-std::vector<std::string> headline_metrics(const nlohmann::json& run_json) {
-  std::vector<std::string> keys;
-  for (const auto& n : run_json.at("nodes")) {
-    if (n.at("type").get<std::string>().rfind("eval.", 0) != 0) continue;
-    for (const auto& [key, value] : n.at("records").items())
-      if (value.is_number() && key.find('/') == std::string::npos && keys.size() < 5)
-        keys.push_back(n.at("id").get<std::string>() + "." + key);
-  }
-  return keys;
-}
-
 int cmd_sweep(int argc, char** argv, const Registry& registry) {
   const Args args = parse_args(argc, argv, 2, sweep_help().options);
   if (args.flags.count("help")) return print_command_help(sweep_help()), 0;
@@ -181,7 +168,8 @@ int cmd_sweep(int argc, char** argv, const Registry& registry) {
     try {
       const nlohmann::json record = parse_json(read_input_file(dir / "run.json", "run.json"));
       run = sweep_run_from_record(record, run);
-      if (headline.empty() && run.status == "ok") headline = headline_metrics(record);
+      if (headline.empty() && run.status == "ok")
+        for (const auto& [key, value] : headline_metrics(record)) headline.push_back(key);
     } catch (const std::exception& e) {
       // The child died before writing its record (a crash, or a kill): the row says how.
       // Its own peak memory is unknown: wait4's includes this process's (child_process.hpp).

@@ -272,14 +272,40 @@ int BatchSummary::count(CaptureStatus s) const {
   return n;
 }
 
+namespace {
+
+// A metric for the table: 4 significant digits, as the sweep table prints them.
+std::string format_metric(double v) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.4g", v);
+  return text;
+}
+
+// The headline metrics of the run.json in a capture's result folder; none without a readable one.
+std::vector<std::pair<std::string, double>> metrics_in(const fs::path& dir) {
+  std::error_code ec;
+  if (!fs::is_regular_file(dir / "run.json", ec)) return {};
+  try {
+    return headline_metrics(parse_json(read_input_file(dir / "run.json", "run record")));
+  } catch (const std::exception&) {
+    return {};
+  }
+}
+
+}  // namespace
+
 json BatchSummary::json() const {
   nlohmann::json rows = nlohmann::json::array();
-  for (const auto& c : captures)
+  for (const auto& c : captures) {
+    nlohmann::json metrics = nlohmann::json::object();
+    for (const auto& [key, value] : c.metrics) metrics[key] = value;
     rows.push_back({{"name", c.name},
                     {"path", c.path},
                     {"status", to_string(c.status)},
                     {"seconds", c.seconds},
+                    {"metrics", metrics},
                     {"error", c.error}});
+  }
   return {{"captures", rows},
           {"done", count(CaptureStatus::Done)},
           {"skipped", count(CaptureStatus::Skipped)},
@@ -290,16 +316,31 @@ json BatchSummary::json() const {
 
 std::string BatchSummary::table() const {
   size_t width = 7;
-  for (const auto& c : captures) width = std::max(width, c.name.size());
+  std::vector<std::string> keys;  // every metric a capture has, in order of first appearance
+  for (const auto& c : captures) {
+    width = std::max(width, c.name.size());
+    for (const auto& m : c.metrics)
+      if (std::find(keys.begin(), keys.end(), m.first) == keys.end()) keys.push_back(m.first);
+  }
   std::string out;
   char row[512];
-  std::snprintf(row, sizeof row, "%-*s  %-11s  %9s  %s\n", static_cast<int>(width), "capture",
-                "status", "seconds", "error");
+  std::snprintf(row, sizeof row, "%-*s  %-11s  %9s", static_cast<int>(width), "capture", "status",
+                "seconds");
   out += row;
+  for (const auto& k : keys) out += "  " + k;
+  out += "  error\n";
   for (const auto& c : captures) {
-    std::snprintf(row, sizeof row, "%-*s  %-11s  %9.2f  ", static_cast<int>(width), c.name.c_str(),
+    std::snprintf(row, sizeof row, "%-*s  %-11s  %9.2f", static_cast<int>(width), c.name.c_str(),
                   to_string(c.status), c.seconds);
-    out += row + c.error + "\n";
+    out += row;
+    for (const auto& k : keys) {
+      const auto m = std::find_if(c.metrics.begin(), c.metrics.end(),
+                                  [&](const auto& p) { return p.first == k; });
+      std::snprintf(row, sizeof row, "  %*s", static_cast<int>(k.size()),
+                    m == c.metrics.end() ? "-" : format_metric(m->second).c_str());
+      out += row;
+    }
+    out += "  " + c.error + "\n";
   }
   std::snprintf(row, sizeof row, "%d done, %d skipped, %d failed%s\n", count(CaptureStatus::Done),
                 count(CaptureStatus::Skipped), count(CaptureStatus::Failed),
@@ -326,6 +367,7 @@ CaptureOutcome run_capture_once(const ManifestEntry& e, const fs::path& out_root
   const fs::path final_dir = out_root / e.name;
   if (fs::exists(final_dir / "_DONE")) {
     outcome.status = CaptureStatus::Skipped;
+    outcome.metrics = metrics_in(final_dir);
     return outcome;
   }
   const fs::path tmp = partial_dir(out_root, e.name);
@@ -378,6 +420,7 @@ CaptureOutcome run_capture_once(const ManifestEntry& e, const fs::path& out_root
   if (ec)
     throw OutputError("cannot rename " + tmp.string() + " to " + final_dir.string() + ": " +
                       ec.message());
+  outcome.metrics = metrics_in(final_dir);
   return outcome;
 } catch (const OutputError&) {
   // The marker could not be written: no half-finished capture stays behind.

@@ -10,6 +10,7 @@
 #include <functional>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -76,7 +77,10 @@ struct CaptureOutcome {
   std::string path;
   CaptureStatus status = CaptureStatus::Done;
   double seconds = 0;
-  std::string error;          // RunError::str() or the exception text, when failed
+  std::string error;  // RunError::str() or the exception text, when failed
+  // The headline metrics of its run.json (run_record.hpp), also for a capture an earlier run
+  // finished; empty when it has none (no eval node, or failed before them).
+  std::vector<std::pair<std::string, double>> metrics;
   bool cannot_write = false;  // failed because results could not be written (disk full, ...)
 };
 
@@ -88,7 +92,8 @@ struct BatchSummary {
   bool cannot_write = false;
   int count(CaptureStatus s) const;
   nlohmann::json json() const;
-  // A fixed-width table, one row per capture, then the totals.
+  // A fixed-width table, one row per capture with its headline metrics (a column per metric any
+  // capture has), then the totals.
   std::string table() const;
 };
 

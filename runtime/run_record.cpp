@@ -109,4 +109,16 @@ void write_run_record(const std::filesystem::path& file, const Graph& graph,
   write_file_atomically(file, json_text(run_record_json(graph, result)));
 }
 
+std::vector<std::pair<std::string, double>> headline_metrics(const nlohmann::json& record) {
+  std::vector<std::pair<std::string, double>> out;
+  if (!record.contains("nodes") || !record.at("nodes").is_array()) return out;
+  for (const auto& n : record.at("nodes")) {
+    if (n.value("type", std::string()).rfind("eval.", 0) != 0 || !n.contains("records")) continue;
+    for (const auto& [key, value] : n.at("records").items())
+      if (value.is_number() && key.find('/') == std::string::npos && out.size() < 5)
+        out.emplace_back(n.value("id", std::string()) + "." + key, value.get<double>());
+  }
+  return out;
+}
+
 }  // namespace gslift

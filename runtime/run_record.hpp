@@ -11,6 +11,9 @@
 #pragma once
 
 #include <filesystem>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -33,6 +36,11 @@ nlohmann::json run_record_json(const Graph& graph, const RunResult& result);
 // its invalid bytes as "\xNN" (base/utf8.hpp), so run.json, batch markers and summaries survive
 // and the real error is the one reported.
 std::string json_text(const nlohmann::json& j);
+
+// The headline metrics of a record: the evaluation nodes' (type eval.*) numeric records without
+// per-class entries ("IoU/table"), at most five, as ("<node>.<key>", value) in graph order. What
+// `gslift sweep` and `gslift batch` print per run.
+std::vector<std::pair<std::string, double>> headline_metrics(const nlohmann::json& record);
 
 // Writes run_record_json with json_text and write_file_atomically.
 void write_run_record(const std::filesystem::path& file, const Graph& graph,

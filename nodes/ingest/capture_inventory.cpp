@@ -2,6 +2,7 @@
 
 #include "base/input_file.hpp"
 #include "nodes/ingest/capture_manifest.hpp"
+#include "nodes/ingest/or_rig.hpp"
 
 namespace gslift {
 
@@ -46,6 +47,7 @@ CaptureInventory capture_inventory(const Capture& capture) {
   const CaptureManifest m =
       root.empty() ? CaptureManifest() : read_capture_manifest(root, capture.allow_outside_paths);
   const std::string n_views = std::to_string(capture.views.size());
+  const fs::path rig_step = m.rig.empty() ? root : root / m.rig;
 
   std::string missing_image;
   for (const View& v : capture.views)
@@ -57,15 +59,20 @@ CaptureInventory capture_inventory(const Capture& capture) {
       missing_image.empty() && !capture.views.empty(),
       missing_image.empty() ? "the views' images" : missing_image,
       "the capture's own images, named by its camera model (COLMAP images/, transforms.json "
-      "file_path; docs/capture_format.md)"};
+      "file_path, an OR rig's colorimage/; docs/capture_format.md, docs/or-rig.md)"};
 
   inv[CaptureItem::Depth] = {
       every_view(capture, [](const View& v) { return v.depth.present(); }),
-      m.depth.empty() ? "a depth folder (capture.yaml depth:, Replica results/depth*.png, "
-                        "3DMatch *.depth.png); this capture names none"
-                      : "a depth map per view in " + folder_text(root / m.depth),
+      !m.depth.empty() ? "a depth map per view in " + folder_text(root / m.depth)
+      : !root.empty() && is_or_rig_step(rig_step)
+          ? "a depth frame per camera in " + folder_text(rig_step / "depthimage") +
+                " (<camera>_depthimage-<index>.tiff)"
+          : "a depth folder (capture.yaml depth:, Replica "
+            "results/depth*.png, 3DMatch *.depth.png, an OR rig's "
+            "depthimage/); this capture names none",
       "a depth sensor or multi-view stereo, one 16-bit PNG (depth_scale per metre) or float "
-      "TIFF per view, named in capture.yaml's depth: (docs/capture_format.md)"};
+      "TIFF per view, named in capture.yaml's depth: (docs/capture_format.md); an OR rig's "
+      "depth camera, one 16-bit millimetre TIFF per camera in depthimage/ (docs/or-rig.md)"};
 
   const fs::path vlm = root / m.vlm;
   inv[CaptureItem::VlmReplies] = {

@@ -9,6 +9,7 @@
 #include "nodes/ingest/capture_manifest.hpp"
 #include "nodes/ingest/colmap_capture.hpp"
 #include "nodes/ingest/nerf_transforms.hpp"
+#include "nodes/ingest/or_rig.hpp"
 #include "nodes/ingest/rgbd_folders.hpp"
 
 namespace gslift {
@@ -53,7 +54,9 @@ void read_classes(const fs::path& root, bool allow_outside, const fs::path& file
 // Views of a capture.yaml folder, with its depth prior and ground truth attached.
 std::vector<ViewFiles> manifest_views(const fs::path& root, const CaptureManifest& m,
                                       const CaptureOptions& options, Capture& capture) {
-  auto views = read_colmap_views(root / m.model, root / m.images, options, capture.points);
+  auto views = m.rig.empty()
+                   ? read_colmap_views(root / m.model, root / m.images, options, capture.points)
+                   : read_or_rig_views(root / m.rig, options.allow_outside_paths);
   const fs::path gt = m.gt.empty() ? fs::path() : root / m.gt;
   const bool out = options.allow_outside_paths;
   for (auto& v : views) {
@@ -106,10 +109,12 @@ std::vector<ViewFiles> detected_views(const fs::path& path, const CaptureOptions
   if (fs::is_directory(path / "results") && fs::exists(path / "traj.txt"))
     return read_replica_views(path);
   if (fs::exists(path / "camera-intrinsics.txt")) return read_3dmatch_views(path);
+  if (is_or_rig_step(path)) return read_or_rig_views(path, options.allow_outside_paths);
   throw InputError(path.string() +
                    ": not a capture; looked for capture.yaml, a COLMAP model (sparse/0/, colmap/ "
                    "or cameras.bin|txt), transforms.json, transforms_train.json, Replica "
-                   "(results/ + traj.txt) and 3DMatch (camera-intrinsics.txt)");
+                   "(results/ + traj.txt), 3DMatch (camera-intrinsics.txt) and an OR rig time "
+                   "step (colorimage/ + camera<N>.json here or in the parent; docs/or-rig.md)");
 }
 
 Capture load_capture_files(const fs::path& input, const CaptureOptions& options) {

@@ -16,8 +16,11 @@ namespace gslift {
 //     one level further up (colmap/ -> ../images, sparse/0/ -> ../../images);
 //   - a NeRF folder with transforms.json (else transforms_train.json), or such a .json file;
 //   - a Replica/NICE-SLAM folder (results/ + traj.txt) or a 3DMatch folder
-//     (camera-intrinsics.txt + seq-*/).
-// Anything else is an InputError listing what was looked for. Views are in the format's order
+//     (camera-intrinsics.txt + seq-*/);
+//   - a time step of an OR rig recording (or_rig.hpp): colorimage/ (+ depthimage/) with
+//     camera<N>.json in the folder or its parent.
+// capture.yaml's `rig:` names a rig time step instead of a COLMAP model. Anything else is an
+// InputError listing what was looked for. Views are in the format's order
 // (COLMAP: by image name). held_out comes from capture.yaml, else options.holdout_every.
 Capture load_capture(const std::filesystem::path& path, const CaptureOptions& options = {});
 

@@ -23,6 +23,14 @@ CaptureManifest read_capture_manifest(const std::filesystem::path& root, bool al
     if (y["name"]) m.name = y["name"].as<std::string>();
     if (y["model"]) m.model = y["model"].as<std::string>();
     if (y["images"]) m.images = y["images"].as<std::string>();
+    if (y["rig"]) {
+      if (y["model"] || y["depth"])
+        throw InputError(where +
+                         ": rig: names the views and their depth; it excludes model: "
+                         "and depth:");
+      m.rig = y["rig"].as<std::string>();
+      if (m.rig.empty()) m.rig = ".";
+    }
     if (const auto d = y["depth"]) {
       m.depth = d["folder"] ? d["folder"].as<std::string>() : "depth";
       if (d["scale"]) m.depth_scale = d["scale"].as<double>();
@@ -59,6 +67,7 @@ CaptureManifest read_capture_manifest(const std::filesystem::path& root, bool al
   }
   for (const auto& [key, folder] :
        {std::pair<const char*, const std::filesystem::path*>{"model", &m.model},
+        {"rig", &m.rig},
         {"images", &m.images},
         {"depth.folder", &m.depth},
         {"vlm.folder", &m.vlm},

@@ -12,8 +12,9 @@
 namespace gslift {
 
 struct CaptureManifest {
-  std::string name;                            // empty = the folder name
-  std::filesystem::path model = "sparse/0";    // COLMAP model folder, relative to the root
+  std::string name;                          // empty = the folder name
+  std::filesystem::path model = "sparse/0";  // COLMAP model folder, relative to the root
+  std::filesystem::path rig;  // instead of model: an OR rig time step (or_rig.hpp); empty = none
   std::filesystem::path images = "images";     // folder the model's image names are relative to
   std::filesystem::path depth;                 // depth prior folder; empty = none
   double depth_scale = 1000;                   // 16-bit depth value / depth_scale = metres

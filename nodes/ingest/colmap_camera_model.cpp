@@ -63,12 +63,9 @@ Camera camera_from_colmap(const ColmapCameraModel& model, int width, int height,
     case 4:  // OPENCV: k1 k2 p1 p2
       c.distortion.assign(p.begin() + 4, p.end());
       break;
-    case 6:
-      if (p[9] != 0 || p[10] != 0 || p[11] != 0)
-        throw InputError(where +
-                         ": FULL_OPENCV with k4..k6 != 0 (rational model) is not "
-                         "supported");
-      c.distortion.assign(p.begin() + 4, p.begin() + 9);
+    case 6:  // k1 k2 p1 p2 k3 k4 k5 k6, OpenCV's order; without k4..k6 the 5-term model
+      c.distortion.assign(p.begin() + 4,
+                          p[9] != 0 || p[10] != 0 || p[11] != 0 ? p.end() : p.begin() + 9);
       break;
     default:
       break;
@@ -87,7 +84,8 @@ std::pair<std::string, std::vector<double>> colmap_params_of(const Camera& c) {
     p.insert(p.end(), {0.0, 0.0, 0.0});
     return {"FULL_OPENCV", p};
   }
-  throw std::invalid_argument("camera distortion must have 0, 4 or 5 coefficients, got " +
+  if (d.size() == 8) return {"FULL_OPENCV", p};
+  throw std::invalid_argument("COLMAP writes distortion of 0, 4, 5 or 8 coefficients, got " +
                               std::to_string(d.size()));
 }
 

@@ -35,7 +35,7 @@ ColmapModel read_colmap_binary(const std::filesystem::path& folder);
 
 // Writes cameras.txt, images.txt and points3D.txt into folder (created if needed), with the
 // classic locale and 17 significant digits so doubles round-trip exactly. Cameras without
-// distortion are PINHOLE, with 4 coefficients OPENCV, with 5 FULL_OPENCV (k4..k6 = 0).
+// distortion are PINHOLE, with 4 coefficients OPENCV, with 5 or 8 FULL_OPENCV (5: k4..k6 = 0).
 void write_colmap_text(const std::filesystem::path& folder, const ColmapModel& model);
 
 }  // namespace gslift

@@ -47,7 +47,8 @@ void run_capture(NodeContext& ctx, const CaptureNodeParams& p) {
 void add_capture(Registry& registry) {
   NodeSpec spec{
       "ingest.capture",
-      "open a capture folder (capture.yaml, COLMAP, transforms.json, Replica, 3DMatch) or an "
+      "open a capture folder (capture.yaml, COLMAP, transforms.json, Replica, 3DMatch, an OR rig "
+      "time step) or an "
       "embedded: capture; views load lazily",
       {},
       {capture_port("posed views with depth prior and ground truth when present")}};

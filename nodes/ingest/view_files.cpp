@@ -8,25 +8,16 @@
 #include <string>
 
 #include <opencv2/calib3d.hpp>
-#include <opencv2/core/eigen.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "base/errors.hpp"
+#include "nodes/ingest/opencv_camera.hpp"
 #include "nodes/scene/image_io.hpp"
 
 namespace gslift {
 namespace {
 
 using Decode = std::function<cv::Mat(const std::filesystem::path&)>;
-
-cv::Mat opencv_k(const Camera& c) {
-  cv::Mat k;
-  cv::eigen2cv(c.K(), k);
-  // OpenCV puts pixel centres at integer coordinates, gslift at +0.5 (camera.hpp).
-  k.at<double>(0, 2) -= 0.5;
-  k.at<double>(1, 2) -= 0.5;
-  return k;
-}
 
 // Undistortion maps from a captured camera (with distortion) to an ideal pinhole `target`,
 // computed on the first load and shared by later loads (and threads): they cost about as much as
@@ -39,9 +30,10 @@ class Undistorter {
   // The image the ideal pinhole would have seen.
   cv::Mat apply(const cv::Mat& m, int interpolation) {
     std::call_once(once_, [&] {
-      cv::initUndistortRectifyMap(opencv_k(captured_), captured_.distortion, cv::noArray(),
-                                  opencv_k(target_), cv::Size(target_.width, target_.height),
-                                  CV_32FC1, map_x_, map_y_);
+      cv::initUndistortRectifyMap(opencv_camera_matrix(captured_), captured_.distortion,
+                                  cv::noArray(), opencv_camera_matrix(target_),
+                                  cv::Size(target_.width, target_.height), CV_32FC1, map_x_,
+                                  map_y_);
     });
     cv::Mat out;
     cv::remap(m, out, map_x_, map_y_, interpolation, cv::BORDER_CONSTANT, cv::Scalar::all(0));
@@ -78,6 +70,39 @@ ImageSource checked_source(const std::filesystem::path& path, const Camera& came
   });
 }
 
+// A depth map of a sensor of its own, registered to the full-resolution `target` and resized to
+// the view's resolution (nearest: averaging across a depth edge invents values).
+ImageSource registered_depth_source(const ViewFiles& f, const Camera& target, int downscale) {
+  const Camera scaled = target.scaled(1.0 / downscale);
+  const DepthSensor sensor = *f.depth_sensor;
+  const bool fits_file = f.depth_sensor_fits_file;
+  const double scale = f.depth_scale;
+  return ImageSource::on_disk(f.depth, [=](const std::filesystem::path& p) {
+    const cv::Mat depth = read_depth(p, scale);
+    DepthSensor s = sensor;
+    const Camera& c = sensor.camera;
+    if (fits_file && (depth.cols != c.width || depth.rows != c.height)) {
+      // The same camera at the file's resolution: one scale for both axes.
+      const double k = static_cast<double>(depth.cols) / c.width;
+      s.camera = c.scaled(k);
+      if (s.camera.width != depth.cols || s.camera.height != depth.rows)
+        throw InputError(p.string() + ": depth map is " + std::to_string(depth.cols) + " x " +
+                         std::to_string(depth.rows) + ", not the colour camera's " +
+                         std::to_string(c.width) + " x " + std::to_string(c.height) +
+                         " scaled by one factor");
+    }
+    if (depth.cols != s.camera.width || depth.rows != s.camera.height)
+      throw InputError(p.string() + ": depth map is " + std::to_string(depth.cols) + " x " +
+                       std::to_string(depth.rows) + ", but its depth camera is " +
+                       std::to_string(s.camera.width) + " x " + std::to_string(s.camera.height));
+    cv::Mat m = register_depth(depth, s, target);
+    if (downscale == 1) return m;
+    cv::Mat out;
+    cv::resize(m, out, cv::Size(scaled.width, scaled.height), 0, 0, cv::INTER_NEAREST);
+    return out;
+  });
+}
+
 // Ground-truth label maps of the capture layout must be 16-bit (docs/capture_format.md).
 cv::Mat read_gt_labels(const std::filesystem::path& p) {
   return read_label_map(p, false);
@@ -88,23 +113,22 @@ cv::Mat read_gt_labels(const std::filesystem::path& p) {
 cv::Rect undistorted_valid_rect(const Camera& c, int multiple) {
   const cv::Rect whole(0, 0, c.width, c.height);
   if (c.distortion.empty()) return whole;
-  // The border of the captured image, every pixel edge of it, in OpenCV pixel coordinates.
+  // The border of the captured image, every pixel edge of it, in gslift pixel coordinates.
   std::vector<cv::Point2d> border;
-  const double x0 = -0.5, y0 = -0.5, x1 = c.width - 0.5, y1 = c.height - 0.5;
-  for (int u = 0; u <= c.width; ++u) border.push_back({x0 + u, y0}), border.push_back({x0 + u, y1});
+  const double x1 = c.width, y1 = c.height;
+  for (int u = 0; u <= c.width; ++u)
+    border.push_back({double(u), 0}), border.push_back({double(u), y1});
   for (int v = 0; v <= c.height; ++v)
-    border.push_back({x0, y0 + v}), border.push_back({x1, y0 + v});
-  std::vector<cv::Point2d> ideal;
-  const cv::Mat k = opencv_k(c);
-  cv::undistortPoints(border, ideal, k, c.distortion, cv::noArray(), k);
-  // In gslift coordinates (corner at 0), the tightest bound of each side of the ideal image.
+    border.push_back({0, double(v)}), border.push_back({x1, double(v)});
+  const std::vector<cv::Point2d> rays = pixel_rays(c, border);
+  // The tightest bound of each side of the ideal image.
   double left = 0, right = c.width, top = 0, bottom = c.height;
-  for (size_t i = 0; i < ideal.size(); ++i) {
-    const double x = ideal[i].x + 0.5, y = ideal[i].y + 0.5;
+  for (size_t i = 0; i < rays.size(); ++i) {
+    const double x = c.fx * rays[i].x + c.cx, y = c.fy * rays[i].y + c.cy;
     const cv::Point2d& b = border[i];
-    if (b.x == x0) left = std::max(left, x);
+    if (b.x == 0) left = std::max(left, x);
     if (b.x == x1) right = std::min(right, x);
-    if (b.y == y0) top = std::max(top, y);
+    if (b.y == 0) top = std::max(top, y);
     if (b.y == y1) bottom = std::min(bottom, y);
   }
   // One more pixel on each side: bilinear interpolation reads the neighbours of a pixel mapped
@@ -146,8 +170,11 @@ View make_view(const ViewFiles& f, const CaptureOptions& options) {
   v.rgb = source(
       f.rgb, [](const auto& p) { return read_rgb(p); }, cv::INTER_AREA);
   const double scale = f.depth_scale;
-  v.depth = source(
-      f.depth, [scale](const auto& p) { return read_depth(p, scale); }, cv::INTER_NEAREST);
+  v.depth = f.depth_sensor && !f.depth.empty()
+                ? registered_depth_source(f, target, downscale)
+                : source(
+                      f.depth, [scale](const auto& p) { return read_depth(p, scale); },
+                      cv::INTER_NEAREST);
   v.gt_instance = source(f.gt_instance, read_gt_labels, cv::INTER_NEAREST);
   v.gt_semantic = source(f.gt_semantic, read_gt_labels, cv::INTER_NEAREST);
   v.gt_depth = source(f.gt_depth, read_float_tiff, cv::INTER_NEAREST);

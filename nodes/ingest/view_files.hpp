@@ -5,12 +5,14 @@
 #pragma once
 
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include <opencv2/core.hpp>
 
 #include "nodes/ingest/capture_options.hpp"
+#include "nodes/ingest/depth_registration.hpp"
 #include "nodes/scene/camera.hpp"
 #include "nodes/scene/capture.hpp"
 
@@ -23,6 +25,12 @@ struct ViewFiles {
   std::filesystem::path rgb;
   std::filesystem::path depth;  // empty = no depth prior
   double depth_scale = 1000;    // 16-bit depth value / depth_scale = metres
+  // Depth from a camera of its own (an RGB-D rig): the depth map has the sensor camera's size and
+  // is registered to `camera` on load (depth_registration.hpp). With depth_sensor_fits_file the
+  // sensor's camera is first scaled to the depth file's size (depth registered to colour at a
+  // fraction of its resolution). Absent: the depth map is in `camera`, at its size.
+  std::optional<DepthSensor> depth_sensor;
+  bool depth_sensor_fits_file = false;
   // Ground truth, empty paths when absent.
   std::filesystem::path gt_instance, gt_semantic, gt_depth, gt_normal;
   bool held_out = false;
@@ -40,7 +48,8 @@ cv::Rect undistorted_valid_rect(const Camera& camera, int multiple = 1);
 // edge or an instance border invents values). With options.undistort, images of a camera with
 // distortion are undistorted to the same focal lengths before the resize, cropped to
 // undistorted_valid_rect with options.undistort_crop (so no pixel is the black of nowhere), and
-// the view's camera is that pinhole.
+// the view's camera is that pinhole. A depth map with a depth_sensor is registered to that
+// camera at full resolution before the resize.
 View make_view(const ViewFiles& files, const CaptureOptions& options);
 
 }  // namespace gslift

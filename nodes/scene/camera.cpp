@@ -40,6 +40,10 @@ void check_camera(const Camera& c, const std::string& where) {
                      std::to_string(c.fx) + ", fy " + std::to_string(c.fy));
   if (!(std::isfinite(c.cx) && std::isfinite(c.cy)))
     throw InputError(where + ": the principal point must be finite");
+  const size_t n = c.distortion.size();
+  if (n != 0 && n != 4 && n != 5 && n != 8 && n != 12)
+    throw InputError(where + ": " + std::to_string(n) +
+                     " distortion coefficients; OpenCV's models take 4, 5, 8 or 12");
   for (double d : c.distortion)
     if (!std::isfinite(d)) throw InputError(where + ": distortion coefficients must be finite");
 }

@@ -14,8 +14,8 @@ struct Camera {
   int width = 0;
   int height = 0;
   double fx = 0, fy = 0, cx = 0, cy = 0;
-  // OpenCV distortion (k1, k2, p1, p2[, k3]); empty for an ideal pinhole. Stages that need
-  // undistorted pixels undistort images at ingest, so the rest of the pipeline sees a pinhole.
+  // OpenCV's (k1, k2, p1, p2[, k3[, k4, k5, k6[, s1, s2, s3, s4]]]), empty for a pinhole. Stages
+  // that need undistorted pixels undistort images at ingest, so the rest sees a pinhole.
   std::vector<double> distortion;
 
   Eigen::Matrix3d K() const;
@@ -34,8 +34,8 @@ constexpr long long kMaxImagePixels = 1LL << 26;
 // narrowed to int.
 void check_image_size(long long width, long long height, const std::string& where);
 
-// check_image_size, and focal lengths finite and positive, a finite principal point and
-// distortion: what every reader checks before a camera enters a Capture.
+// check_image_size, focal lengths finite and positive, a finite principal point and 0, 4, 5, 8
+// or 12 finite distortion coefficients: what every reader checks before a camera enters a Capture.
 void check_camera(const Camera& camera, const std::string& where);
 
 struct Pose {

@@ -2,6 +2,7 @@
 
 #include <atomic>
 #include <climits>
+#include <functional>
 #include <limits>
 #include <locale>
 #include <sstream>
@@ -51,18 +52,18 @@ std::string classes_yaml(const OrScene& scene) {
   return y.str();
 }
 
-std::string capture_yaml(const OrCaptureSettings& s, const OrScene& scene) {
+// `layout`: the lines that name the views (a COLMAP model or an OR rig time step).
+std::string capture_yaml(const OrCaptureSettings& s, const OrScene& scene,
+                         const std::string& layout,
+                         const std::function<std::string(int)>& view_name) {
   std::ostringstream y = classic_stream();
   y << "format: gslift.capture/v1\n"
     << "name: " << capture_name(s) << "\n"
-    << "model: sparse/0\n"
-    << "images: images\n"
-    << "depth: {folder: depth, scale: 1000}\n"
-    << "held_out: [";
+    << layout << "held_out: [";
   bool first = true;
-  for (const OrCamera& c : scene.cameras) {
-    if (!c.held_out) continue;
-    y << (first ? "" : ", ") << c.name;
+  for (size_t i = 0; i < scene.cameras.size(); ++i) {
+    if (!scene.cameras[i].held_out) continue;
+    y << (first ? "" : ", ") << view_name(static_cast<int>(i));
     first = false;
   }
   y << "]\n"
@@ -97,19 +98,49 @@ void write_view(const OrCaptureSettings& s, const OrScene& scene, const std::set
   const std::string stem = cam.name;
 
   write_rgb_png(dir / "images" / (stem + ".png"), r.rgb);
+  write_ground_truth(r, stem, dir);
+  RandomStream depth_rng(stream_seed(seed, kDepthPriorStream, index));
+  write_depth_png_mm(dir / "depth" / (stem + ".png"),
+                     simulate_depth_prior(r.depth, k.depth_noise, k.depth_holes, depth_rng));
+  write_model_outputs(s, scene, index, r, stem, dir);
+
+  // Sparse points: random pixels of the training views back-projected with the exact depth,
+  // displaced along the ray by the depth-prior noise level (an MVS point cloud's error). SfM
+  // finds no features on a textureless drape: its pixels give no point (the draws stay the same).
+  if (cam.held_out) return;
+  RandomStream pts_rng(stream_seed(seed, kSparsePointStream, index));
+  const Eigen::Vector3d centre = cam.pose.centre();
+  for (int i = 0; i < points_per_view; ++i) {
+    const int u = pts_rng.below(r.depth.cols), v = pts_rng.below(r.depth.rows);
+    const float d = r.depth.at<float>(v, u);
+    const double noise = pts_rng.normal(0, k.depth_noise);
+    if (d <= 0 || draped.count(r.instance.at<int>(v, u))) continue;
+    const Eigen::Vector3d ray_cam((u + 0.5 - cam.camera.cx) / cam.camera.fx,
+                                  (v + 0.5 - cam.camera.cy) / cam.camera.fy, 1.0);
+    const Eigen::Vector3d x = centre + cam.pose.R.transpose() * ray_cam * (d * (1 + noise));
+    const cv::Vec3b c = r.rgb.at<cv::Vec3b>(v, u);
+    out.points.xyz.push_back(x.cast<float>());
+    out.points.rgb.emplace_back(c[0], c[1], c[2]);
+  }
+}
+
+}  // namespace
+
+void write_ground_truth(const RenderedView& r, const std::string& stem, const fs::path& dir) {
   write_label_png16(dir / "gt" / "instance" / (stem + ".png"), r.instance);
   write_label_png16(dir / "gt" / "semantic" / (stem + ".png"), r.semantic);
   write_depth_tiff(dir / "gt" / "depth" / (stem + ".tiff"), r.depth);
   write_float_tiff(dir / "gt" / "normal" / (stem + ".tiff"), r.normal);
+}
 
-  RandomStream depth_rng(stream_seed(seed, kDepthPriorStream, index));
-  write_depth_png_mm(dir / "depth" / (stem + ".png"),
-                     simulate_depth_prior(r.depth, k.depth_noise, k.depth_holes, depth_rng));
-
+void write_model_outputs(const OrCaptureSettings& s, const OrScene& scene, int index,
+                         const RenderedView& r, const std::string& stem, const fs::path& dir) {
+  const SynthKnobs& k = s.knobs;
+  const uint64_t seed = s.scene.seed;
   // VLM rounds and the SAM masks prompted with each round's boxes, in the same order.
   const auto visible = visible_instances(r.instance, scene.instance_class, k.vlm_min_visible);
-  const auto rounds = simulate_vlm(visible, cam.camera.width, cam.camera.height, k,
-                                   stream_seed(seed, kVlmStream, index));
+  const auto rounds =
+      simulate_vlm(visible, r.rgb.cols, r.rgb.rows, k, stream_seed(seed, kVlmStream, index));
   const std::vector<int> pixels =
       count_labels(r.instance, cv::Rect(0, 0, r.instance.cols, r.instance.rows));
   for (size_t q = 0; q < rounds.size(); ++q) {
@@ -133,28 +164,39 @@ void write_view(const OrCaptureSettings& s, const OrScene& scene, const std::set
     autos.push_back(std::move(rec));
   }
   write_file_atomically(dir / "sam_auto" / (stem + ".json"), autos.dump());
-
-  // Sparse points: random pixels of the training views back-projected with the exact depth,
-  // displaced along the ray by the depth-prior noise level (an MVS point cloud's error). SfM
-  // finds no features on a textureless drape: its pixels give no point (the draws stay the same).
-  if (cam.held_out) return;
-  RandomStream pts_rng(stream_seed(seed, kSparsePointStream, index));
-  const Eigen::Vector3d centre = cam.pose.centre();
-  for (int i = 0; i < points_per_view; ++i) {
-    const int u = pts_rng.below(r.depth.cols), v = pts_rng.below(r.depth.rows);
-    const float d = r.depth.at<float>(v, u);
-    const double noise = pts_rng.normal(0, k.depth_noise);
-    if (d <= 0 || draped.count(r.instance.at<int>(v, u))) continue;
-    const Eigen::Vector3d ray_cam((u + 0.5 - cam.camera.cx) / cam.camera.fx,
-                                  (v + 0.5 - cam.camera.cy) / cam.camera.fy, 1.0);
-    const Eigen::Vector3d x = centre + cam.pose.R.transpose() * ray_cam * (d * (1 + noise));
-    const cv::Vec3b c = r.rgb.at<cv::Vec3b>(v, u);
-    out.points.xyz.push_back(x.cast<float>());
-    out.points.rgb.emplace_back(c[0], c[1], c[2]);
-  }
 }
 
-}  // namespace
+void write_capture_files(const OrCaptureSettings& s, const OrScene& scene,
+                         const std::string& layout,
+                         const std::function<std::string(int)>& view_name, const fs::path& dir) {
+  write_file_atomically(dir / "gt" / "classes.yaml", classes_yaml(scene));
+  write_file_atomically(dir / "vlm" / "prompt.txt", vlm_prompt());
+  write_file_atomically(dir / "synth.yaml", synth_yaml(s));
+  write_file_atomically(dir / "capture.yaml", capture_yaml(s, scene, layout, view_name));
+}
+
+void write_folder_atomically(const fs::path& out_dir,
+                             const std::function<void(const fs::path&)>& write) {
+  if (fs::exists(out_dir) && !(fs::is_directory(out_dir) && fs::is_empty(out_dir))) {
+    throw std::invalid_argument(out_dir.string() + " already exists and is not an empty folder");
+  }
+  const fs::path parent = out_dir.has_parent_path() ? out_dir.parent_path() : fs::path(".");
+  fs::create_directories(parent);
+  // Unique per process and call, so concurrent generations never share a temporary folder.
+  static std::atomic<unsigned> counter{0};
+  const fs::path tmp = parent / (out_dir.filename().string() + ".partial-" +
+                                 std::to_string(::getpid()) + "-" + std::to_string(counter++));
+  fs::remove_all(tmp);
+  try {
+    write(tmp);
+    if (fs::exists(out_dir)) fs::remove(out_dir);  // the empty folder checked above
+    fs::rename(tmp, out_dir);
+  } catch (...) {
+    std::error_code ec;
+    fs::remove_all(tmp, ec);
+    throw;
+  }
+}
 
 std::vector<std::pair<std::string, std::string>> settings_entries(const OrCaptureSettings& s) {
   std::vector<std::pair<std::string, std::string>> e = {
@@ -225,20 +267,10 @@ std::string capture_name(const OrCaptureSettings& s) {
 }
 
 void write_or_capture(const OrCaptureSettings& s, const fs::path& out_dir) {
-  if (fs::exists(out_dir) && !(fs::is_directory(out_dir) && fs::is_empty(out_dir))) {
-    throw std::invalid_argument(out_dir.string() + " already exists and is not an empty folder");
-  }
   OrScene scene = make_or_scene(s.scene);
   const std::set<int> draped = drape_equipment(scene, s.knobs.drapes, s.scene.seed);
   const Bvh bvh(scene.primitives);
-  const fs::path parent = out_dir.has_parent_path() ? out_dir.parent_path() : fs::path(".");
-  fs::create_directories(parent);
-  // Unique per process and call, so concurrent generations never share a temporary folder.
-  static std::atomic<unsigned> counter{0};
-  const fs::path tmp = parent / (out_dir.filename().string() + ".partial-" +
-                                 std::to_string(::getpid()) + "-" + std::to_string(counter++));
-  fs::remove_all(tmp);
-  try {
+  write_folder_atomically(out_dir, [&](const fs::path& tmp) {
     const int views = static_cast<int>(scene.cameras.size());
     const int train = views - held_out_count(views);
     const int points_per_view = s.knobs.sparse_points / std::max(1, train);
@@ -262,17 +294,10 @@ void write_or_capture(const OrCaptureSettings& s, const fs::path& out_dir) {
       model.points.rgb.insert(model.points.rgb.end(), p.rgb.begin(), p.rgb.end());
     }
     write_colmap_text(tmp / "sparse" / "0", model);
-    write_file_atomically(tmp / "gt" / "classes.yaml", classes_yaml(scene));
-    write_file_atomically(tmp / "vlm" / "prompt.txt", vlm_prompt());
-    write_file_atomically(tmp / "synth.yaml", synth_yaml(s));
-    write_file_atomically(tmp / "capture.yaml", capture_yaml(s, scene));
-    if (fs::exists(out_dir)) fs::remove(out_dir);  // the empty folder checked above
-    fs::rename(tmp, out_dir);
-  } catch (...) {
-    std::error_code ec;
-    fs::remove_all(tmp, ec);
-    throw;
-  }
+    write_capture_files(
+        s, scene, "model: sparse/0\nimages: images\ndepth: {folder: depth, scale: 1000}\n",
+        [&](int i) { return scene.cameras[i].name; }, tmp);
+  });
 }
 
 }  // namespace gslift::synth

@@ -5,11 +5,13 @@
 #pragma once
 
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "nodes/synth/or_scene.hpp"
+#include "nodes/synth/render_view.hpp"
 #include "nodes/synth/synth_knobs.hpp"
 
 namespace gslift::synth {
@@ -36,5 +38,26 @@ std::string capture_name(const OrCaptureSettings& s);
 // out_dir appears complete or not at all. out_dir must not exist or be an empty folder
 // (std::invalid_argument otherwise; invalid settings throw std::invalid_argument too).
 void write_or_capture(const OrCaptureSettings& settings, const std::filesystem::path& out_dir);
+
+// The parts both layouts write (or_rig_capture.hpp writes the OR rig's).
+// gt/instance/<stem>.png and gt/semantic (16-bit), gt/depth/<stem>.tiff and gt/normal (float).
+void write_ground_truth(const RenderedView& r, const std::string& stem,
+                        const std::filesystem::path& dir);
+// The simulated upstream models on view `index` as rendered in `r` (the grid of the images as
+// gslift loads them): vlm/<stem>/round_<k>.txt, sam_box/<stem>/round_<k>.json,
+// sam_auto/<stem>.json.
+void write_model_outputs(const OrCaptureSettings& s, const OrScene& scene, int index,
+                         const RenderedView& r, const std::string& stem,
+                         const std::filesystem::path& dir);
+// capture.yaml (its `layout` lines name the views; held_out by view_name(camera index)),
+// gt/classes.yaml, vlm/prompt.txt and synth.yaml.
+void write_capture_files(const OrCaptureSettings& s, const OrScene& scene,
+                         const std::string& layout,
+                         const std::function<std::string(int)>& view_name,
+                         const std::filesystem::path& dir);
+// Runs write(tmp) on a temporary sibling of out_dir and renames it into place, so out_dir
+// appears complete or not at all; out_dir must not exist or be empty (std::invalid_argument).
+void write_folder_atomically(const std::filesystem::path& out_dir,
+                             const std::function<void(const std::filesystem::path&)>& write);
 
 }  // namespace gslift::synth

@@ -7,6 +7,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include "nodes/ingest/opencv_camera.hpp"
 #include "nodes/synth/stream_purpose.hpp"
 
 namespace gslift::synth {
@@ -79,11 +80,25 @@ RenderedView render_view(const OrScene& scene, const Bvh& bvh, const Camera& cam
   const Vec3 origin = pose.centre().cast<float>();
   const Vec3 forward = pose.R.row(2).transpose().cast<float>();
   constexpr float kFar = 100.f, kEpsilon = 1e-4f;
+  // Through a lens with distortion each pixel centre sees along its undistorted ray.
+  std::vector<cv::Point2d> rays;
+  if (!camera.distortion.empty()) {
+    std::vector<cv::Point2d> centres;
+    centres.reserve(static_cast<size_t>(w) * h);
+    for (int v = 0; v < h; ++v)
+      for (int u = 0; u < w; ++u) centres.push_back({u + 0.5, v + 0.5});
+    rays = pixel_rays(camera, centres);
+  }
+  const Eigen::Matrix3f to_world = pose.R.transpose().cast<float>();
 
   tbb::parallel_for(tbb::blocked_range<int>(0, h), [&](const tbb::blocked_range<int>& rows) {
     for (int v = rows.begin(); v < rows.end(); ++v) {
       for (int u = 0; u < w; ++u) {
-        const Vec3 dir = pixel_ray(camera, pose, u, v);
+        const cv::Point2d* ray = rays.empty() ? nullptr : &rays[static_cast<size_t>(v) * w + u];
+        const Vec3 dir =
+            ray ? (to_world * Vec3(static_cast<float>(ray->x), static_cast<float>(ray->y), 1.f))
+                      .normalized()
+                : pixel_ray(camera, pose, u, v);
         const RayHit rh = bvh.closest(origin, dir, kEpsilon, kFar);
         if (rh.primitive < 0) continue;
         const Primitive& prim = scene.primitives[rh.primitive];

@@ -30,6 +30,8 @@ struct RenderedView {
 // World-space unit direction of the ray through the centre of pixel (u, v).
 Eigen::Vector3f pixel_ray(const Camera& camera, const Pose& pose, int u, int v);
 
+// A camera with distortion renders the image its lens records: each pixel centre's ray undistorted
+// (opencv_camera.hpp), so depth stays the camera-frame z of the hit point.
 RenderedView render_view(const OrScene& scene, const Bvh& bvh, const Camera& camera,
                          const Pose& pose, const RenderOptions& options);
 

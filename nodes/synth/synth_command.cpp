@@ -1,12 +1,14 @@
 #include "nodes/synth/synth_command.hpp"
 
 #include <chrono>
+#include <cstdlib>
 #include <iostream>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "nodes/synth/or_capture.hpp"
+#include "nodes/synth/or_rig_capture.hpp"
 #include "runtime/exit_codes.hpp"
 
 namespace gslift {
@@ -15,11 +17,15 @@ namespace {
 
 void print_help(std::ostream& out) {
   out << "usage: gslift synth --out DIR [--seed S] [--phase P] [--views N] [--width W --height H]\n"
-         "                    [--preset P] [--set knob=value]...\n\n"
+         "                    [--preset P] [--set knob=value]... [--layout rig [--time-steps "
+         "T]]\n\n"
          "Generates an embedded operating-room capture (images, depth prior, ground truth,\n"
          "COLMAP model, simulated VLM replies and SAM masks) in gslift's capture layout.\n"
          "The same settings give byte-identical files.\n\n"
          "  --out DIR      folder to create (must not exist, or be empty)\n"
+         "  --layout L     gslift (default) | rig: a multi-camera RGB-D rig recording in\n"
+         "                 4D-OR's layout, one folder per time step (docs/or-rig.md)\n"
+         "  --time-steps T rig: time steps, 1..1000 (default 1; the scene is static)\n"
          "  --seed S       layout seed (default 0)\n"
          "  --phase P      preparation | surgery | closing (default surgery)\n"
          "  --views N      cameras, 4..8 (default 5; one in five is held out)\n"
@@ -38,7 +44,9 @@ void print_help(std::ostream& out) {
 
 int synth_main(int argc, char** argv) {
   std::vector<std::pair<std::string, std::string>> entries;
-  std::string out_dir;
+  std::string out_dir, layout = "gslift";
+  int time_steps = 1;
+  bool time_steps_given = false;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
     if (arg == "--help" || arg == "-h") {
@@ -52,6 +60,21 @@ int synth_main(int argc, char** argv) {
     const std::string value = argv[++i];
     if (arg == "--out") {
       out_dir = value;
+    } else if (arg == "--layout") {
+      if (value != "gslift" && value != "rig") {
+        std::cerr << "gslift synth: --layout is gslift or rig, got '" << value << "'\n";
+        return exit_code::kUsage;
+      }
+      layout = value;
+    } else if (arg == "--time-steps") {
+      char* end = nullptr;
+      const long t = std::strtol(value.c_str(), &end, 10);
+      if (value.empty() || *end != 0 || t < 1 || t > 1000) {
+        std::cerr << "gslift synth: --time-steps is 1..1000, got '" << value << "'\n";
+        return exit_code::kUsage;
+      }
+      time_steps = static_cast<int>(t);
+      time_steps_given = true;
     } else if (arg == "--set") {
       const auto eq = value.find('=');
       if (eq == std::string::npos || eq == 0) {
@@ -71,6 +94,10 @@ int synth_main(int argc, char** argv) {
     std::cerr << "gslift synth: --out DIR is required (see gslift synth --help)\n";
     return exit_code::kUsage;
   }
+  if (time_steps_given && layout != "rig") {
+    std::cerr << "gslift synth: --time-steps needs --layout rig\n";
+    return exit_code::kUsage;
+  }
   synth::OrCaptureSettings settings;
   try {
     settings = synth::make_settings(entries);
@@ -80,13 +107,19 @@ int synth_main(int argc, char** argv) {
   }
   try {
     const auto start = std::chrono::steady_clock::now();
-    synth::write_or_capture(settings, out_dir);
+    if (layout == "rig")
+      synth::write_or_rig_recording(settings, out_dir, time_steps);
+    else
+      synth::write_or_capture(settings, out_dir);
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     std::cout << "wrote " << synth::capture_name(settings) << " (" << settings.scene.views
               << " views, " << settings.scene.width << "x" << settings.scene.height << ", preset "
-              << enum_name(settings.preset, synth::preset_names()) << ") to " << out_dir << " in "
-              << seconds << " s\n";
+              << enum_name(settings.preset, synth::preset_names()) << ")"
+              << (layout == "rig"
+                      ? " as a rig recording of " + std::to_string(time_steps) + " time step(s)"
+                      : std::string())
+              << " to " << out_dir << " in " << seconds << " s\n";
     return exit_code::kOk;
   } catch (const std::invalid_argument& e) {
     std::cerr << "gslift synth: " << e.what() << "\n";

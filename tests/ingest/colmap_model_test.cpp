@@ -170,6 +170,10 @@ TEST_CASE("COLMAP text writer round-trips doubles exactly") {
   const ColmapModel back = read_colmap_text(dir);
   CHECK(back.cameras.at(2).fx == m.cameras[2].fx);
   CHECK(back.cameras.at(5).distortion == m.cameras[5].distortion);
+  // OpenCV's rational model (k4..k6 != 0) is written as FULL_OPENCV and read back whole.
+  m.cameras[5].distortion = {0.1, -0.2, 0.001, 0.002, 0.03, 0.4, -0.05, 0.006};
+  write_colmap_text(dir, m);
+  CHECK(read_colmap_text(dir).cameras.at(5).distortion == m.cameras[5].distortion);
   CHECK(back.images[0].pose.t == m.images[0].pose.t);
   for (size_t i = 0; i < m.images.size(); ++i)
     CHECK((back.images[i].pose.R - m.images[i].pose.R).norm() < 1e-15);

@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include <opencv2/calib3d.hpp>
+
 #include "nodes/scene/image_io.hpp"
 #include "runtime/node.hpp"
 #include "tests/test_support.hpp"
@@ -110,4 +112,60 @@ TEST_CASE("views check every file's size when it is loaded") {
   CHECK(v.rgb.load().size() == cv::Size(4, 2));
   CHECK_THROWS_WITH(v.gt_instance.load(), Contains("ids.png") && Contains("4 x 3"));
   CHECK_FALSE(v.depth.present());
+}
+
+TEST_CASE("rational and thin-prism distortion round trip against cv::projectPoints") {
+  const auto dir = test::scratch_dir("view_files_rational");
+  ViewFiles f;
+  f.name = "v";
+  f.camera.width = 96;
+  f.camera.height = 72;
+  f.camera.fx = f.camera.fy = 80;
+  f.camera.cx = 48;
+  f.camera.cy = 36;
+  // k1 k2 p1 p2 k3 k4 k5 k6 s1 s2 s3 s4: a barrel-type rational model with a thin prism, monotonic
+  // out to the image corners.
+  f.camera.distortion = {-0.3,  0.1,   0.001, -0.0005, -0.01, 0.05,
+                         -0.01, 0.002, 0.004, -0.002,  0.003, 0.002};
+  const std::vector<double>& d = f.camera.distortion;
+  // The known answer: camera-frame point (0.4, -0.3, 1), by OpenCV's formula written out.
+  const double x = 0.4, y = -0.3, r2 = x * x + y * y;
+  const double radial = (1 + d[0] * r2 + d[1] * r2 * r2 + d[4] * r2 * r2 * r2) /
+                        (1 + d[5] * r2 + d[6] * r2 * r2 + d[7] * r2 * r2 * r2);
+  const double xd =
+      x * radial + 2 * d[2] * x * y + d[3] * (r2 + 2 * x * x) + d[8] * r2 + d[9] * r2 * r2;
+  const double yd =
+      y * radial + d[2] * (r2 + 2 * y * y) + 2 * d[3] * x * y + d[10] * r2 + d[11] * r2 * r2;
+  // gslift pixel coordinates: OpenCV's pixel centres are at integers, gslift's at +0.5.
+  const Eigen::Vector2d distorted(48 + 80 * xd, 36 + 80 * yd), ideal(48 + 80 * x, 36 + 80 * y);
+  std::vector<cv::Point2d> projected;
+  const cv::Mat k = (cv::Mat_<double>(3, 3) << 80, 0, 47.5, 0, 80, 35.5, 0, 0, 1);
+  cv::projectPoints(std::vector<cv::Point3d>{{x, y, 1}}, cv::Vec3d(0, 0, 0), cv::Vec3d(0, 0, 0), k,
+                    d, projected);
+  REQUIRE(std::abs(projected[0].x + 0.5 - distorted.x()) < 1e-9);
+  REQUIRE(std::abs(projected[0].y + 0.5 - distorted.y()) < 1e-9);
+  REQUIRE((distorted - ideal).norm() > 2);  // the distortion moves the point by pixels
+
+  // A blob at the distorted position lands at the ideal pinhole position after undistortion.
+  cv::Mat rgb(72, 96, CV_8UC3);
+  for (int v = 0; v < 72; ++v)
+    for (int u = 0; u < 96; ++u) {
+      const double e2 = (Eigen::Vector2d(u + 0.5, v + 0.5) - distorted).squaredNorm();
+      rgb.at<cv::Vec3b>(v, u) = cv::Vec3b::all(cv::saturate_cast<uchar>(255 * std::exp(-e2 / 4.5)));
+    }
+  write_rgb_png(dir / "v.png", rgb);
+  f.rgb = dir / "v.png";
+  const View v = make_view(f, reading(true));
+  CHECK(v.camera.distortion.empty());
+  CHECK((centroid(v.rgb.load()) - ideal).norm() < 0.15);
+  const cv::Rect r = undistorted_valid_rect(f.camera);
+  const View cropped = make_view(f, reading(true, true));
+  CHECK((centroid(cropped.rgb.load()) - (ideal - Eigen::Vector2d(r.x, r.y))).norm() < 0.15);
+  // The crop leaves no pixel without a source, and removes some.
+  CHECK(r.area() < 96 * 72);
+  write_rgb_png(dir / "white.png", cv::Mat(72, 96, CV_8UC3, cv::Scalar::all(255)));
+  f.rgb = dir / "white.png";
+  double lowest = 0;
+  cv::minMaxLoc(make_view(f, reading(true, true)).rgb.load().reshape(1), &lowest);
+  CHECK(lowest == 255);
 }
