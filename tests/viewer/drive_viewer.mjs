@@ -6,7 +6,7 @@
 // measured; tests/viewer/viewer_browser_test.cpp judges it.
 //
 //   node drive_viewer.mjs --gslift BIN --run RUN_FOLDER --chromium EXE --out DIR
-//                         --class "anesthesia machine" --query "anesthesia machine"
+//                         --class "anesthesia machine" --query ventilator [--tau T]
 import {spawn} from 'node:child_process';
 import fs from 'node:fs';
 import path from 'node:path';
@@ -205,6 +205,8 @@ try {
   // Back to the first camera; click the known object at its innermost ground-truth pixel.
   await evaluate('viewer.setView(0)');
   await until('viewer.idle()', 'the first camera');
+  const tau = String(args.tau || '0.5');
+  await evaluate(`(() => { const s = document.getElementById("tau"); s.value = "${tau}"; s.dispatchEvent(new Event("input")); })()`);
   const target = await evaluate(`testing.innermost(0, ${JSON.stringify(args.class)})`);
   const scale = 640 / target.w;
   const px = stage.x + target.x * scale, py = stage.y + target.y * scale;
@@ -222,9 +224,9 @@ try {
   await evaluate('(() => { const s = document.getElementById("tau"); s.value = "0.95"; s.dispatchEvent(new Event("input")); })()');
   await until('viewer.idle()', 'the slider\'s selection');
   result.slider = {selected_at_095: await evaluate('viewer.selection.selected')};
-  await evaluate('(() => { const s = document.getElementById("tau"); s.value = "0.75"; s.dispatchEvent(new Event("input")); })()');
+  await evaluate(`(() => { const s = document.getElementById("tau"); s.value = "${tau}"; s.dispatchEvent(new Event("input")); })()`);
   await until('viewer.idle()', 'the slider\'s selection');
-  result.slider.selected_at_075 = await evaluate('viewer.selection.selected');
+  result.slider.selected_back = await evaluate('viewer.selection.selected');
 
   // A text query typed into the box, submitted with Enter.
   await evaluate('document.getElementById("query").focus()');
