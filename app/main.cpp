@@ -5,6 +5,7 @@
 #include "nodes/inference/segment_session.hpp"
 #include "nodes/synth/synth_command.hpp"
 #include "runtime/allocator.hpp"
+#include "viewer/view_command.hpp"
 
 int main(int argc, char** argv) {
   gslift::keep_freed_memory_in_process();
@@ -17,5 +18,8 @@ int main(int argc, char** argv) {
   commands.add(gslift::program_command(
       "segment", "answer SAGA prompts (JSON lines on stdin) on a feature model",
       gslift::segment_main));
+  commands.add(gslift::program_command(
+      "view", "serve a run (or a PLY) as a local web page: orbit, click, query, export",
+      gslift::view_main));
   return gslift::cli_main(argc, argv, registry, commands);
 }

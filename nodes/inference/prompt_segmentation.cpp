@@ -93,7 +93,12 @@ const std::vector<float>& PromptSegmenter::feature_map(int v) {
 
 std::vector<float> PromptSegmenter::kmeans_queries(int v, const std::vector<uint32_t>& pixels) {
   if (pixels.empty()) return {};
-  const std::vector<float>& map = feature_map(v);
+  return kmeans_of_pixels(feature_map(v), pixels);
+}
+
+std::vector<float> PromptSegmenter::kmeans_of_pixels(const std::vector<float>& map,
+                                                     const std::vector<uint32_t>& pixels) const {
+  if (pixels.empty()) return {};
   const size_t step = (pixels.size() + options_.kmeans_pixels - 1) / options_.kmeans_pixels;
   std::vector<float> rows;
   for (size_t i = 0; i < pixels.size(); i += step)
@@ -105,7 +110,8 @@ std::vector<float> PromptSegmenter::kmeans_queries(int v, const std::vector<uint
 }
 
 PromptSelection PromptSegmenter::select_by_queries(const std::vector<float>& positive,
-                                                   const std::vector<float>& negative) const {
+                                                   const std::vector<float>& negative,
+                                                   double tau) const {
   const size_t n = model_.size();
   PromptSelection r;
   r.positive_queries = static_cast<int>(positive.size() / dim_);
@@ -117,7 +123,7 @@ PromptSelection PromptSegmenter::select_by_queries(const std::vector<float>& pos
     s_n[g] = best_dot(&unit_[g * dim_], negative, dim_);
   });
   if (options_.threshold == PromptThreshold::Fixed) {
-    r.threshold = static_cast<float>(options_.tau);
+    r.threshold = static_cast<float>(tau);
   } else {
     double s = 0;
     for (float x : r.score) s += x;
@@ -158,11 +164,11 @@ PromptSelection PromptSegmenter::select(const Prompt& p) {
     for (const cv::Point& q : p.negative)
       neg.insert(neg.end(), map.begin() + size_t(q.y * cam.width + q.x) * dim_,
                  map.begin() + size_t(q.y * cam.width + q.x + 1) * dim_);
-    return select_by_queries(pos, neg);
+    return select_by_queries(pos, neg, options_.tau);
   }
   if (p.kind == PromptKind::Scribble)
     return select_by_queries(kmeans_queries(v, stroke_pixels(p.positive, size)),
-                             kmeans_queries(v, stroke_pixels(p.negative, size)));
+                             kmeans_queries(v, stroke_pixels(p.negative, size)), options_.tau);
 
   const std::vector<uint32_t> inside = mask_pixels(p.mask, true);
   if (p.kind == PromptKind::Sam) {
@@ -179,7 +185,7 @@ PromptSelection PromptSegmenter::select(const Prompt& p) {
     size_t covered = 0;
     for (uint32_t px : inside) covered += pixel_score[px] > tau_2d;
     if (covered >= options_.sam_coverage * inside.size()) {
-      PromptSelection r = select_by_queries(q, {});
+      PromptSelection r = select_by_queries(q, {}, options_.tau);
       r.threshold = static_cast<float>(mean_plus_std(r.score));
       r.count = 0;
       for (size_t g = 0; g < r.score.size(); ++g) {
@@ -194,9 +200,75 @@ PromptSelection PromptSegmenter::select(const Prompt& p) {
   const std::vector<float> neg = options_.mask_negatives
                                      ? kmeans_queries(v, mask_pixels(p.mask, false))
                                      : std::vector<float>{};
-  PromptSelection r = select_by_queries(kmeans_queries(v, inside), neg);
+  PromptSelection r = select_by_queries(kmeans_queries(v, inside), neg, options_.tau);
   if (options_.mask_validate) validate_by_mask(r, p.mask, capture_.views[v]);
   return r;
+}
+
+PromptSelection PromptSegmenter::select_in_camera(const Prompt& p, const Camera& cam,
+                                                  const Pose& pose, double tau) {
+  const std::string where = "inference.prompt '" + p.name + "'";
+  if (p.kind != PromptKind::Point && p.kind != PromptKind::Scribble)
+    throw InputError(where + ": only point and scribble prompts can be given in a free camera");
+  if (p.positive.empty()) throw InputError(where + ": no positive pixel");
+  const cv::Size size(cam.width, cam.height);
+  const cv::Rect frame(0, 0, cam.width, cam.height);
+  for (const auto* list : {&p.positive, &p.negative})
+    for (const cv::Point& q : *list)
+      if (!frame.contains(q))
+        throw InputError(where + ": pixel (" + std::to_string(q.x) + ", " + std::to_string(q.y) +
+                         ") lies outside the " + std::to_string(cam.width) + "x" +
+                         std::to_string(cam.height) + " view");
+  auto pixels_of = [&](const std::vector<cv::Point>& points) {
+    if (p.kind == PromptKind::Scribble) return stroke_pixels(points, size);
+    std::vector<uint32_t> out;
+    for (const cv::Point& q : points) out.push_back(static_cast<uint32_t>(q.y * cam.width + q.x));
+    return out;
+  };
+  const std::vector<uint32_t> positive = pixels_of(p.positive), negative = pixels_of(p.negative);
+  auto rows_at = [&](const std::vector<uint32_t>& pixels) {
+    if (p.kind == PromptKind::Scribble) {
+      const std::vector<float> rows = features_at(cam, pose, pixels);
+      std::vector<uint32_t> all(pixels.size());
+      for (size_t i = 0; i < all.size(); ++i) all[i] = static_cast<uint32_t>(i);
+      return kmeans_of_pixels(rows, all);
+    }
+    // Points: a window each, so that two clicks far apart do not render the view between them.
+    std::vector<float> rows;
+    for (uint32_t px : pixels) {
+      const std::vector<float> r = features_at(cam, pose, {px});
+      rows.insert(rows.end(), r.begin(), r.end());
+    }
+    return rows;
+  };
+  return select_by_queries(rows_at(positive), rows_at(negative), tau);
+}
+
+std::vector<float> PromptSegmenter::features_at(const Camera& cam, const Pose& pose,
+                                                const std::vector<uint32_t>& pixels) const {
+  if (pixels.empty()) return {};
+  int x0 = cam.width, y0 = cam.height, x1 = -1, y1 = -1;
+  for (uint32_t px : pixels) {
+    const int x = static_cast<int>(px % cam.width), y = static_cast<int>(px / cam.width);
+    x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y), y1 = std::max(y1, y);
+  }
+  Camera window = cam;
+  window.width = x1 - x0 + 1;
+  window.height = y1 - y0 + 1;
+  window.cx -= x0;
+  window.cy -= y0;
+  RenderSettings s;
+  s.rgb = false;
+  s.features = true;
+  const std::vector<float> map = render(model_, window, pose, s).features;
+  std::vector<float> rows;
+  rows.reserve(pixels.size() * dim_);
+  for (uint32_t px : pixels) {
+    const size_t at = size_t(px / cam.width - y0) * window.width + (px % cam.width - x0);
+    rows.insert(rows.end(), map.begin() + at * dim_, map.begin() + (at + 1) * dim_);
+  }
+  normalise_rows(rows.data(), pixels.size(), dim_);
+  return rows;
 }
 
 void PromptSegmenter::validate_by_mask(PromptSelection& r, const cv::Mat1b& mask,

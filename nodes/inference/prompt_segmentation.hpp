@@ -76,14 +76,32 @@ class PromptSegmenter {
   // whose mask is empty or differs in size from the view, or that has no positive part.
   PromptSelection select(const Prompt& prompt);
 
+  // A point or scribble prompt given in any camera, not only one of the capture's (the orbit
+  // camera of `gslift view`; prompt.view is not read), with `tau` as the fixed threshold (the
+  // viewer's slider). The features are rendered in the smallest window of the camera that holds
+  // the prompt's pixels (features_at): a click costs the model's projection and a pixel's
+  // blending, not a whole feature map. Throws InputError as select() does, and for mask and sam
+  // prompts.
+  PromptSelection select_in_camera(const Prompt& prompt, const Camera& camera, const Pose& pose,
+                                   double tau);
+
   // The normalised rendered feature map of view `v` (H x W x dim), rendered on first use.
   const std::vector<float>& feature_map(int v);
   int dim() const { return dim_; }
 
  private:
   PromptSelection select_by_queries(const std::vector<float>& positive,
-                                    const std::vector<float>& negative) const;
+                                    const std::vector<float>& negative, double tau) const;
   std::vector<float> kmeans_queries(int v, const std::vector<uint32_t>& pixels);
+  // K-means centres (normalised) of the rows of `map` (dim_ wide) at `pixels`, at most
+  // kmeans_pixels of them, evenly strided.
+  std::vector<float> kmeans_of_pixels(const std::vector<float>& map,
+                                      const std::vector<uint32_t>& pixels) const;
+  // The normalised features (a row per pixel) at `pixels` (row-major indices of `camera`),
+  // rendered in the window of the camera that just holds them (its principal point shifted): a
+  // pixel blends the Gaussians over its own centre, whatever the image around it.
+  std::vector<float> features_at(const Camera& camera, const Pose& pose,
+                                 const std::vector<uint32_t>& pixels) const;
   void validate_by_mask(PromptSelection& r, const cv::Mat1b& mask, const View& view) const;
 
   const GaussianModel& model_;

@@ -189,3 +189,34 @@ TEST_CASE("prompts from reference masks: a point inside even a non-convex mask")
   CHECK_THROWS_AS(prompts_from_masks(ref, "v1", PromptKind::Point), InputError);
   CHECK_THROWS_AS(prompts_from_masks(ref, "v0", PromptKind::Scribble), InputError);
 }
+
+TEST_CASE("prompts in a free camera select as prompts in the capture's view do") {
+  const GaussianModel model = feature_scene();
+  const Capture capture = one_view();
+  PromptSegmenter seg(model, capture, {});
+  const Camera& cam = capture.views[0].camera;
+  const Pose& pose = capture.views[0].pose;
+  // The features come from a sparse render at the clicked pixels, yet score as the full map's.
+  PromptSelection s = seg.select_in_camera(point({{17, 24}}), cam, pose, 0.75);
+  CHECK(selected(s) == std::vector<int>{0, 2});
+  CHECK(s.score[2] == Approx(0.9 / std::sqrt(0.82)).margin(1e-4));
+  // tau is the caller's (the viewer's slider): 0.4 admits Gaussian 3, a negative click drops it.
+  CHECK(selected(seg.select_in_camera(point({{17, 24}}), cam, pose, 0.4)) ==
+        std::vector<int>{0, 2, 3});
+  CHECK(selected(seg.select_in_camera(point({{17, 24}}, {{47, 24}}), cam, pose, 0.4)) ==
+        std::vector<int>{0, 2});
+  Prompt scribble = point({{14, 24}, {20, 24}}, {{44, 24}, {50, 24}});
+  scribble.kind = PromptKind::Scribble;
+  CHECK(selected(seg.select_in_camera(scribble, cam, pose, 0.4)) == std::vector<int>{0, 2});
+  // A camera moved 0.5 to the right sees the right blob (e2) at the centre column 32; Gaussian 3
+  // (cos 0.866 with e2) comes with it.
+  Pose moved = pose;
+  moved.t.x() -= 0.5;
+  CHECK(selected(seg.select_in_camera(point({{32, 24}}), cam, moved, 0.75)) ==
+        std::vector<int>{1, 3});
+  Prompt mask = point({});
+  mask.kind = PromptKind::Mask;
+  mask.mask = cv::Mat1b(48, 64, uint8_t(255));
+  CHECK_THROWS_AS(seg.select_in_camera(mask, cam, pose, 0.75), InputError);
+  CHECK_THROWS_AS(seg.select_in_camera(point({{64, 1}}), cam, pose, 0.75), InputError);
+}

@@ -28,6 +28,8 @@ LAYERS = {
     "runtime": {"base", "param", "graph", "runtime"},
     "report": {"base", "param", "graph", "runtime", "report"},
     "cli": {"base", "param", "graph", "runtime", "report", "cli"},
+    # gslift view: above the node families it shows (a program main() adds, as segment is)
+    "viewer": {"base", "param", "runtime", "nodes", "viewer"},
 }
 
 INCLUDE = re.compile(r'^\s*#\s*include\s+"([^"]+)"')
