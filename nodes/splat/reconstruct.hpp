@@ -103,11 +103,26 @@ struct ReconstructOptions {
 
 // The params of splat.reconstruct: the fields above that a graph may set, the budget of
 // `density` and the initialisation's source, footprint_factor and normal_thickness among them.
-// reconstruct() validates its options against it.
+// The few a user sets first come first; the rest are marked advanced (`gslift nodes` lists them
+// under the others). reconstruct() validates its options against it.
 const ParamTable<ReconstructOptions>& reconstruct_param_table();
 // The fields no graph sets, for benchmarks' sweeps (bench/splat_recon --set): learning rates,
 // the density schedule and thresholds, the initialisation's stride and scale.
 const ParamTable<ReconstructOptions>& reconstruct_tuning_table();
+
+// Named settings of splat.reconstruct (its `recipe` param), each a group of params set at once.
+//  none: the params' own defaults.
+//  depth_prior: what met the held-out geometry targets on the embedded OR with a depth prior
+//    (bench/splat_recon/README.md, "Where it stands"): the mean-colour background, the
+//    line-of-sight prior as a loss from half of the steps and as pruning in two rounds running,
+//    pruning of what lies behind or is hidden behind the prior, the edge-extent term, and every
+//    test at the depth along each pixel's ray with a 2.5% margin.
+enum class Recipe { None, DepthPrior };
+const EnumNames<Recipe>& recipe_names();  // none, depth_prior
+// The params a recipe sets (names of reconstruct_param_table) and their values.
+const std::vector<std::pair<std::string, ParamValue>>& recipe_params(Recipe recipe);
+// Sets the recipe's params in `o` (a C++ caller's `recipe:`).
+void apply_recipe(ReconstructOptions& o, Recipe recipe);
 
 // Mean of each loss term over the last 10% of the steps (at least one step).
 struct LossSummary {

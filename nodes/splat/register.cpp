@@ -1,6 +1,7 @@
 #include "nodes/splat/register.hpp"
 
 #include <cmath>
+#include <map>
 
 #include "nodes/scene/capture.hpp"
 #include "nodes/scene/gaussian_model.hpp"
@@ -23,16 +24,30 @@ PortSpec model_port(const std::string& doc) {
   return {"model", PortTypeName<GaussianModel>::value, doc};
 }
 
-// splat.reconstruct's params: the reconstruction's, then when its result counts as none.
+// splat.reconstruct's params: a recipe, the reconstruction's, then when its result counts as
+// none.
 struct ReconstructNodeParams {
+  Recipe recipe = Recipe::None;  // resolved by the graph (ParamSpec::presets), not read here
   ReconstructOptions recon;
   double min_train_psnr = kDefaultMinTrainPsnr;
 };
+
+std::map<std::string, ParamPreset> recipe_presets() {
+  std::map<std::string, ParamPreset> presets;
+  for (const auto& [recipe, name] : recipe_names()) presets[name] = recipe_params(recipe);
+  return presets;
+}
 
 const ParamTable<ReconstructNodeParams>& reconstruct_node_param_table() {
   using P = ReconstructNodeParams;
   static const ParamTable<P> table =
       ParamTable<P>()
+          .add("recipe", &P::recipe, recipe_names(),
+               "a named group of the params below, set where the graph leaves them unset: none, or "
+               "depth_prior (a capture with a depth prior: the line-of-sight prior, pruning "
+               "against the prior, the edge-extent term and the mean-colour background, "
+               "bench/splat_recon/README.md)")
+          .presets(recipe_presets())
           .nest(&P::recon, reconstruct_param_table())
           .add("min_train_psnr", &P::min_train_psnr,
                "fail when the final train PSNR (dB) is under this floor: a model that explains its "

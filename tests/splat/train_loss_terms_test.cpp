@@ -66,8 +66,15 @@ struct TermScene : test::PinholeScene {
   }
 };
 
-// Central differences of the term's value on every entry of the named parameters.
-void check_term_gradient(const TermScene& scene, LossTerm& term, bool with_sh) {
+// Which of the model's parameters a term's gradient covers (the edge-extent term charges the
+// scales alone, by design: depth_edge_extent.hpp).
+struct Reaches {
+  bool geometry = true;  // means, quaternions and opacities besides the scales
+  bool sh = false;
+};
+
+// Central differences of the term's value on every entry of the parameters its gradient covers.
+void check_term_gradient(const TermScene& scene, LossTerm& term, Reaches reaches) {
   const GaussianModel& m = scene.model;
   ModelGrads g;
   const double loss = scene.value(term, m, &g);
@@ -117,45 +124,45 @@ TEST_CASE("loss term gradients: photometric", "[splat][terms]") {
   const TermScene scene;
   auto term = make_term(photometric_term, scene);
   CHECK(term->stage() == TermStage::Image);
-  check_term_gradient(scene, *term, true);
+  check_term_gradient(scene, *term, Reaches{true, true});
 }
 
 TEST_CASE("loss term gradients: depth", "[splat][terms]") {
   const TermScene scene;
   auto term = make_term(depth_term, scene);
   CHECK(term->stage() == TermStage::Image);
-  check_term_gradient(scene, *term, false);
+  check_term_gradient(scene, *term, Reaches{});
 }
 
 TEST_CASE("loss term gradients: normal", "[splat][terms]") {
   const TermScene scene;
   auto term = make_term(normal_term, scene);
   CHECK(term->stage() == TermStage::Image);
-  check_term_gradient(scene, *term, false);
+  check_term_gradient(scene, *term, Reaches{});
 }
 
 TEST_CASE("loss term gradients: flatness", "[splat][terms]") {
   const TermScene scene;
   auto term = make_term(flatness_term, scene);
   CHECK(term->stage() == TermStage::Model);
-  check_term_gradient(scene, *term, false);
+  check_term_gradient(scene, *term, Reaches{});
 }
 
 TEST_CASE("loss term gradients: edge extent", "[splat][terms]") {
   const TermScene scene;
   auto term = make_term(edge_extent_term, scene);
   CHECK(term->stage() == TermStage::Model);
-  check_term_gradient(scene, *term, false);
+  check_term_gradient(scene, *term, Reaches{false, false});
 }
 
 TEST_CASE("loss term gradients: line of sight, by centre and by ray depth", "[splat][terms]") {
   const TermScene scene;
   auto term = make_term(line_of_sight_term, scene);
   CHECK(term->stage() == TermStage::Ray);
-  check_term_gradient(scene, *term, false);
+  check_term_gradient(scene, *term, Reaches{});
   ReconstructOptions ray;
   ray.floaters.ray_depth = true;
-  check_term_gradient(scene, *make_term(line_of_sight_term, scene, ray), false);
+  check_term_gradient(scene, *make_term(line_of_sight_term, scene, ray), Reaches{});
 }
 
 TEST_CASE("the options switch terms on, in the order their values are summed", "[splat][terms]") {
@@ -169,7 +176,7 @@ TEST_CASE("the options switch terms on, in the order their values are summed", "
   };
   // The defaults: photometric, depth 0.2, normal 0.1, flatness 0.01.
   CHECK(names(o) == std::vector<std::string>{"photometric", "depth", "normal", "flatness"});
-  o.edge_extent_weight = o.line_of_sight_weight = 0.5;
+  apply_recipe(o, Recipe::DepthPrior);
   CHECK(names(o) == std::vector<std::string>{"photometric", "depth", "normal", "flatness",
                                              "edge_extent", "line_of_sight"});
   o.depth_weight = o.normal_weight = o.scale_weight = 0;

@@ -72,8 +72,8 @@ TEST_CASE("a tiny reconstruction reaches a PSNR floor and lowers its loss") {
   // before).
   CHECK(r.train_psnr > 34.0);
   CHECK(r.test_psnr > 26.5);
-  CHECK(r.final_loss.depth > 0);
-  CHECK(r.final_loss.normal > 0);
+  CHECK(r.final_loss.term("depth") > 0);
+  CHECK(r.final_loss.term("normal") > 0);
   CHECK(r.growth_refused == 0);
   CHECK(std::string(model_size_reason(r)) == "iterations");
 }
@@ -230,4 +230,26 @@ TEST_CASE("options are validated on entry, naming the param") {
   o = tiny_options();
   o.rates.opacity = -1;  // a tuning field: validated too
   CHECK_THROWS_WITH(reconstruct(capture, o), Catch::Contains("lr_opacity"));
+}
+
+TEST_CASE("the depth_prior recipe sets its params, and none sets nothing") {
+  ReconstructOptions o;
+  apply_recipe(o, Recipe::None);
+  CHECK(o.line_of_sight_weight == 0);
+  CHECK(o.background == Background::Black);
+  apply_recipe(o, Recipe::DepthPrior);
+  CHECK(o.background == Background::Mean);
+  CHECK(o.line_of_sight_weight == 0.6);
+  CHECK(o.line_of_sight_start == 0.5);
+  CHECK(o.floaters.line_of_sight == 0.3);
+  CHECK(o.floaters.line_of_sight_rounds == 2);
+  CHECK(o.floaters.behind == 0.8);
+  CHECK(o.floaters.hidden == 0.9);
+  CHECK(o.edge_extent_weight == 0.1);
+  CHECK(o.floaters.ray_depth);
+  CHECK(o.floaters.tolerance == 0.025);
+  CHECK(recipe_params(Recipe::DepthPrior).size() == 10);
+  // Every other field keeps its default.
+  CHECK(o.iterations == ReconstructOptions{}.iterations);
+  CHECK(o.depth_weight == ReconstructOptions{}.depth_weight);
 }
