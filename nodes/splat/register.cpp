@@ -34,7 +34,8 @@ struct ReconstructNodeParams {
 
 std::map<std::string, ParamPreset> recipe_presets() {
   std::map<std::string, ParamPreset> presets;
-  for (const auto& [recipe, name] : recipe_names()) presets[name] = recipe_params(recipe);
+  for (const auto& [recipe, name] : recipe_names())
+    if (!recipe_params(recipe).empty()) presets[name] = recipe_params(recipe);
   return presets;
 }
 
