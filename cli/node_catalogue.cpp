@@ -57,7 +57,22 @@ std::string node_type_text(const NodeSpec& spec, const std::string& source) {
   out += ports_text("outputs", spec.outputs);
   out += "params:\n";
   if (spec.params.empty()) out += "  (none)\n";
-  for (const auto& p : spec.params) out += "  " + param_line(p) + "\n      " + p.doc + "\n";
+  // The params a user sets first, then the advanced ones under their own heading.
+  for (const bool advanced : {false, true}) {
+    bool heading = !advanced;
+    for (const auto& p : spec.params) {
+      if (p.advanced != advanced) continue;
+      if (!heading) out += "advanced params:\n";
+      heading = true;
+      out += "  " + param_line(p) + "\n      " + p.doc + "\n";
+      for (const auto& [choice, values] : p.presets) {
+        std::string all;
+        for (const auto& [name, value] : values)
+          all += (all.empty() ? "" : ", ") + name + ": " + to_string(value);
+        out += "      " + choice + " sets {" + all + "}\n";
+      }
+    }
+  }
   return out;
 }
 

@@ -164,8 +164,22 @@ class Validator {
       node.params[name] = *value;
       node.param_locs[name] = given.value_loc;
     }
+    // A preset (ParamSpec::presets) sets the params the file leaves unset; a param the file sets
+    // keeps its value.
     for (const auto& param : spec.params) {
-      if (doc_node.params.count(param.name)) continue;
+      if (param.presets.empty()) continue;
+      const auto chosen = node.params.find(param.name);
+      const ParamValue* value = chosen != node.params.end() ? &chosen->second
+                                : param.default_value       ? &*param.default_value
+                                                            : nullptr;
+      const auto* choice = value ? std::get_if<std::string>(value) : nullptr;
+      const auto preset = choice ? param.presets.find(*choice) : param.presets.end();
+      if (preset == param.presets.end()) continue;
+      for (const auto& [name, set] : preset->second)
+        if (!doc_node.params.count(name)) node.params[name] = set;
+    }
+    for (const auto& param : spec.params) {
+      if (doc_node.params.count(param.name) || node.params.count(param.name)) continue;
       if (param.default_value)
         node.params[param.name] = *param.default_value;
       else

@@ -4,8 +4,10 @@
 #pragma once
 
 #include <cstdint>
+#include <map>
 #include <optional>
 #include <string>
+#include <utility>
 #include <variant>
 #include <vector>
 
@@ -19,6 +21,9 @@ const char* to_string(ParamType t);
 // A parameter value. Ints are 64-bit; a YAML integer is accepted where a float is declared.
 using ParamValue = std::variant<int64_t, double, bool, std::string, std::vector<int64_t>,
                                 std::vector<double>, std::vector<std::string>>;
+
+// Other params of the same node and the values one choice of a String param sets them to.
+using ParamPreset = std::vector<std::pair<std::string, ParamValue>>;
 
 ParamType type_of(const ParamValue& v);
 // Human-readable, YAML-compatible rendering ("0.5", "true", "[1, 2]", "\"text\"").
@@ -38,6 +43,12 @@ struct ParamSpec {
   // A String param naming a file or folder: a relative value written in a graph file is taken
   // relative to that file's folder, like `extends:` (validate.cpp, docs/graph_format.md).
   bool path = false;
+  // For a String param with choices: the params a choice sets (a named setting, e.g.
+  // splat.reconstruct's `recipe`). The graph resolves them where the graph file leaves those
+  // params unset (graph/validate.cpp), so the resolved graph holds the values that run.
+  std::map<std::string, ParamPreset> presets{};
+  // Listed after the others by `gslift nodes TYPE`: a param few users need to set.
+  bool advanced = false;
 };
 
 // Builders that keep node registrations short and readable.

@@ -140,6 +140,19 @@ class ParamTable {
     fields_.back().required = true;
     return *this;
   }
+  // The last added field is a mode whose choices set other params of the node (ParamSpec::presets;
+  // the registry checks them): `presets` maps a choice to the params it sets and their values.
+  ParamTable& presets(std::map<std::string, ParamPreset> presets) {
+    fields_.back().spec.presets = std::move(presets);
+    return *this;
+  }
+  // Every field added after this call (directly or by nest) is advanced (ParamSpec::advanced):
+  // the table lists the few params a user sets first, then calls this, then the rest.
+  ParamTable& advanced() {
+    advanced_ = true;
+    return *this;
+  }
+
   // The last added field is a file or folder (ParamSpec::path); it must be a string field.
   ParamTable& path() {
     if (fields_.back().spec.type != ParamType::String)
@@ -155,6 +168,7 @@ class ParamTable {
     for (const auto& f : sub.fields()) {
       Field field{f.spec, f.required, nullptr, nullptr};
       field.spec.doc += doc_suffix;
+      field.spec.advanced = field.spec.advanced || advanced_;
       field.get = [m, get = f.get](const O& o) { return get(o.*m); };
       field.set = [m, set = f.set](O& o, const ParamValue& v) { set(o.*m, v); };
       fields_.push_back(std::move(field));
@@ -162,7 +176,39 @@ class ParamTable {
     return *this;
   }
 
+  // The fields of `sub` named in `names`, in that order, each renamed prefix + name: a node that
+  // trains through another's options exposes a few of its params under its own names.
+  template <class S>
+  ParamTable& nest(S O::*m, const ParamTable<S>& sub, const std::vector<std::string>& names,
+                   const std::string& prefix, const std::string& doc_suffix) {
+    ParamTable<S> some;
+    for (const auto& name : names) {
+      auto f = sub.field(name);
+      f.spec.name = prefix + name;
+      some.fields_.push_back(std::move(f));
+    }
+    return nest(m, some, doc_suffix);
+  }
+
   const std::vector<Field>& fields() const { return fields_; }
+  // The field of that name; throws std::logic_error when there is none.
+  const Field& field(const std::string& name) const {
+    for (const auto& f : fields_)
+      if (f.spec.name == name) return f;
+    throw std::logic_error("no param '" + name + "'");
+  }
+  // Sets the named field of `o` after checking `value` against its spec; false when the table has
+  // no such field. Throws std::invalid_argument naming the param on a bad value.
+  bool set(O& o, const std::string& name, const ParamValue& value) const {
+    for (const auto& f : fields_) {
+      if (f.spec.name != name) continue;
+      if (const std::string bad = check_param(f.spec, value); !bad.empty())
+        throw std::invalid_argument("param '" + name + "': " + bad);
+      f.set(o, value);
+      return true;
+    }
+    return false;
+  }
 
   // The node's params, in table order, with `defaults`' values as their defaults.
   std::vector<ParamSpec> specs(const O& defaults = O{}) const {
@@ -220,11 +266,15 @@ class ParamTable {
   }
   ParamTable& push(ParamSpec s, std::function<ParamValue(const O&)> get,
                    std::function<void(O&, const ParamValue&)> set) {
+    s.advanced = advanced_;
     fields_.push_back(Field{std::move(s), false, std::move(get), std::move(set)});
     return *this;
   }
 
+  template <class>
+  friend class ParamTable;
   std::vector<Field> fields_;
+  bool advanced_ = false;
 };
 
 }  // namespace gslift

@@ -28,6 +28,16 @@ void Registry::add(NodeSpec spec, NodeFn fn, const char* source) {
     if (!err.empty())
       throw std::logic_error("node type '" + type + "': default of param '" + p.name + "': " + err);
   }
+  // A preset names params of this node, with values they accept.
+  for (const auto& p : spec.params)
+    for (const auto& [choice, values] : p.presets)
+      for (const auto& [name, value] : values) {
+        const ParamSpec* target = spec.find_param(name);
+        const std::string err = target ? check_param(*target, value) : "no such param";
+        if (!err.empty())
+          throw std::logic_error("node type '" + type + "': preset '" + choice + "' of param '" +
+                                 p.name + "' sets '" + name + "': " + err);
+      }
   entries_.emplace(type, Entry{std::move(spec), std::move(fn), repository_path(source)});
 }
 

@@ -4,8 +4,8 @@
 //                [--capture "&width=320&height=240"] [--no-timing] [--query-graph GRAPH]
 //
 // A variant is a graph (langor or an ablation's file name) optionally followed by its own sets:
-// "langor+recon.pseudo_weight=0.1+recon.background=mean" is langor.yaml with those two params
-// (a reconstruction lever of the held-out geometry sweep, bench/splat_recon/README.md).
+// "langor+recon.prune_behind=0.7+recon.line_of_sight_weight=0.8" is langor.yaml with those two
+// params (a reconstruction lever of the held-out geometry sweep, bench/splat_recon/README.md).
 //
 // Accuracy: runs graphs/langor.yaml and each ablation (graphs/ablations/*.yaml) with the gslift
 // executable on embedded:or?seed=S for S = 0..N-1 (default 5; default difficulty), one child

@@ -6,7 +6,8 @@
 //                     [--ablation 0|1] [--repeat N] [--set KEY=VALUE]...
 //   bench_splat_recon --merge NAME OUT_DIR REPORT[:CPU_SECONDS[:LABEL]]...
 //
-// --set overrides one reconstruction option for every case (keys: see apply_setting), e.g. a
+// --set overrides one reconstruction option for every case (keys: splat.reconstruct's params and
+// the tuning fields of reconstruct_tuning_table, reconstruct.hpp), e.g. a
 // sweep point; --threads caps TBB's parallelism (1 for CPU-time comparisons on a shared machine);
 // --repeat runs every case N times and reports the median wall time beside all N.
 //
@@ -126,11 +127,8 @@ nlohmann::json run_case(const Case& c, int repeat) {
         {"holes", number(g.holes)},
         {"holes_covered", number(g.holes_covered)}};
   }
-  j["final_loss"] = {{"total", r.final_loss.total},
-                     {"photometric", r.final_loss.photometric},
-                     {"depth", r.final_loss.depth},
-                     {"normal", r.final_loss.normal},
-                     {"flatness", r.final_loss.flatness}};
+  j["final_loss"] = {{"total", r.final_loss.total}};
+  for (const auto& [term, value] : r.final_loss.terms) j["final_loss"][term] = value;
   j["estimated_flops_per_step"] = {{"blend_forward", flops.blend_forward},
                                    {"blend_backward", flops.blend_backward},
                                    {"projection", flops.projection},
@@ -182,47 +180,31 @@ std::string svg_chart(const nlohmann::json& cases) {
   return svg.str();
 }
 
-// Applies "key=value" to the options; returns false for an unknown key.
+// A --set value as the param's type.
+ParamValue parse_setting(ParamType type, const std::string& text) {
+  switch (type) {
+    case ParamType::Int:
+      return static_cast<int64_t>(std::stoll(text));
+    case ParamType::Float:
+      return std::stod(text);
+    case ParamType::Bool:
+      return text == "true" || text == "1";
+    default:
+      return text;
+  }
+}
+
+// Applies "key=value" to the options, the key a param of splat.reconstruct or a tuning field
+// (reconstruct_param_table, reconstruct_tuning_table); returns false for an unknown key. Throws
+// std::invalid_argument naming the param on a value out of its range.
 bool apply_setting(const std::string& setting, ReconstructOptions& o) {
   const size_t eq = setting.find('=');
   if (eq == std::string::npos) return false;
-  const std::string key = setting.substr(0, eq);
-  const double v = std::stod(setting.substr(eq + 1));
-  std::map<std::string, double*> reals = {{"footprint_factor", &o.init.footprint_factor},
-                                          {"scale_factor", &o.init.scale_factor},
-                                          {"normal_thickness", &o.init.normal_thickness},
-                                          {"depth_weight", &o.depth_weight},
-                                          {"normal_weight", &o.normal_weight},
-                                          {"scale_weight", &o.scale_weight},
-                                          {"ssim_lambda", &o.ssim_lambda},
-                                          {"coarse_fraction", &o.coarse_fraction},
-                                          {"grad_threshold", &o.density.grad_threshold},
-                                          {"prune_opacity", &o.density.prune_opacity},
-                                          {"density_stop", &o.density.stop},
-                                          {"lr_position", &o.rates.position_init},
-                                          {"lr_position_final", &o.rates.position_final},
-                                          {"lr_sh_dc", &o.rates.sh_dc},
-                                          {"lr_opacity", &o.rates.opacity},
-                                          {"lr_scale", &o.rates.scale},
-                                          {"lr_rotation", &o.rates.rotation}};
-  std::map<std::string, int*> ints = {{"sh_degree", &o.sh_degree},
-                                      {"sh_interval", &o.sh_interval},
-                                      {"density_start", &o.density.start},
-                                      {"density_interval", &o.density.interval},
-                                      {"pixel_stride", &o.init.pixel_stride}};
-  if (auto it = reals.find(key); it != reals.end())
-    *it->second = v;
-  else if (auto jt = ints.find(key); jt != ints.end())
-    *jt->second = static_cast<int>(v);
-  else if (key == "opacity")
-    o.init.opacity = static_cast<float>(v);
-  else if (key == "max_gaussians")
-    o.density.max_gaussians = static_cast<size_t>(v);
-  else if (key == "densify")
-    o.densify = v != 0;
-  else
-    return false;
-  return true;
+  const std::string key = setting.substr(0, eq), text = setting.substr(eq + 1);
+  for (const auto* table : {&reconstruct_param_table(), &reconstruct_tuning_table()})
+    for (const auto& f : table->fields())
+      if (f.spec.name == key) return table->set(o, key, parse_setting(f.spec.type, text));
+  return false;
 }
 
 }  // namespace

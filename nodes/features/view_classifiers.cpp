@@ -234,24 +234,6 @@ ViewClassifierResult train_view_classifiers_jointly(const Capture& capture,
   return r;
 }
 
-namespace {
-// The reconstruction params that joint training exposes, named recon_<splat.reconstruct's name>
-// with splat.reconstruct's defaults; the rest keep those defaults.
-ParamTable<ReconstructOptions> joint_reconstruction_param_table() {
-  using R = ReconstructOptions;
-  const std::string joint = " (joint; splat.reconstruct's param of that name)";
-  return ParamTable<R>()
-      .add("recon_iterations", &R::iterations, "reconstruction steps" + joint, 1, 1e6)
-      .add("recon_background", &R::background, background_names(),
-           "black, white, random or mean" + joint)
-      .add("recon_sh_degree", &R::sh_degree, "highest SH degree" + joint, 0, 3)
-      .add("recon_depth_weight", &R::depth_weight, "depth log-L1 weight" + joint, 0)
-      .add("recon_normal_weight", &R::normal_weight, "normal weight" + joint, 0)
-      .add("recon_coarse_fraction", &R::coarse_fraction, "steps at half resolution" + joint, 0, 1)
-      .add("recon_densify", &R::densify, "clone/split/prune" + joint);
-}
-}  // namespace
-
 const ParamTable<ViewClassifierOptions>& view_classifier_param_table() {
   using O = ViewClassifierOptions;
   static const ParamTable<O> table =
@@ -273,7 +255,12 @@ const ParamTable<ViewClassifierOptions>& view_classifier_param_table() {
           .add("shared_background", &O::shared_background,
                "one class-0 (no SAM mask) row shared by every view's classifier")
           .add("lambda_ce", &O::lambda_ce, "joint: weight of L_CE against L_rec (Eq. 8: 0.05)", 0)
-          .nest(&O::recon, joint_reconstruction_param_table());
+          // The reconstruction params joint training exposes: splat.reconstruct's declarations
+          // and defaults, named recon_<its name>; the rest keep those defaults.
+          .nest(&O::recon, reconstruct_param_table(),
+                {"iterations", "background", "sh_degree", "depth_weight", "normal_weight",
+                 "coarse_fraction", "densify"},
+                "recon_", " (joint; splat.reconstruct's param of that name)");
   return table;
 }
 

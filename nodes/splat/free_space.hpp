@@ -4,7 +4,6 @@
 // surface it observed. A Gaussian whose centre sits in that empty stretch in some training view
 // is drawn there as a floater by any other camera, however well it fits the views it was
 // trained on (behind a surface, or seen along the ray it blends into, it costs them nothing).
-// Gaussians that only one training view ever sees are under-constrained for the same reason.
 #pragma once
 
 #include <cstdint>
@@ -24,28 +23,8 @@ struct DepthObservation {
   cv::Mat1f depth;
 };
 
-// Per Gaussian: the number of views whose observed free space holds its centre, and the number
-// of views that see it (in free space or on the observed surface, not hidden behind it).
-struct FreeSpaceCounts {
-  std::vector<uint8_t> in_free_space;
-  std::vector<uint8_t> seen;
-};
-
-// The centre x (camera depth z, pixel (u, v)) of a Gaussian is tested against the observed depths
-// D of the 3x3 pixels around (u, v): it lies in free space when z < (1 - tolerance) min D, and is
-// seen when z <= (1 + tolerance) max D. The 3x3 minimum keeps a Gaussian on an object's silhouette
-// (whose own pixel may observe the wall behind it) out of free space; pixels without a depth are
-// left out, and a centre whose window has none is neither. Counts saturate at 255. Parallel over
-// Gaussians; deterministic.
-FreeSpaceCounts free_space_counts(const GaussianModel& model,
-                                  const std::vector<DepthObservation>& views, double tolerance);
-
-// When to prune by these counts (0 switches a rule off).
+// When to prune against the depth priors (0 switches a rule off).
 struct FreeSpacePruneOptions {
-  // Prune a Gaussian whose centre at least this many training views see as empty space.
-  int free_space_views = 0;
-  // Prune a Gaussian that fewer than this many training views see.
-  int min_seen_views = 0;
   // Prune a Gaussian that draws more than this fraction of its training-view weight in observed
   // free space (line_of_sight_weights below).
   double line_of_sight = 0;
@@ -69,26 +48,19 @@ struct FreeSpacePruneOptions {
   // its centre's depth by its extent times the slant, so at the centre's depth the margin above
   // has to cover that as well as the prior's noise (issue 11: bench/splat_recon/README.md).
   bool ray_depth = false;
-  bool active() const {
-    return free_space_views > 0 || min_seen_views > 0 || line_of_sight > 0 || behind > 0 ||
-           hidden > 0;
-  }
+  bool active() const { return line_of_sight > 0 || behind > 0 || hidden > 0; }
 };
-
-// 1 for the Gaussians the options' centre rules prune, else 0.
-std::vector<char> free_space_prune_mask(const FreeSpaceCounts& counts,
-                                        const FreeSpacePruneOptions& options);
 
 // Per Gaussian, its blending weight w_i = alpha_i T_i summed over the pixels of the training views
 // that observed a depth D, split by where the Gaussian's camera depth z (its centre's, or with
 // ray_depth its depth along the pixel's ray) lies on each pixel's ray:
 // `free_space` where z < (1 - tolerance) D (drawn in space that pixel saw through: the
-// line-of-sight prior of depth-supervised NeRFs), `on_surface` where not. Unlike the centre test
-// above it looks at the whole footprint: an object's Gaussian whose footprint reaches past the
-// object's silhouette onto the wall behind draws there in free space although its centre is on the
-// object. `behind` is the part of `on_surface` drawn where z > (1 + tolerance) D: seen through the
-// surface the pixel observed, which an opaque model would hide. `unobserved` holds the weight drawn
-// at pixels without a depth, so free_space + on_surface + unobserved is the Gaussian's whole
+// line-of-sight prior of depth-supervised NeRFs), `on_surface` where not. Unlike a test of the
+// centre alone it looks at the whole footprint: an object's Gaussian whose footprint reaches past
+// the object's silhouette onto the wall behind draws there in free space although its centre is on
+// the object. `behind` is the part of `on_surface` drawn where z > (1 + tolerance) D: seen through
+// the surface the pixel observed, which an opaque model would hide. `unobserved` holds the weight
+// drawn at pixels without a depth, so free_space + on_surface + unobserved is the Gaussian's whole
 // training-view weight (floater_origins reports it). Renders each view once (weights only).
 // Deterministic at any thread count.
 struct LineOfSightWeights {
@@ -128,9 +100,8 @@ class FreeSpacePruner {
  public:
   explicit FreeSpacePruner(const FreeSpacePruneOptions& options) : options_(options) {}
 
-  // One pruning round: 1 for the Gaussians that an active centre rule prunes or that have now
-  // violated the line-of-sight rule `line_of_sight_rounds` rounds running, else 0. Computes only
-  // what the active rules need.
+  // One pruning round: 1 for the Gaussians that have now violated an active rule
+  // `line_of_sight_rounds` rounds running, else 0. Computes only what the active rules need.
   std::vector<char> prune_mask(const GaussianModel& model,
                                const std::vector<DepthObservation>& views);
 

@@ -110,13 +110,4 @@ double line_of_sight_loss(const GaussianModel& model, const Camera& camera, cons
                               grads, nullptr, ray_depth);
 }
 
-double surface_opacity_loss(const GaussianModel& model, const Camera& camera, const Pose& pose,
-                            const cv::Mat1f& prior_depth, const RenderOutput& forward,
-                            double tolerance, double scale, ModelGrads* grads, bool ray_depth) {
-  size_t observed = 0;
-  const double opacity = opacity_before_prior(model, camera, pose, prior_depth, forward,
-                                              1 + tolerance, -scale, grads, &observed, ray_depth);
-  return observed > 0 ? 1 - opacity : 0.0;
-}
-
 }  // namespace gslift

@@ -6,7 +6,6 @@
 // the depth-ordering priors of sparse-view 3DGS). Its gradient reaches what pruning cannot: it
 // shrinks, fades or moves the part of a Gaussian's footprint that lies in front of the surface
 // (an object's rim reaching past its silhouette) and leaves the part on the surface alone.
-// surface_opacity_loss below is the same sum at the far end of the margin.
 #pragma once
 
 #include <opencv2/core.hpp>
@@ -26,8 +25,8 @@ namespace gslift {
 // scale * d(mean F)/d(means, log_scales, quats, opacity_logits) to it (sized for the model); a
 // clamped alpha has none, and the depth test is a step, with none. Parallel over tiles:
 // deterministic at any thread count. With ray_depth, z_i is each Gaussian's depth along the
-// pixel's ray (ray_depth.hpp) instead of its centre's. The two losses below are this at the two
-// ends of the margin.
+// pixel's ray (ray_depth.hpp) instead of its centre's. The loss below is this at the near end of
+// the margin.
 double opacity_before_prior(const GaussianModel& model, const Camera& camera, const Pose& pose,
                             const cv::Mat1f& prior_depth, const RenderOutput& forward,
                             double depth_factor, double scale = 1.0, ModelGrads* grads = nullptr,
@@ -39,19 +38,5 @@ double line_of_sight_loss(const GaussianModel& model, const Camera& camera, cons
                           const cv::Mat1f& prior_depth, const RenderOutput& forward,
                           double tolerance, double scale = 1.0, ModelGrads* grads = nullptr,
                           bool ray_depth = false);
-
-// Its other half (issue 11), DS-NeRF's ray termination: a pixel that observed a surface at D has
-// an opaque surface there, so its ray must be spent by (1 + tolerance) D. L = mean over the pixels
-// with a prior of T_p = 1 - F_p at depth_factor 1 + tolerance, the light left past the surface
-// (0 for a view without a prior). Without it a surface that a single training view sees can stay
-// half transparent, its colour made up by the background and its depth by Gaussians behind it,
-// and a held-out camera looks through it: most of the embedded OR's holes on covered pixels are
-// such surfaces (bench/splat_recon/README.md). Its gradient raises the opacity of everything in
-// front of (1 + tolerance) D, the free space included: the line-of-sight loss at an equal or
-// higher weight keeps the free space's opacity falling (T_front >= T_past in dF/dalpha).
-double surface_opacity_loss(const GaussianModel& model, const Camera& camera, const Pose& pose,
-                            const cv::Mat1f& prior_depth, const RenderOutput& forward,
-                            double tolerance, double scale = 1.0, ModelGrads* grads = nullptr,
-                            bool ray_depth = false);
 
 }  // namespace gslift

@@ -25,13 +25,6 @@ PhotometricLoss photometric_loss(const cv::Mat& rendered, const SsimTarget& targ
 PhotometricLoss photometric_loss(const cv::Mat& rendered, const cv::Mat& target, double ssim_lambda,
                                  cv::Mat* grad = nullptr);
 
-// Mean absolute difference over the pixels of `mask` (CV_8U, non-zero = counted) and the channels:
-// the photometric loss of a pseudo-view, whose warped target exists only where the warp landed
-// (pseudo_views.hpp). rendered and target of one type (any float channel count). grad receives
-// dL/d(rendered), zero outside the mask. 0 when the mask is empty.
-double masked_l1_loss(const cv::Mat& rendered, const cv::Mat& target, const cv::Mat1b& mask,
-                      cv::Mat* grad = nullptr);
-
 // DN-Splatter depth loss: mean over valid pixels (target > 0 and finite) of log(1 + |d_hat - d|).
 // Both CV_32FC1 metres. Returns 0 (and a zero gradient) when no pixel is valid.
 double depth_log_l1_loss(const cv::Mat& rendered, const cv::Mat& target, cv::Mat* grad = nullptr);
@@ -45,24 +38,5 @@ double normal_cosine_loss(const cv::Mat& rendered, const cv::Mat& target, cv::Ma
 // smallest scale exp(min_k log_scale_k), pushing each Gaussian towards a disc that follows the
 // surface. log_scales is N x 3; grad (resized to N x 3) receives dL/d(log_scales).
 double flatness_loss(const std::vector<float>& log_scales, std::vector<float>* grad = nullptr);
-
-// Anisotropy regulariser (PhysGaussian, Xie et al. 2024, Eq. 17: mean of max(S_max / S_min, r)
-// - r), here on the ratio of the largest scale to the second largest: flatness already drives
-// the smallest scale of every Gaussian to ~0, so S_max / S_min is always huge, while an
-// in-plane ratio above r is a needle or an elongated disc. Such a disc at a silhouette, seen
-// edge-on from the training views, may stretch along their rays for free and shows up from a
-// new angle as a rim past the object (issue 11). Mean over Gaussians of
-// max(exp(s_max - s_mid) - ratio, 0) with s the log-scales (N x 3); grad (resized to N x 3)
-// receives dL/d(log_scales): +e/N on the largest axis and -e/N on the second, e = exp(s_max -
-// s_mid), where the ratio exceeds `ratio`.
-double anisotropy_loss(const std::vector<float>& log_scales, double ratio,
-                       std::vector<float>* grad = nullptr);
-
-// Opacity entropy (issue 11 lever: push each Gaussian towards opaque or gone, so that no
-// half-transparent haze can explain the training views): mean over Gaussians of the binary
-// entropy H(o) = -o ln o - (1 - o) ln(1 - o) of o = sigmoid(logit). grad (resized to N) receives
-// dL/d(logit) = -logit o (1 - o) / N (dH/do = ln((1 - o) / o) = -logit).
-double opacity_entropy_loss(const std::vector<float>& opacity_logits,
-                            std::vector<float>* grad = nullptr);
 
 }  // namespace gslift

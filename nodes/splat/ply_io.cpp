@@ -163,17 +163,20 @@ void write_ply(const GaussianModel& model, const std::filesystem::path& path) {
   write_file_atomically(path, bytes);
 }
 
-GaussianModel read_ply(const std::filesystem::path& path) {
-  const std::string where = path.string() + ": ";
-  require_regular_file(path, "PLY file");  // /dev/zero has no size to check counts against
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(where + "cannot open PLY file");
+namespace {
+
+struct PlyHeader {
+  bool binary = false;
+  std::vector<Element> elements;
+};
+
+// The header's lines up to end_header; the stream is left at the first data byte.
+PlyHeader read_ply_header(std::istream& in, const std::string& where) {
   std::string line;
   if (!std::getline(in, line) || line.substr(0, 3) != "ply")
     throw InputError(where + "not a PLY file (missing 'ply' magic)");
-
-  bool binary = false;
-  std::vector<Element> elements;
+  PlyHeader header;
+  std::vector<Element>& elements = header.elements;
   for (;;) {
     if (!std::getline(in, line)) throw InputError(where + "PLY header has no end_header");
     if (!line.empty() && line.back() == '\r') line.pop_back();
@@ -186,7 +189,7 @@ GaussianModel read_ply(const std::filesystem::path& path) {
       std::string format;
       words >> format;
       if (format == "binary_little_endian")
-        binary = true;
+        header.binary = true;
       else if (format != "ascii")
         throw InputError(where + "unsupported PLY format '" + printable(format) +
                          "' (need binary_little_endian or ascii)");
@@ -219,9 +222,19 @@ GaussianModel read_ply(const std::filesystem::path& path) {
   }
   if (elements.empty() || elements.front().name != "vertex")
     throw InputError(where + "the first PLY element must be 'vertex'");
-  const Element& vertex = elements.front();
-  if (vertex.has_list) throw InputError(where + "list properties in 'vertex' are not supported");
+  if (elements.front().has_list)
+    throw InputError(where + "list properties in 'vertex' are not supported");
+  return header;
+}
 
+// Where each of the model's values lies in a vertex row (property indices; -1 = absent).
+struct VertexLayout {
+  int pos[3], dc[3], scale[3], rot[4], opacity = -1, instance = -1, class_id = -1;
+  std::vector<int> rest, feat;
+  int K = 1, degree = 0;  // SH coefficients per channel and their degree
+};
+
+VertexLayout vertex_layout(const Element& vertex, const std::string& where) {
   std::map<std::string, int> index;
   for (size_t i = 0; i < vertex.properties.size(); ++i) index[vertex.properties[i].name] = i;
   auto require = [&](const std::string& name) {
@@ -229,21 +242,59 @@ GaussianModel read_ply(const std::filesystem::path& path) {
     if (it == index.end()) throw InputError(where + "PLY vertex lacks property '" + name + "'");
     return it->second;
   };
-  int pos[3], dc[3], scale[3], rot[4];
-  for (int k = 0; k < 3; ++k) pos[k] = require(std::string(1, "xyz"[k]));
-  for (int k = 0; k < 3; ++k) dc[k] = require("f_dc_" + std::to_string(k));
-  for (int k = 0; k < 3; ++k) scale[k] = require("scale_" + std::to_string(k));
-  for (int k = 0; k < 4; ++k) rot[k] = require("rot_" + std::to_string(k));
-  const int opacity = require("opacity");
-  const std::vector<int> rest = numbered(index, "f_rest_");
-  const std::vector<int> feat = numbered(index, "feat_");
-  const int K = static_cast<int>(rest.size()) / 3 + 1;
-  const int degree = static_cast<int>(std::lround(std::sqrt(K))) - 1;
-  if (rest.size() % 3 != 0 || degree > 3 || GaussianModel::sh_coeffs(degree) != K)
-    throw InputError(where + std::to_string(rest.size()) +
+  VertexLayout l;
+  for (int k = 0; k < 3; ++k) l.pos[k] = require(std::string(1, "xyz"[k]));
+  for (int k = 0; k < 3; ++k) l.dc[k] = require("f_dc_" + std::to_string(k));
+  for (int k = 0; k < 3; ++k) l.scale[k] = require("scale_" + std::to_string(k));
+  for (int k = 0; k < 4; ++k) l.rot[k] = require("rot_" + std::to_string(k));
+  l.opacity = require("opacity");
+  l.rest = numbered(index, "f_rest_");
+  l.feat = numbered(index, "feat_");
+  l.K = static_cast<int>(l.rest.size()) / 3 + 1;
+  l.degree = static_cast<int>(std::lround(std::sqrt(l.K))) - 1;
+  if (l.rest.size() % 3 != 0 || l.degree > 3 || GaussianModel::sh_coeffs(l.degree) != l.K)
+    throw InputError(where + std::to_string(l.rest.size()) +
                      " f_rest_* properties do not match an SH degree 0..3 (need 0, 9, 24 or 45)");
-  const int instance = index.count("instance_id") ? index["instance_id"] : -1;
-  const int class_id = index.count("class_id") ? index["class_id"] : -1;
+  l.instance = index.count("instance_id") ? index["instance_id"] : -1;
+  l.class_id = index.count("class_id") ? index["class_id"] : -1;
+  return l;
+}
+
+// Vertex i's values into the model.
+void store_vertex(const VertexLayout& l, const std::vector<double>& values, size_t i,
+                  const std::string& where, GaussianModel& model) {
+  const int K = l.K;
+  for (double v : values)  // stored as float: a finite double beyond its range is undefined
+    if (std::isfinite(v) && std::abs(v) > std::numeric_limits<float>::max())
+      throw InputError(where + "vertex " + std::to_string(i) + " holds " + std::to_string(v) +
+                       ", beyond float range");
+  for (int k = 0; k < 3; ++k) {
+    model.means[i * 3 + k] = static_cast<float>(values[l.pos[k]]);
+    model.log_scales[i * 3 + k] = static_cast<float>(values[l.scale[k]]);
+    model.sh[i * K * 3 + k] = static_cast<float>(values[l.dc[k]]);
+  }
+  for (int c = 0; c < 3; ++c)
+    for (int k = 1; k < K; ++k)
+      model.sh[(i * K + k) * 3 + c] = static_cast<float>(values[l.rest[c * (K - 1) + k - 1]]);
+  for (int k = 0; k < 4; ++k) model.quats[i * 4 + k] = static_cast<float>(values[l.rot[k]]);
+  model.opacity_logits[i] = static_cast<float>(values[l.opacity]);
+  for (size_t k = 0; k < l.feat.size(); ++k)
+    model.features[i * l.feat.size() + k] = static_cast<float>(values[l.feat[k]]);
+  if (l.instance >= 0) model.instance_ids[i] = id_value(values[l.instance], where, i);
+  if (l.class_id >= 0) model.class_ids[i] = id_value(values[l.class_id], where, i);
+}
+
+}  // namespace
+
+GaussianModel read_ply(const std::filesystem::path& path) {
+  const std::string where = path.string() + ": ";
+  require_regular_file(path, "PLY file");  // /dev/zero has no size to check counts against
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(where + "cannot open PLY file");
+  const PlyHeader header = read_ply_header(in, where);
+  const bool binary = header.binary;
+  const Element& vertex = header.elements.front();
+  const VertexLayout layout = vertex_layout(vertex, where);
 
   size_t row_bytes = 0;
   std::vector<size_t> offset;
@@ -266,10 +317,10 @@ GaussianModel read_ply(const std::filesystem::path& path) {
                      std::to_string(min_row) + " per vertex)");
 
   GaussianModel model;
-  model.sh_degree = degree;
-  model.feature_dim = static_cast<int>(feat.size());
-  if (instance >= 0) model.instance_ids.assign(vertex.count, -1);
-  if (class_id >= 0) model.class_ids.assign(vertex.count, -1);
+  model.sh_degree = layout.degree;
+  model.feature_dim = static_cast<int>(layout.feat.size());
+  if (layout.instance >= 0) model.instance_ids.assign(vertex.count, -1);
+  if (layout.class_id >= 0) model.class_ids.assign(vertex.count, -1);
   model.resize(vertex.count);
 
   std::vector<double> values(vertex.properties.size());
@@ -287,24 +338,7 @@ GaussianModel read_ply(const std::filesystem::path& path) {
           throw InputError(where + "PLY data truncated or not numeric at vertex " +
                            std::to_string(i));
     }
-    for (double v : values)  // stored as float: a finite double beyond its range is undefined
-      if (std::isfinite(v) && std::abs(v) > std::numeric_limits<float>::max())
-        throw InputError(where + "vertex " + std::to_string(i) + " holds " + std::to_string(v) +
-                         ", beyond float range");
-    for (int k = 0; k < 3; ++k) {
-      model.means[i * 3 + k] = static_cast<float>(values[pos[k]]);
-      model.log_scales[i * 3 + k] = static_cast<float>(values[scale[k]]);
-      model.sh[i * K * 3 + k] = static_cast<float>(values[dc[k]]);
-    }
-    for (int c = 0; c < 3; ++c)
-      for (int k = 1; k < K; ++k)
-        model.sh[(i * K + k) * 3 + c] = static_cast<float>(values[rest[c * (K - 1) + k - 1]]);
-    for (int k = 0; k < 4; ++k) model.quats[i * 4 + k] = static_cast<float>(values[rot[k]]);
-    model.opacity_logits[i] = static_cast<float>(values[opacity]);
-    for (size_t k = 0; k < feat.size(); ++k)
-      model.features[i * feat.size() + k] = static_cast<float>(values[feat[k]]);
-    if (instance >= 0) model.instance_ids[i] = id_value(values[instance], where, i);
-    if (class_id >= 0) model.class_ids[i] = id_value(values[class_id], where, i);
+    store_vertex(layout, values, i, where, model);
   }
   return model;
 }

@@ -1,12 +1,15 @@
 // Geometry-constrained 3DGS reconstruction (3DGS, Kerbl et al. 2023, and LangOR §2.3): initialise
-// from the depth prior or points, then optimise the photometric loss plus depth, normal and
-// flatness terms over the training views with Adam, with density control rescheduled for short
-// runs.
+// from the depth prior or points, then optimise a list of loss terms (loss_terms.hpp: photometric,
+// depth, normal, flatness and the depth prior's line-of-sight and edge-extent terms) over the
+// training views with Adam, with density control and pruning (density_strategy.hpp) rescheduled
+// for short runs.
 #pragma once
 
 #include <cstdint>
 #include <functional>
 #include <optional>
+#include <string>
+#include <utility>
 #include <vector>
 
 #include <opencv2/core.hpp>
@@ -18,9 +21,7 @@
 #include "nodes/splat/depth_edge_extent.hpp"
 #include "nodes/splat/feature_objective.hpp"
 #include "nodes/splat/free_space.hpp"
-#include "nodes/splat/free_space_extent.hpp"
 #include "nodes/splat/initialise.hpp"
-#include "nodes/splat/pseudo_views.hpp"
 #include "nodes/splat/view_geometry.hpp"
 #include "param/param_table.hpp"
 
@@ -68,39 +69,17 @@ struct ReconstructOptions {
   Background background = Background::Black;
   // Loss weights; 0 switches a term off (ablation). Anchors: DN-Splatter depth 0.2, normal 0.1;
   // [decision] defaults measured in bench/splat_recon.
-  double depth_weight = 0.2;          // depth log-L1 against the depth prior, valid pixels only
-  double normal_weight = 0.1;         // 1 - cos(rendered normal, normal from the depth prior)
-  double scale_weight = 0.01;         // flatness: mean smallest scale (metres)
-  double opacity_entropy_weight = 0;  // binary entropy of the opacities (losses.hpp); 0 = off
-  // Largest over second-largest scale above anisotropy_ratio, penalised (losses.hpp); 0 = off.
-  double anisotropy_weight = 0;
-  double anisotropy_ratio = 3;
+  double depth_weight = 0.2;   // depth log-L1 against the depth prior, valid pixels only
+  double normal_weight = 0.1;  // 1 - cos(rendered normal, normal from the depth prior)
+  double scale_weight = 0.01;  // flatness: mean smallest scale (metres)
   // Extent along the training rays of Gaussians on the near side of a depth-prior discontinuity
   // (depth_edge_extent.hpp), in metres per Gaussian; 0 = off.
   double edge_extent_weight = 0;
   // Line-of-sight loss (line_of_sight_loss.hpp): the opacity each training pixel accumulates more
   // than floaters.tolerance in front of its depth prior, averaged over the pixels with a prior,
-  // on the step's own view every line_of_sight_every-th step from the first line_of_sight_start
-  // fraction of the steps on, and on the step's pseudo-view when there is one (its warped depth
-  // is an observation of the same kind). 0 = off.
+  // on the step's own view from the first line_of_sight_start fraction of the steps on. 0 = off.
   double line_of_sight_weight = 0;
-  int line_of_sight_every = 1;
   double line_of_sight_start = 0;
-  // Surface opacity (line_of_sight_loss.hpp): the transmittance each training pixel has left
-  // floaters.tolerance past its depth prior, on the line-of-sight loss's steps and views. 0 = off.
-  double surface_opacity_weight = 0;
-  // Depth distortion (depth_distortion_loss.hpp): the spread in log depth of each pixel's blending
-  // weights, on the step's own view from the first distortion_start fraction of the steps on.
-  // 0 = off.
-  double distortion_weight = 0;
-  double distortion_start = 0;
-  // Depth-warped pseudo-views (pseudo_views.hpp): every pseudo_every-th step also renders one of
-  // the half-resolution views between two training cameras (in turn) and adds pseudo_weight x
-  // (masked L1 + depth_weight x depth log-L1) against the warped training images. 0 = off.
-  double pseudo_weight = 0;
-  int pseudo_every = 4;
-  double pseudo_start = 0;        // fraction of the steps before the pseudo-views join
-  double pseudo_max_angle = 100;  // degrees between the optical axes of a pair
   // Coarse-to-fine: the first coarse_fraction of the steps render and compare at half resolution
   // (a quarter of the pixels), the rest at full resolution. 0 = off. [decision] 0.4: on the
   // embedded OR (footprint 12) 86 -> 78 s CPU for 500 steps and train PSNR 29.49 -> 29.99 dB
@@ -112,10 +91,6 @@ struct ReconstructOptions {
   // (free_space.hpp), at each densification round and every density.interval steps after growth
   // stops; off by default.
   FreeSpacePruneOptions floaters;
-  // Axes of Gaussians shrunk until their extent leaves the training views' observed free space
-  // (free_space_extent.hpp), on the free-space rounds' schedule and once after the last step;
-  // off by default.
-  ExtentClampOptions extent_clamp;
   // Early stop when the mean loss of the last `plateau_window` steps improves on the previous
   // window by less than plateau_tolerance (relative). 0 = off.
   int plateau_window = 0;
@@ -128,14 +103,35 @@ struct ReconstructOptions {
 
 // The params of splat.reconstruct: the fields above that a graph may set, the budget of
 // `density` and the initialisation's source, footprint_factor and normal_thickness among them.
+// The few a user sets first come first; the rest are marked advanced (`gslift nodes` lists them
+// under the others). reconstruct() validates its options against it.
 const ParamTable<ReconstructOptions>& reconstruct_param_table();
+// The fields no graph sets, for benchmarks' sweeps (bench/splat_recon --set): learning rates,
+// the density schedule and thresholds, the initialisation's stride and scale.
+const ParamTable<ReconstructOptions>& reconstruct_tuning_table();
+
+// Named settings of splat.reconstruct (its `recipe` param), each a group of params set at once.
+//  none: the params' own defaults.
+//  depth_prior: what met the held-out geometry targets on the embedded OR with a depth prior
+//    (bench/splat_recon/README.md, "Where it stands"): the mean-colour background, the
+//    line-of-sight prior as a loss from half of the steps and as pruning in two rounds running,
+//    pruning of what lies behind or is hidden behind the prior, the edge-extent term, and every
+//    test at the depth along each pixel's ray with a 2.5% margin.
+enum class Recipe { None, DepthPrior };
+const EnumNames<Recipe>& recipe_names();  // none, depth_prior
+// The params a recipe sets (names of reconstruct_param_table) and their values.
+const std::vector<std::pair<std::string, ParamValue>>& recipe_params(Recipe recipe);
+// Sets the recipe's params in `o` (a C++ caller's `recipe:`).
+void apply_recipe(ReconstructOptions& o, Recipe recipe);
 
 // Mean of each loss term over the last 10% of the steps (at least one step).
 struct LossSummary {
-  double total = 0, photometric = 0, depth = 0, normal = 0, flatness = 0, opacity_entropy = 0,
-         anisotropy = 0, edge_extent = 0, pseudo = 0, line_of_sight = 0, surface_opacity = 0,
-         distortion = 0;
+  double total = 0;
   double features = 0;  // the FeatureObjective's loss (unweighted); 0 without one
+  // Each term the run trained with (loss_terms.hpp), unweighted, by name, in the terms' order.
+  std::vector<std::pair<std::string, double>> terms;
+  // The named term's value; 0 for a term the run did not train with.
+  double term(const std::string& name) const;
 };
 
 // Wall seconds spent in each phase of the optimisation loop, summed over the steps (profiling;
@@ -153,8 +149,6 @@ struct ReconstructResult {
   GaussianModel model;
   size_t initial_gaussians = 0;
   size_t free_space_pruned = 0;  // Gaussians the free-space rules pruned, over all rounds
-  size_t extent_clamped = 0;     // Gaussian axes the extent clamp shrank, over all rounds
-  size_t pseudo_views = 0;       // pseudo-views trained on (pseudo_weight > 0)
   int iterations_run = 0;
   bool stopped_early = false;
   size_t growth_refused = 0;  // densification candidates the Gaussian budget left out, all rounds
@@ -202,7 +196,9 @@ double mean_psnr(const GaussianModel& model, const Capture& capture, const std::
 // thread count. The targets of the training views (float RGB, depth, normals) are decoded once
 // and kept for the run. With an `objective` its features train jointly with the geometry (the
 // total loss adds objective->weight x L_feat) and come back in the model's feature channels.
-// Throws InputError when the capture has no training view or an image does not match its camera.
+// Throws std::invalid_argument naming the param when an option breaks its range
+// (reconstruct_param_table), InputError when the capture has no training view or an image does
+// not match its camera.
 ReconstructResult reconstruct(const Capture& capture, const ReconstructOptions& options,
                               const ReconstructCallback& callback = {},
                               const FeatureObjective* objective = nullptr);

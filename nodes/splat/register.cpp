@@ -1,6 +1,7 @@
 #include "nodes/splat/register.hpp"
 
 #include <cmath>
+#include <map>
 
 #include "nodes/scene/capture.hpp"
 #include "nodes/scene/gaussian_model.hpp"
@@ -23,16 +24,31 @@ PortSpec model_port(const std::string& doc) {
   return {"model", PortTypeName<GaussianModel>::value, doc};
 }
 
-// splat.reconstruct's params: the reconstruction's, then when its result counts as none.
+// splat.reconstruct's params: a recipe, the reconstruction's, then when its result counts as
+// none.
 struct ReconstructNodeParams {
+  Recipe recipe = Recipe::None;  // resolved by the graph (ParamSpec::presets), not read here
   ReconstructOptions recon;
   double min_train_psnr = kDefaultMinTrainPsnr;
 };
+
+std::map<std::string, ParamPreset> recipe_presets() {
+  std::map<std::string, ParamPreset> presets;
+  for (const auto& [recipe, name] : recipe_names())
+    if (!recipe_params(recipe).empty()) presets[name] = recipe_params(recipe);
+  return presets;
+}
 
 const ParamTable<ReconstructNodeParams>& reconstruct_node_param_table() {
   using P = ReconstructNodeParams;
   static const ParamTable<P> table =
       ParamTable<P>()
+          .add("recipe", &P::recipe, recipe_names(),
+               "a named group of the params below, set where the graph leaves them unset: none, or "
+               "depth_prior (a capture with a depth prior: the line-of-sight prior, pruning "
+               "against the prior, the edge-extent term and the mean-colour background, "
+               "bench/splat_recon/README.md)")
+          .presets(recipe_presets())
           .nest(&P::recon, reconstruct_param_table())
           .add("min_train_psnr", &P::min_train_psnr,
                "fail when the final train PSNR (dB) is under this floor: a model that explains its "
@@ -40,6 +56,31 @@ const ParamTable<ReconstructNodeParams>& reconstruct_node_param_table() {
                "fails)",
                0);
   return table;
+}
+
+// The final loss and each term's (loss_<term>), the phases' seconds and the held-out geometry.
+void record_losses_and_geometry(NodeContext& ctx, const ReconstructResult& r) {
+  ctx.record("loss_total", r.final_loss.total);
+  for (const auto& [term, value] : r.final_loss.terms) ctx.record("loss_" + term, value);
+  ctx.record("train_psnr", r.train_psnr);
+  if (!std::isnan(r.test_psnr)) ctx.record("test_psnr", r.test_psnr);
+  if (!r.test_geometry) return;
+  // NaN (no such pixel) is left out: run.json holds numbers only.
+  const ViewGeometry& g = *r.test_geometry;
+  const std::pair<const char*, double> geometry[] = {
+      {"test_psnr_covered", g.psnr_covered},
+      {"test_coverage", g.coverage},
+      {"test_depth_abs_rel_median", g.depth_abs_rel_median},
+      {"test_depth_within_5pct", g.depth_within_5pct},
+      {"test_floaters", g.floaters},
+      {"test_floaters_covered", g.floaters_covered},
+      {"test_floaters_expected_depth", g.floaters_expected_depth},
+      {"test_floaters_at_discontinuity", g.floaters_at_discontinuity},
+      {"test_floaters_away_from_discontinuity", g.floaters_away_from_discontinuity},
+      {"test_holes", g.holes},
+      {"test_holes_covered", g.holes_covered}};
+  for (const auto& [key, value] : geometry)
+    if (std::isfinite(value)) ctx.record(key, value);
 }
 
 void run_reconstruct(NodeContext& ctx, ReconstructNodeParams p) {
@@ -54,7 +95,6 @@ void run_reconstruct(NodeContext& ctx, ReconstructNodeParams p) {
   ctx.record("initial_gaussians", static_cast<double>(r.initial_gaussians));
   if (o.floaters.active())
     ctx.record("free_space_pruned", static_cast<double>(r.free_space_pruned));
-  if (o.extent_clamp.active()) ctx.record("extent_clamped", static_cast<double>(r.extent_clamped));
   ctx.record("model_bytes",
              static_cast<double>(sizeof(float) *
                                  (r.model.means.size() + r.model.log_scales.size() +
@@ -74,43 +114,7 @@ void run_reconstruct(NodeContext& ctx, ReconstructNodeParams p) {
   ctx.record("adam_seconds", r.phases.adam);
   ctx.record("density_seconds", r.phases.density);
   ctx.record("scene_extent", r.scene_extent);
-  ctx.record("loss_total", r.final_loss.total);
-  ctx.record("loss_photometric", r.final_loss.photometric);
-  ctx.record("loss_depth", r.final_loss.depth);
-  ctx.record("loss_normal", r.final_loss.normal);
-  ctx.record("loss_flatness", r.final_loss.flatness);
-  if (o.pseudo_weight > 0) {
-    ctx.record("pseudo_views", static_cast<double>(r.pseudo_views));
-    ctx.record("loss_pseudo", r.final_loss.pseudo);
-  }
-  if (o.opacity_entropy_weight > 0)
-    ctx.record("loss_opacity_entropy", r.final_loss.opacity_entropy);
-  if (o.anisotropy_weight > 0) ctx.record("loss_anisotropy", r.final_loss.anisotropy);
-  if (o.edge_extent_weight > 0) ctx.record("loss_edge_extent", r.final_loss.edge_extent);
-  if (o.line_of_sight_weight > 0) ctx.record("loss_line_of_sight", r.final_loss.line_of_sight);
-  if (o.surface_opacity_weight > 0)
-    ctx.record("loss_surface_opacity", r.final_loss.surface_opacity);
-  if (o.distortion_weight > 0) ctx.record("loss_distortion", r.final_loss.distortion);
-  ctx.record("train_psnr", r.train_psnr);
-  if (!std::isnan(r.test_psnr)) ctx.record("test_psnr", r.test_psnr);
-  if (r.test_geometry) {
-    // NaN (no such pixel) is left out: run.json holds numbers only.
-    const ViewGeometry& g = *r.test_geometry;
-    const std::pair<const char*, double> geometry[] = {
-        {"test_psnr_covered", g.psnr_covered},
-        {"test_coverage", g.coverage},
-        {"test_depth_abs_rel_median", g.depth_abs_rel_median},
-        {"test_depth_within_5pct", g.depth_within_5pct},
-        {"test_floaters", g.floaters},
-        {"test_floaters_covered", g.floaters_covered},
-        {"test_floaters_expected_depth", g.floaters_expected_depth},
-        {"test_floaters_at_discontinuity", g.floaters_at_discontinuity},
-        {"test_floaters_away_from_discontinuity", g.floaters_away_from_discontinuity},
-        {"test_holes", g.holes},
-        {"test_holes_covered", g.holes_covered}};
-    for (const auto& [key, value] : geometry)
-      if (std::isfinite(value)) ctx.record(key, value);
-  }
+  record_losses_and_geometry(ctx, r);
   const auto dir = ctx.out_dir();
   if (!dir.empty()) {
     write_ply(r.model, dir / "model.ply");

@@ -46,3 +46,25 @@ TEST_CASE("one type's page names the file that registers it", "[catalogue]") {
                    "source: tests/runtime/debug_nodes.cpp\ninputs:\n",
                    0) == 0);
 }
+
+TEST_CASE("one type's page lists the advanced params under the others, and what presets set",
+          "[catalogue]") {
+  ParamSpec recipe = string_param("recipe", "none", "a named setting", {"none", "big"});
+  recipe.presets = {{"big", {{"scale", 5.0}}}};
+  ParamSpec scale = float_param("scale", 1.0, "factor");
+  scale.advanced = true;
+  const NodeSpec spec{"math.preset", "a node", {}, {}, {scale, recipe, int_param("n", 1, "count")}};
+  CHECK(node_type_text(spec) ==
+        "math.preset: a node\n"
+        "inputs:\n  (none)\n"
+        "outputs:\n  (none)\n"
+        "params:\n"
+        "  recipe: string = \"none\" one of {none, big}\n"
+        "      a named setting\n"
+        "      big sets {scale: 5.0}\n"
+        "  n: int = 1\n"
+        "      count\n"
+        "advanced params:\n"
+        "  scale: float = 1.0\n"
+        "      factor\n");
+}

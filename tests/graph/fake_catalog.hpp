@@ -79,8 +79,10 @@ class FakeCatalog : public NodeCatalog {
     return out;
   }
 
- private:
+  // A test's own node type beside the shared ones.
   void add(NodeSpec spec) { specs_[spec.type] = std::move(spec); }
+
+ private:
   std::map<std::string, NodeSpec> specs_;
 };
 

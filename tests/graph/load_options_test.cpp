@@ -196,3 +196,45 @@ TEST_CASE("nodes come in Kahn order, ties broken by declaration order") {
   // Ready at first: b, a (declaration order); b frees right; a frees left and other; and so on.
   CHECK(order == std::vector<std::string>{"b", "right", "a", "left", "mul", "show", "other"});
 }
+
+TEST_CASE(
+    "a preset sets the params the graph leaves unset; a param the graph sets keeps its value") {
+  test::FakeCatalog catalog;
+  ParamSpec recipe = string_param("recipe", "none", "a named setting", {"none", "big"});
+  recipe.presets = {{"big", {{"scale", 5.0}, {"count", int64_t{4}}}}};
+  catalog.add({"math.preset",
+               "a node with a preset",
+               {},
+               {{"out", "Number", "", false}},
+               {recipe, float_param("scale", 1.0, "factor", 0.0, 10.0),
+                int_param("count", 1, "repetitions", 1.0)}});
+  const auto load = [&](const std::string& params) {
+    const LoadResult r =
+        load_graph_text("graph: p\nnodes:\n  n: {type: math.preset, params: " + params + "}\n",
+                        "test.yaml", catalog, LoadOptions{});
+    for (const auto& d : r.diagnostics) INFO(d.str());
+    REQUIRE(r.ok());
+    return r.graph->find("n")->params;
+  };
+  // Without the preset: the defaults.
+  auto p = load("{}");
+  CHECK(std::get<double>(p.at("scale")) == 1.0);
+  CHECK(std::get<int64_t>(p.at("count")) == 1);
+  // With it: its values, recorded in the resolved graph (the stage cache and run.json see them).
+  p = load("{recipe: big}");
+  CHECK(std::get<double>(p.at("scale")) == 5.0);
+  CHECK(std::get<int64_t>(p.at("count")) == 4);
+  // A param the graph sets wins, even at its default value.
+  p = load("{recipe: big, scale: 1.0}");
+  CHECK(std::get<double>(p.at("scale")) == 1.0);
+  CHECK(std::get<int64_t>(p.at("count")) == 4);
+  // --set counts as the graph's own.
+  LoadOptions set;
+  set.sets = {"n.count=2"};
+  const LoadResult r =
+      load_graph_text("graph: p\nnodes:\n  n: {type: math.preset, params: {recipe: big}}\n",
+                      "test.yaml", catalog, set);
+  REQUIRE(r.ok());
+  CHECK(std::get<int64_t>(r.graph->find("n")->params.at("count")) == 2);
+  CHECK(std::get<double>(r.graph->find("n")->params.at("scale")) == 5.0);
+}

@@ -144,8 +144,9 @@ TEST_CASE("feature objective: weight 0 leaves the reconstruction bit-identical, 
   INFO("final feature loss " << joint.final_loss.features << ", untrained "
                              << zero.final_loss.features);
   CHECK(joint.final_loss.features < 0.6 * zero.final_loss.features);
-  CHECK(joint.final_loss.total ==
-        Approx(joint.final_loss.photometric + o.depth_weight * joint.final_loss.depth +
-               o.normal_weight * joint.final_loss.normal +
-               o.scale_weight * joint.final_loss.flatness + 0.5 * joint.final_loss.features));
+  CHECK(joint.final_loss.total == Approx(joint.final_loss.term("photometric") +
+                                         o.depth_weight * joint.final_loss.term("depth") +
+                                         o.normal_weight * joint.final_loss.term("normal") +
+                                         o.scale_weight * joint.final_loss.term("flatness") +
+                                         0.5 * joint.final_loss.features));
 }

@@ -1,4 +1,4 @@
-// Free-space counts and line-of-sight weights against hand-placed Gaussians in front of, on and
+// Line-of-sight weights and footprints against hand-placed Gaussians in front of, on and
 // behind an observed wall.
 #include <cmath>
 
@@ -38,49 +38,6 @@ double summed_opacity(const GaussianModel& m, const Camera& cam, const Pose& pos
 }
 
 }  // namespace
-
-TEST_CASE("free space: a Gaussian in front of the observed wall is in free space, on it seen") {
-  // Camera at the origin looking down +z at a wall 4 m away; a 20x20 patch of the depth is
-  // missing and the right third of the image observes an object at 2 m.
-  const Camera cam = test::centred_pinhole(60, 40, 50);
-  const Pose pose;
-  cv::Mat1f depth(cam.height, cam.width, 4.f);
-  depth(cv::Rect(0, 0, 20, 20)) = 0.f;
-  depth(cv::Rect(40, 0, 20, 40)) = 2.f;
-  const GaussianModel m = centres({
-      at(cam, 30.5, 30.5, 2.0),   // 0: halfway to the wall: free space, seen
-      at(cam, 30.5, 30.5, 3.8),   // 1: within 10% in front of the wall: on the surface, seen
-      at(cam, 30.5, 30.5, 6.0),   // 2: behind the wall: hidden, neither
-      at(cam, 10.5, 10.5, 1.0),   // 3: in front of the depth hole: no observation, neither
-      at(cam, 40.5, 30.5, 2.0),   // 4: on the object's silhouette (its own pixel observes 2 m)
-      at(cam, 39.5, 30.5, 2.0),   // 5: beside it, whose own pixel observes the wall at 4 m
-      at(cam, 30.5, 30.5, -1.0),  // 6: behind the camera
-      at(cam, 70.5, 30.5, 2.0),   // 7: outside the image
-  });
-  const std::vector<DepthObservation> views = {{&cam, &pose, depth}};
-  const FreeSpaceCounts c = free_space_counts(m, views, 0.1);
-  const std::vector<int> free = {1, 0, 0, 0, 0, 0, 0, 0};
-  const std::vector<int> seen = {1, 1, 0, 0, 1, 1, 0, 0};
-  for (size_t i = 0; i < free.size(); ++i) {
-    INFO("Gaussian " << i);
-    CHECK(int(c.in_free_space[i]) == free[i]);
-    CHECK(int(c.seen[i]) == seen[i]);
-  }
-
-  // A second camera that sees the same wall: Gaussian 0 is in free space twice, 1 seen twice.
-  const std::vector<DepthObservation> twice = {{&cam, &pose, depth}, {&cam, &pose, depth}};
-  const FreeSpaceCounts c2 = free_space_counts(m, twice, 0.1);
-  CHECK(int(c2.in_free_space[0]) == 2);
-  CHECK(int(c2.seen[1]) == 2);
-
-  FreeSpacePruneOptions o;
-  CHECK_FALSE(o.active());
-  o.free_space_views = 2;
-  CHECK(free_space_prune_mask(c2, o) == std::vector<char>{1, 0, 0, 0, 0, 0, 0, 0});
-  o.free_space_views = 0;
-  o.min_seen_views = 1;
-  CHECK(free_space_prune_mask(c, o) == std::vector<char>{0, 0, 1, 1, 0, 0, 1, 1});
-}
 
 TEST_CASE("line of sight: a Gaussian's weight splits by where each pixel observed its surface") {
   // The left half of the image observes a wall at 4 m, the right half an object at 1 m. Gaussian

@@ -1,4 +1,4 @@
-// The line-of-sight and surface-opacity losses against hand-placed Gaussians in front of,
+// The line-of-sight loss against hand-placed Gaussians in front of,
 // straddling and on an observed wall: their values from the rendered opacity, what lies behind the
 // surface left out, their gradients against finite differences, and the same sums on one thread.
 #include <cmath>
@@ -23,9 +23,6 @@ struct SightScene : test::PinholeScene {
   }
   double loss(const GaussianModel& m, ModelGrads* grads = nullptr) const {
     return line_of_sight_loss(m, cam, pose, depth, forward(m), 0.03, 1.0, grads);
-  }
-  double surface_loss(const GaussianModel& m, ModelGrads* grads = nullptr) const {
-    return surface_opacity_loss(m, cam, pose, depth, forward(m), 0.03, 1.0, grads);
   }
   // The model's rendered opacity summed over the pixels with a prior.
   double drawn(const GaussianModel& m) const {
@@ -65,25 +62,12 @@ TEST_CASE("line-of-sight loss: the opacity drawn in front of the observed surfac
   CHECK(scene.loss(on_wall, &on) == 0);
   CHECK(none(on));
 
-  // The surface opacity: on the wall the Gaussian is in front of the far end of the margin, so
-  // the loss is the light it leaves, 1 - its opacity, over the pixels with a prior; behind the
-  // wall (4.5 m) it is drawn past the surface and leaves all of it, with no gradient.
-  CHECK(scene.surface_loss(on_wall) == Approx(1 - scene.drawn(on_wall) / observed).epsilon(1e-4));
-  GaussianModel behind_wall = one;
-  scene.place(behind_wall, 0, 10.5, 15.5, 4.5, 0.16, 0.7);
-  ModelGrads past;
-  past.reset(behind_wall);
-  CHECK(scene.surface_loss(behind_wall, &past) == 1);
-  CHECK(none(past));
-
   // A view without any prior observes nothing: no loss and no gradient, whatever is drawn.
   const cv::Mat1f no_prior(30, 40, 0.f);
   ModelGrads unobserved;
   unobserved.reset(one);
   CHECK(line_of_sight_loss(one, scene.cam, scene.pose, no_prior, scene.forward(one), 0.03, 1.0,
                            &unobserved) == 0);
-  CHECK(surface_opacity_loss(one, scene.cam, scene.pose, no_prior, scene.forward(one), 0.03, 1.0,
-                             &unobserved) == 0);
   CHECK(none(unobserved));
 }
 
@@ -131,17 +115,6 @@ TEST_CASE("line-of-sight loss: gradient against central differences", "[splat][g
   };
   check_all(&SightScene::loss, g);
 
-  // The surface opacity: the Gaussian on the wall is now in front of the cut (4.12 m) with the
-  // others, and more opacity there costs less.
-  ModelGrads sg;
-  sg.reset(m);
-  const double surface = scene.surface_loss(m, &sg);
-  CHECK(surface > 0.5);
-  CHECK(surface < 1);
-  CHECK(sg.opacity_logits[2] < 0);
-  CHECK(sg.opacity_logits[0] < 0);
-  check_all(&SightScene::surface_loss, sg);
-
   // Scaled: the gradient scales, the value does not; the same sums, bit for bit, on one thread.
   ModelGrads twice;
   twice.reset(m);
@@ -149,12 +122,9 @@ TEST_CASE("line-of-sight loss: gradient against central differences", "[splat][g
                            &twice) == loss);
   for (size_t k = 0; k < g.means.size(); ++k) CHECK(twice.means[k] == Approx(2 * g.means[k]));
   tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
-  ModelGrads serial, serial_surface;
+  ModelGrads serial;
   serial.reset(m);
-  serial_surface.reset(m);
   CHECK(scene.loss(m, &serial) == loss);
   CHECK(serial.means == g.means);
   CHECK(serial.log_scales == g.log_scales);
-  CHECK(scene.surface_loss(m, &serial_surface) == surface);
-  CHECK(serial_surface.means == sg.means);
 }

@@ -167,30 +167,6 @@ TEST_CASE("flatness loss is the mean smallest scale with its gradient on that ax
   }
 }
 
-TEST_CASE("anisotropy loss penalises the largest over the second-largest scale above the ratio") {
-  // Gaussian 0: scales 0.1, 0.8, 0.2 -> ratio 4 (> 3): 1 to the loss, gradient 4/3 on axis 1 and
-  // -4/3 on axis 2 (N = 3). Gaussian 1: 0.5, 0.01, 0.3 -> 5/3 (< 3): nothing. Gaussian 2: 0.002,
-  // 0.9, 0.1 -> 9: 6 to the loss, 3 on axis 1 and -3 on axis 2.
-  const std::vector<float> log_scales = {std::log(0.1f),   std::log(0.8f),  std::log(0.2f),
-                                         std::log(0.5f),   std::log(0.01f), std::log(0.3f),
-                                         std::log(0.002f), std::log(0.9f),  std::log(0.1f)};
-  std::vector<float> grad;
-  CHECK(anisotropy_loss(log_scales, 3, &grad) == Approx((1.0 + 6.0) / 3).epsilon(1e-5));
-  const std::vector<float> expected = {0, 4.f / 3, -4.f / 3, 0, 0, 0, 0, 3.f, -3.f};
-  for (size_t i = 0; i < 9; ++i) CHECK(grad[i] == Approx(expected[i]).margin(1e-5));
-  // Finite differences on each entry.
-  for (size_t i = 0; i < 9; ++i) {
-    std::vector<float> up = log_scales, down = log_scales;
-    up[i] += 1e-3f;
-    down[i] -= 1e-3f;
-    CHECK((anisotropy_loss(up, 3) - anisotropy_loss(down, 3)) / 2e-3 ==
-          Approx(grad[i]).margin(2e-3));
-  }
-  // Below the ratio everywhere: zero loss and gradient.
-  CHECK(anisotropy_loss(log_scales, 10, &grad) == 0.0);
-  for (const float g : grad) CHECK(g == 0.f);
-}
-
 TEST_CASE("normals from the depth of a tilted plane are the plane normal, facing the camera") {
   const Camera cam = test::centred_pinhole(40, 30, 50);
   // Plane n . X = c with n = normalise(0.3, -0.2, -1): depth d = c / (n . ray).
@@ -273,26 +249,4 @@ TEST_CASE("smoothing a noisy depth prior brings its normals back to the surface'
   CHECK(smoothed < 0.25 * raw);
   // A longer baseline averages the noise too.
   CHECK(normal_cosine_loss(normals_from_depth(depth, cam, Pose(), 0.1, 4), exact) < 0.5 * raw);
-}
-
-TEST_CASE("opacity entropy: binary entropy of sigmoid(logit), gradient by finite differences") {
-  // o = 0.5 (logit 0): ln 2 and a zero gradient; o = sigmoid(2) and sigmoid(-30) by hand.
-  const std::vector<float> logits = {0.f, 2.f, -30.f};
-  const double o1 = 1 / (1 + std::exp(-2.0));
-  const double h1 = -o1 * std::log(o1) - (1 - o1) * std::log(1 - o1);
-  const double o2 = 1 / (1 + std::exp(30.0));
-  const double h2 = -o2 * std::log(o2) - (1 - o2) * std::log1p(-o2);  // about 31 e^-30
-  std::vector<float> grad;
-  CHECK(opacity_entropy_loss(logits, &grad) == Approx((std::log(2.0) + h1 + h2) / 3).epsilon(1e-9));
-  CHECK(h2 == Approx(31 * std::exp(-30.0)).epsilon(1e-6));
-  CHECK(grad[0] == 0.f);
-  CHECK(grad[1] < 0.f);  // towards opaque: the logit grows under gradient descent
-  for (size_t i = 0; i < 2; ++i) {
-    std::vector<float> up = logits, down = logits;
-    up[i] += 1e-3f;
-    down[i] -= 1e-3f;
-    CHECK((opacity_entropy_loss(up) - opacity_entropy_loss(down)) / 2e-3 ==
-          Approx(grad[i]).margin(1e-5));
-  }
-  CHECK(opacity_entropy_loss({}) == 0);
 }

@@ -4,7 +4,6 @@
 
 #include <tbb/global_control.h>
 
-#include "nodes/splat/depth_distortion_loss.hpp"
 #include "nodes/splat/line_of_sight_loss.hpp"
 #include "nodes/splat/reconstruct.hpp"
 #include "tests/splat/train_scene.hpp"
@@ -73,8 +72,8 @@ TEST_CASE("a tiny reconstruction reaches a PSNR floor and lowers its loss") {
   // before).
   CHECK(r.train_psnr > 34.0);
   CHECK(r.test_psnr > 26.5);
-  CHECK(r.final_loss.depth > 0);
-  CHECK(r.final_loss.normal > 0);
+  CHECK(r.final_loss.term("depth") > 0);
+  CHECK(r.final_loss.term("normal") > 0);
   CHECK(r.growth_refused == 0);
   CHECK(std::string(model_size_reason(r)) == "iterations");
 }
@@ -99,10 +98,12 @@ TEST_CASE("reconstruction is identical at 1 and 2 threads, and loss terms switch
   o.depth_weight = o.normal_weight = o.scale_weight = 0;
   o.iterations = 20;
   const ReconstructResult off = reconstruct(capture, o);
-  CHECK(off.final_loss.depth == 0);
-  CHECK(off.final_loss.normal == 0);
-  CHECK(off.final_loss.flatness == 0);
-  CHECK(off.final_loss.total == Approx(off.final_loss.photometric));
+  CHECK(off.final_loss.term("depth") == 0);
+  CHECK(off.final_loss.term("normal") == 0);
+  CHECK(off.final_loss.term("flatness") == 0);
+  // Only the photometric term trained.
+  REQUIRE(off.final_loss.terms.size() == 1);
+  CHECK(off.final_loss.total == Approx(off.final_loss.term("photometric")));
 }
 
 TEST_CASE("early stop ends a run whose loss has plateaued") {
@@ -173,8 +174,8 @@ TEST_CASE("the line-of-sight loss lowers the opacity drawn in front of the depth
   INFO("in front of the priors: " << in_front(off.model) << " without the loss, "
                                   << in_front(on.model) << " with it; train PSNR " << off.train_psnr
                                   << " / " << on.train_psnr);
-  CHECK(off.final_loss.line_of_sight == 0);
-  CHECK(on.final_loss.line_of_sight > 0);
+  CHECK(off.final_loss.term("line_of_sight") == 0);
+  CHECK(on.final_loss.term("line_of_sight") > 0);
   CHECK(in_front(on.model) < 0.7 * in_front(off.model));
   // The scene is made of Gaussians whose fronts lie in front of the prior (the blended depth)
   // by more than the 3% margin: the loss trims what the images show, measured 31.8 -> 29.3 dB.
@@ -194,51 +195,61 @@ TEST_CASE("the line-of-sight loss lowers the opacity drawn in front of the depth
   INFO("in front of the priors by ray depth: " << in_front_by_ray(off.model) << " without the "
                                                << "loss, " << in_front_by_ray(ray.model)
                                                << " with it; train PSNR " << ray.train_psnr);
-  CHECK(ray.final_loss.line_of_sight > 0);
+  CHECK(ray.final_loss.term("line_of_sight") > 0);
   CHECK(in_front_by_ray(ray.model) < 0.7 * in_front_by_ray(off.model));
   CHECK(ray.train_psnr > 27.0);
 }
 
-TEST_CASE("the depth distortion loss thins the layers the training views blend") {
-  const Capture capture = rendered_capture();
-  ReconstructOptions o = tiny_options();
-  o.iterations = 150;
-  // The loss over the training views of a trained model, as the loss defines it.
-  const auto spread = [&](const GaussianModel& m) {
-    return over_training_views(capture, m, [&](const View& v, const RenderOutput& forward) {
-      return depth_distortion_loss(m, v.camera, v.pose, forward);
-    });
-  };
-  const ReconstructResult off = reconstruct(capture, o);
-  o.distortion_weight = 10.0;
-  // Deterministic at any thread count with the loss on too.
-  const ReconstructResult on = reconstruct_at_one_and_two_threads(capture, o);
-  INFO("distortion over the training views: " << spread(off.model) << " without the loss, "
-                                              << spread(on.model) << " with it; train PSNR "
-                                              << off.train_psnr << " / " << on.train_psnr);
-  CHECK(off.final_loss.distortion == 0);
-  CHECK(on.final_loss.distortion > 0);
-  // Measured: 0.038 -> 0.026 over the training views, train PSNR 31.8 -> 31.0 dB.
-  CHECK(spread(on.model) < 0.8 * spread(off.model));
-  CHECK(on.train_psnr > off.train_psnr - 1.5);
-}
-
-TEST_CASE("pseudo-views join after pseudo_start of the steps, and not before") {
+TEST_CASE("a term joins after its start fraction of the steps, and not before") {
   const Capture capture = rendered_capture();
   ReconstructOptions o = tiny_options();
   o.iterations = 40;
-  o.pseudo_every = 2;
   const ReconstructResult without = reconstruct(capture, o);
-  o.pseudo_weight = 0.1;
-  o.pseudo_start = 1;  // never within the run: the same run as without them
+  o.line_of_sight_weight = 0.6;
+  o.line_of_sight_start = 1;  // never within the run: the same run as without it
   const ReconstructResult never = reconstruct(capture, o);
-  REQUIRE(never.pseudo_views > 0);
   CHECK(never.loss_history == without.loss_history);
   CHECK(never.model.means == without.model.means);
-  o.pseudo_start = 0.5;  // the first 20 steps as without them, then they train
+  o.line_of_sight_start = 0.5;  // the first 20 steps as without it, then it trains
   const ReconstructResult late = reconstruct(capture, o);
   CHECK(std::equal(late.loss_history.begin(), late.loss_history.begin() + 20,
                    without.loss_history.begin()));
   CHECK(late.loss_history[20] != without.loss_history[20]);
-  CHECK(late.final_loss.pseudo > 0);
+  CHECK(late.final_loss.term("line_of_sight") > 0);
+}
+
+TEST_CASE("options are validated on entry, naming the param") {
+  const Capture capture = rendered_capture();
+  ReconstructOptions o = tiny_options();
+  o.iterations = 0;
+  CHECK_THROWS_WITH(reconstruct(capture, o),
+                    Catch::Contains("iterations") && Catch::Contains("below the minimum 1"));
+  o = tiny_options();
+  o.floaters.tolerance = 2;
+  CHECK_THROWS_WITH(reconstruct(capture, o), Catch::Contains("free_space_tolerance"));
+  o = tiny_options();
+  o.rates.opacity = -1;  // a tuning field: validated too
+  CHECK_THROWS_WITH(reconstruct(capture, o), Catch::Contains("lr_opacity"));
+}
+
+TEST_CASE("the depth_prior recipe sets its params, and none sets nothing") {
+  ReconstructOptions o;
+  apply_recipe(o, Recipe::None);
+  CHECK(o.line_of_sight_weight == 0);
+  CHECK(o.background == Background::Black);
+  apply_recipe(o, Recipe::DepthPrior);
+  CHECK(o.background == Background::Mean);
+  CHECK(o.line_of_sight_weight == 0.6);
+  CHECK(o.line_of_sight_start == 0.5);
+  CHECK(o.floaters.line_of_sight == 0.3);
+  CHECK(o.floaters.line_of_sight_rounds == 2);
+  CHECK(o.floaters.behind == 0.8);
+  CHECK(o.floaters.hidden == 0.9);
+  CHECK(o.edge_extent_weight == 0.1);
+  CHECK(o.floaters.ray_depth);
+  CHECK(o.floaters.tolerance == 0.025);
+  CHECK(recipe_params(Recipe::DepthPrior).size() == 10);
+  // Every other field keeps its default.
+  CHECK(o.iterations == ReconstructOptions{}.iterations);
+  CHECK(o.depth_weight == ReconstructOptions{}.depth_weight);
 }
