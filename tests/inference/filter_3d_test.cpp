@@ -189,18 +189,18 @@ TEST_CASE("filter_3d: growth that would turn a selection into the scene is refus
     for (int j = 0; j < 5; ++j) p.add(2 * i, 2 * j, 0, 0);
   for (int i = -1; i <= 9; ++i)
     for (int j = -1; j <= 9; ++j) p.add(i, j, 1, -1);
-  SECTION("unbounded, it floods") {
-    Filter3dOptions o = only(false, false, true);
-    o.max_growth_ratio = 0;
-    o.max_scene_fraction = 1;
+  SECTION("unbounded (the defaults), it floods") {
+    const Filter3dOptions o = only(false, false, true);
     const Filter3dResult r = filter_instances_3d(p.means, p.ids, o);
     CHECK(r.grown == 121);
     CHECK(r.refused == 0);
     REQUIRE(r.growth.size() == 1);
     CHECK(r.growth[0].after == 146);
   }
-  SECTION("by the default bounds, it is refused and the un-grown selection kept") {
-    const Filter3dResult r = filter_instances_3d(p.means, p.ids, only(false, false, true));
+  SECTION("by max_growth_ratio 3, it is refused and the un-grown selection kept") {
+    Filter3dOptions o = only(false, false, true);
+    o.max_growth_ratio = 3;
+    const Filter3dResult r = filter_instances_3d(p.means, p.ids, o);
     CHECK(r.grown == 0);
     CHECK(r.refused == 1);
     REQUIRE(r.growth.size() == 1);
@@ -223,12 +223,15 @@ TEST_CASE("filter_3d: growth that would turn a selection into the scene is refus
 TEST_CASE("filter_3d: growth that fills an object's edge passes the bounds",
           "[inference][filter_3d]") {
   // A 5 x 5 grid (radius 1) with its next row unassigned (5 Gaussians 1 away: 25 -> 30, 1.2x)
-  // in a scene of 200 more Gaussians far away.
+  // in a scene of 200 more Gaussians far away (30 of 230: 13%).
   Points p;
   p.grid(0, 0, 5, 5, 0);
   p.grid(5, 0, 1, 5, -1);
   p.grid(100, 100, 20, 10, -1);
-  const Filter3dResult r = filter_instances_3d(p.means, p.ids, only(false, false, true));
+  Filter3dOptions o = only(false, false, true);
+  o.max_growth_ratio = 3;
+  o.max_scene_fraction = 0.5;
+  const Filter3dResult r = filter_instances_3d(p.means, p.ids, o);
   CHECK(r.grown == 5);
   CHECK(r.refused == 0);
   REQUIRE(r.growth.size() == 1);
