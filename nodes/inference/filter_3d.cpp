@@ -100,6 +100,7 @@ Filter3dResult filter_instances_3d(const std::vector<float>& means,
   std::vector<size_t> kept_all;
   std::vector<int32_t> kept_instance;
   std::map<int32_t, double> radius;
+  std::map<int32_t, std::pair<Eigen::Vector3d, Eigen::Vector3d>> box;  // growth_box_margin
   for (auto& [id, list] : members) {
     if (static_cast<int>(list.size()) < o.min_instance_size) continue;
     std::vector<size_t> kept = list;
@@ -142,6 +143,15 @@ Filter3dResult filter_instances_3d(const std::vector<float>& means,
       kept = std::move(in_kept_components);
     }
     radius[id] = r;
+    if (o.growth_box_margin >= 0 && !kept.empty()) {
+      const Eigen::MatrixXd k = centres(means, kept);
+      const Eigen::Vector3d lo = k.rowwise().minCoeff(), hi = k.rowwise().maxCoeff();
+      const Eigen::Vector3d pad = o.growth_box_margin * (hi - lo);
+      box[id] = {lo - pad, hi + pad};
+    }
+    result.growth.push_back({id, static_cast<int64_t>(list.size()),
+                             static_cast<int64_t>(kept.size()), static_cast<int64_t>(kept.size()),
+                             static_cast<int64_t>(kept.size()), false});
     for (const size_t g : kept) {
       kept_all.push_back(g);
       kept_instance.push_back(id);
@@ -171,14 +181,31 @@ Filter3dResult filter_instances_3d(const std::vector<float>& means,
       for (size_t j = 0; j < idx.size(); ++j) {
         const int32_t id = kept_instance[idx[j]];
         if (instance_ids[g] >= 0 && instance_ids[g] != id) continue;
+        const auto b = box.find(id);
+        if (b != box.end() && ((p.array() < b->second.first.array()).any() ||
+                               (p.array() > b->second.second.array()).any()))
+          continue;
         if (std::sqrt(d2[j]) <= radius.at(id)) {
           joined[g] = id;
           break;
         }
       }
     });
+    std::map<int32_t, int64_t> joins;
+    for (const int32_t id : joined)
+      if (id >= 0) ++joins[id];
+    const double scene = static_cast<double>(instance_ids.size());
+    std::map<int32_t, bool> refuse;
+    for (Filter3dResult::Growth& g : result.growth) {
+      g.would_be = g.kept + joins[g.id];
+      refuse[g.id] = g.refused =
+          (o.max_growth_ratio > 0 && g.would_be > o.max_growth_ratio * g.kept) ||
+          g.would_be > o.max_scene_fraction * scene;
+      if (!g.refused) g.after = g.would_be;
+      result.refused += g.refused;
+    }
     for (size_t g = 0; g < joined.size(); ++g)
-      if (joined[g] >= 0) {
+      if (joined[g] >= 0 && !refuse[joined[g]]) {
         result.instance_ids[g] = joined[g];
         ++(instance_ids[g] < 0 ? result.grown : result.restored);
       }
@@ -204,7 +231,18 @@ const ParamTable<Filter3dOptions>& filter_3d_param_table() {
           .add("grow", &O::grow,
                "unassigned Gaussians within the growth radius of an instance join it (ball query)")
           .add("min_instance_size", &O::min_instance_size,
-               "instances with fewer Gaussians are left as they are", 2);
+               "instances with fewer Gaussians are left as they are", 2)
+          .add("growth_box_margin", &O::growth_box_margin,
+               "growth stays inside the kept Gaussians' box widened by this fraction of its "
+               "extent per side (SAGA: 0.05); negative = no box")
+          .add("max_growth_ratio", &O::max_growth_ratio,
+               "growth is refused (the un-grown instance kept) when it would leave an instance "
+               "more than this many times its size before growth; 0 = no bound",
+               0)
+          .add("max_scene_fraction", &O::max_scene_fraction,
+               "growth is refused when it would leave an instance more than this fraction of "
+               "the scene's Gaussians; 1 = no bound",
+               0, 1);
   return table;
 }
 

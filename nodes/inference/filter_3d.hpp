@@ -10,6 +10,11 @@
 //     unassigned or removed from this same instance by steps 1-2.
 // Gaussians removed from an instance and not restored become unassigned (-1), never another
 // instance's.
+// Growth has no feature or colour check (SAGA's neither), so a selection that touches a dense
+// surface can grow into the floor, the walls or the table under a DTU object: a 10k-Gaussian
+// selection grown by 21k into the whole view (issue 28). Growth of an instance is therefore
+// refused, keeping its un-grown Gaussians, when it would leave the instance more than
+// max_growth_ratio times its un-grown size or more than max_scene_fraction of the scene.
 #pragma once
 
 #include <cstdint>
@@ -31,6 +36,17 @@ struct Filter3dOptions {
   // Instances with fewer Gaussians than this are left as they are: sqrt(n) neighbours and a
   // mean / std over a handful of points say nothing.
   int min_instance_size = 8;
+  // Growth reaches only Gaussians inside the kept set's axis-aligned box widened by this
+  // fraction of its extent per side (SAGA's notebook crops to the seeds' box + 5% before its ball
+  // query: what bounds its growth there); negative = no box [off by default: docs/saga.md].
+  double growth_box_margin = -1;
+  // Growth of an instance is refused when afterwards it would hold more than this many times its
+  // Gaussians before growth (after steps 1-2); 0 = no bound [off by default: 3 gained 0.8 mIoU on
+  // two OR dev rooms and cost 18 points on DTU's test capture, where the refused 3.3x growth
+  // was what filled the object: docs/saga.md, "Dev and test"].
+  double max_growth_ratio = 0;
+  // ... or more than this fraction of all the scene's Gaussians [decision, dev set]; 1 = no bound.
+  double max_scene_fraction = 1.0;
 };
 
 const ParamTable<Filter3dOptions>& filter_3d_param_table();
@@ -41,6 +57,16 @@ struct Filter3dResult {
   int64_t component_dropped = 0;      // removed with a small connected component
   int64_t grown = 0;                  // unassigned Gaussians that joined an instance
   int64_t restored = 0;               // removed by steps 1-2, then within r of the kept set
+  // Per instance (filtered ones, in id order): Gaussians on input, after steps 1-2, and at the
+  // end; refused = its growth exceeded a bound and was undone (after == kept).
+  struct Growth {
+    int32_t id = -1;
+    int64_t input = 0, kept = 0, after = 0;
+    int64_t would_be = 0;  // what growth would have made it (== after unless refused)
+    bool refused = false;
+  };
+  std::vector<Growth> growth;
+  int64_t refused = 0;  // instances whose growth was refused
 };
 
 // means: N x 3 centres (row-major); instance_ids: N ids, -1 = unassigned. Deterministic at any

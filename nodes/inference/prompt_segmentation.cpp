@@ -134,7 +134,25 @@ PromptSelection PromptSegmenter::select_by_queries(const std::vector<float>& pos
     r.selected[g] = r.score[g] > s_n[g] && r.score[g] > r.threshold;
     r.count += r.selected[g];
   }
+  r.positive = positive;
+  r.negative = negative;
   return r;
+}
+
+cv::Mat1b PromptSegmenter::view_mask(const PromptSelection& r, int v) {
+  const Camera& cam = capture_.views[v].camera;
+  const std::vector<float>& map = feature_map(v);
+  std::vector<float> s_p(size_t(cam.width) * cam.height), s_n(s_p.size());
+  tbb::parallel_for(size_t(0), s_p.size(), [&](size_t px) {
+    s_p[px] = best_dot(&map[px * dim_], r.positive, dim_);
+    s_n[px] = best_dot(&map[px * dim_], r.negative, dim_);
+  });
+  const float tau = r.pooled ? static_cast<float>(mean_plus_std(s_p)) : r.threshold;
+  cv::Mat1b mask(cam.height, cam.width);
+  for (size_t px = 0; px < s_p.size(); ++px)
+    mask(static_cast<int>(px / cam.width), static_cast<int>(px % cam.width)) =
+        s_p[px] > s_n[px] && s_p[px] > tau ? 255 : 0;
+  return mask;
 }
 
 PromptSelection PromptSegmenter::select(const Prompt& p) {

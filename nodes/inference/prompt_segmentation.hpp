@@ -63,6 +63,8 @@ struct PromptSelection {
   int negative_queries = 0;
   bool pooled = false;  // sam prompts: the masked-average query was accepted
   int64_t count = 0;    // selected Gaussians
+  // The normalised queries the scores came from (q x dim each), for view_mask.
+  std::vector<float> positive, negative;
 };
 
 // The model's normalised features, and the feature maps of the views prompts were given in
@@ -87,6 +89,11 @@ class PromptSegmenter {
 
   // The normalised rendered feature map of view `v` (H x W x dim), rendered on first use.
   const std::vector<float>& feature_map(int v);
+
+  // The selection's answer in view `v` decided per pixel of the rendered feature map by the rule
+  // that selected Gaussians (S_p > S_n and S_p > tau; a pooled sam query: above the mean + std
+  // of the view's pixel scores, the paper's 2D rule): the prompt's mask carried to another view.
+  cv::Mat1b view_mask(const PromptSelection& selection, int v);
   int dim() const { return dim_; }
 
  private:

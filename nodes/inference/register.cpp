@@ -11,9 +11,11 @@
 #include "base/atomic_file.hpp"
 #include "nodes/inference/filter_3d.hpp"
 #include "nodes/inference/label_inference.hpp"
+#include "nodes/inference/mask_vote_lifting.hpp"
 #include "nodes/inference/prompt_io.hpp"
 #include "nodes/inference/prompt_segmentation.hpp"
 #include "nodes/inference/query_files.hpp"
+#include "nodes/inference/selection_mask.hpp"
 #include "nodes/inference/selection_output.hpp"
 #include "nodes/inference/text_query.hpp"
 #include "nodes/scene/vocabulary_match.hpp"
@@ -116,6 +118,30 @@ void run_filter_3d(NodeContext& ctx, const Filter3dOptions& o) {
   ctx.record("component_dropped", static_cast<double>(r.component_dropped));
   ctx.record("grown", static_cast<double>(r.grown));
   ctx.record("restored", static_cast<double>(r.restored));
+  // How much each instance grew, and which growth was refused (the un-grown instance kept).
+  int64_t before = 0, after = 0;
+  double largest_ratio = 0;
+  for (const Filter3dResult::Growth& g : r.growth) {
+    before += g.kept;
+    after += g.after;
+    const std::string key = "growth/" + std::to_string(g.id);
+    ctx.record(key + "/kept", static_cast<double>(g.kept));
+    ctx.record(key + "/would_be", static_cast<double>(g.would_be));
+    ctx.record(key + "/refused", g.refused ? 1.0 : 0.0);
+    if (g.kept > 0) largest_ratio = std::max(largest_ratio, double(g.would_be) / double(g.kept));
+    if (g.refused)
+      spdlog::warn(
+          "inference.filter_3d: instance {}: growth from {} to {} Gaussians ({:.1f}x, {:.0f}% of "
+          "the scene's {}) refused (bounds: max_growth_ratio {}, max_scene_fraction {}); the "
+          "un-grown {} kept",
+          g.id, g.kept, g.would_be, double(g.would_be) / double(std::max<int64_t>(g.kept, 1)),
+          100.0 * double(g.would_be) / double(model->size()), model->size(), o.max_growth_ratio,
+          o.max_scene_fraction, g.kept);
+  }
+  ctx.record("gaussians_before_growth", static_cast<double>(before));
+  ctx.record("gaussians_after_growth", static_cast<double>(after));
+  ctx.record("largest_growth_ratio", largest_ratio);
+  ctx.record("growth_refused", static_cast<double>(r.refused));
   GaussianModel out = *model;
   out.instance_ids = std::move(r.instance_ids);
   ctx.output("model", std::move(out));
@@ -154,22 +180,23 @@ const ParamTable<PromptNodeOptions>& prompt_node_table() {
   return table;
 }
 
+// The prompts of a prompt node: its file, or one per reference mask.
+PromptSet node_prompts(NodeContext& ctx, PromptNodeOptions& o, const Capture& capture) {
+  if (!o.file.empty()) return read_prompt_file(o.file);
+  if (!ctx.has_input("reference"))
+    throw InputError("inference.prompt: give a prompt file (param 'file') or wire 'reference'");
+  if (o.view.empty()) {
+    const std::vector<int> train = capture.train_views();
+    if (train.empty()) throw InputError("inference.prompt: the capture has no training view");
+    o.view = capture.views[train[0]].name;
+  }
+  return prompts_from_masks(*ctx.input<MaskSet>("reference"), o.view, o.kind);
+}
+
 void run_prompt(NodeContext& ctx, PromptNodeOptions o) {
   const auto model = ctx.input<GaussianModel>("model");
   const auto capture = ctx.input<Capture>("capture");
-  PromptSet prompts;
-  if (!o.file.empty()) {
-    prompts = read_prompt_file(o.file);
-  } else {
-    if (!ctx.has_input("reference"))
-      throw InputError("inference.prompt: give a prompt file (param 'file') or wire 'reference'");
-    if (o.view.empty()) {
-      const std::vector<int> train = capture->train_views();
-      if (train.empty()) throw InputError("inference.prompt: the capture has no training view");
-      o.view = capture->views[train[0]].name;
-    }
-    prompts = prompts_from_masks(*ctx.input<MaskSet>("reference"), o.view, o.kind);
-  }
+  PromptSet prompts = node_prompts(ctx, o, *capture);
   o.answer.seed = ctx.seed();
   PromptSegmenter segmenter(*model, *capture, o.answer);
   std::vector<PromptSelection> selections;
@@ -195,18 +222,104 @@ void run_prompt(NodeContext& ctx, PromptNodeOptions o) {
   ctx.output("prompts", std::move(prompts));
 }
 
+enum class VotingViews { Prompt, Training };
+const EnumNames<VotingViews>& voting_view_names() {
+  static const EnumNames<VotingViews> names = {{VotingViews::Prompt, "prompt"},
+                                               {VotingViews::Training, "training"}};
+  return names;
+}
+
+// inference.prompt_lift: the prompt node's params, and how the masks are lifted.
+struct PromptLiftNodeOptions {
+  PromptNodeOptions prompt;
+  VotingViews views = VotingViews::Training;
+  double background_bias = 0;  // FlashSplat's slackness; their code's default
+};
+
+const ParamTable<PromptLiftNodeOptions>& prompt_lift_node_table() {
+  using O = PromptLiftNodeOptions;
+  static const ParamTable<O> table =
+      ParamTable<O>()
+          .nest(&O::prompt, prompt_node_table())
+          .add("views", &O::views, voting_view_names(),
+               "views whose masks vote: the prompt's view alone, or every training view (the "
+               "prompt's mask there, the features' answer to its queries elsewhere)")
+          .add("background_bias", &O::background_bias,
+               "added to the normalised background vote (FlashSplat's slackness; > 0 selects "
+               "less)",
+               -1, 1);
+  return table;
+}
+
+// The prompt's 2D answers lifted by FlashSplat's vote (mask_vote_lifting.hpp): in its own view a
+// mask prompt's mask, elsewhere (and for clicks and scribbles everywhere) the per-pixel answer of
+// the rendered features to the prompt's queries, which separates objects better than the
+// per-Gaussian features (docs/saga.md).
+void run_prompt_lift(NodeContext& ctx, PromptLiftNodeOptions o) {
+  const auto model = ctx.input<GaussianModel>("model");
+  const auto capture = ctx.input<Capture>("capture");
+  PromptSet prompts = node_prompts(ctx, o.prompt, *capture);
+  o.prompt.answer.seed = ctx.seed();
+  PromptSegmenter segmenter(*model, *capture, o.prompt.answer);
+  std::vector<PromptSelection> selections;
+  std::vector<int> prompt_view;
+  for (const Prompt& p : prompts.prompts) {
+    selections.push_back(segmenter.select(p));  // the queries; checks the prompt
+    prompt_view.push_back(capture->find_view(p.view));
+  }
+  std::vector<int> views = capture->train_views();
+  if (o.views == VotingViews::Prompt) views.assign(prompt_view.begin(), prompt_view.end());
+  std::sort(views.begin(), views.end());
+  views.erase(std::unique(views.begin(), views.end()), views.end());
+  MaskVotes votes(model->size(), prompts.prompts.size());
+  for (const int v : views) {
+    std::vector<cv::Mat1b> masks(prompts.prompts.size());
+    for (size_t k = 0; k < masks.size(); ++k) {
+      const Prompt& p = prompts.prompts[k];
+      const bool dense = p.kind == PromptKind::Mask || p.kind == PromptKind::Sam;
+      if (v == prompt_view[k] && dense)
+        masks[k] = p.mask;
+      else if (v == prompt_view[k] || o.views == VotingViews::Training)
+        masks[k] = segmenter.view_mask(selections[k], v);
+    }
+    const View& view = capture->views[v];
+    const RenderCache weights = render_weights(*model, view.camera, view.pose);
+    votes.add_view(weights.pixel_rows(), view.camera.width, view.camera.height, masks);
+  }
+  for (size_t k = 0; k < selections.size(); ++k) {
+    PromptSelection& s = selections[k];
+    s.selected = votes.object(k, o.background_bias, &s.score);
+    s.count = std::count(s.selected.begin(), s.selected.end(), uint8_t(1));
+    ctx.record("selected/" + prompts.prompts[k].name, static_cast<double>(s.count));
+  }
+  ctx.record("prompts", static_cast<double>(prompts.prompts.size()));
+  ctx.record("voting_views", static_cast<double>(views.size()));
+  GaussianModel out = *model;
+  out.instance_ids = selection_instance_ids(selections);
+  ctx.output("model", std::move(out));
+  ctx.output("prompts", std::move(prompts));
+}
+
 void add_prompt(Registry& registry) {
-  NodeSpec spec{
-      "inference.prompt",
-      "point / scribble / mask / SAM-style prompts -> per-Gaussian selections (SAGA 4.4)",
-      {{"model", PortTypeName<GaussianModel>::value, "Gaussians with affinity features"},
-       {"capture", PortTypeName<Capture>::value, "the views prompts are given in"},
-       {"reference", PortTypeName<MaskSet>::value,
-        "masks that become prompts when no file is given (e.g. masks.ground_truth)", true}},
-      {{"model", PortTypeName<GaussianModel>::value,
-        "the same Gaussians, instance_ids = the prompt that selected each (-1 = none)"},
-       {"prompts", PortTypeName<PromptSet>::value, "the prompts answered, in id order"}}};
-  registry.add(std::move(spec), prompt_node_table(), run_prompt);
+  const std::vector<PortSpec> inputs = {
+      {"model", PortTypeName<GaussianModel>::value, "Gaussians with affinity features"},
+      {"capture", PortTypeName<Capture>::value, "the views prompts are given in"},
+      {"reference", PortTypeName<MaskSet>::value,
+       "masks that become prompts when no file is given (e.g. masks.ground_truth)", true}};
+  const std::vector<PortSpec> outputs = {
+      {"model", PortTypeName<GaussianModel>::value,
+       "the same Gaussians, instance_ids = the prompt that selected each (-1 = none)"},
+      {"prompts", PortTypeName<PromptSet>::value, "the prompts answered, in id order"}};
+  registry.add(
+      NodeSpec{"inference.prompt",
+               "point / scribble / mask / SAM-style prompts -> per-Gaussian selections (SAGA 4.4)",
+               inputs, outputs},
+      prompt_node_table(), run_prompt);
+  registry.add(NodeSpec{"inference.prompt_lift",
+                        "the same prompts -> per-Gaussian selections by FlashSplat's closed-form "
+                        "vote of the prompt's 2D masks over the views (alpha x transmittance)",
+                        inputs, outputs},
+               prompt_lift_node_table(), run_prompt_lift);
 }
 
 struct RenderSelectionOptions {

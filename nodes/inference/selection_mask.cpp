@@ -20,17 +20,17 @@ struct Pair {
   float weight;
 };
 
-RenderCache weights_cache(const GaussianModel& model, const Camera& camera, const Pose& pose) {
+}  // namespace
+
+RenderCache render_weights(const GaussianModel& model, const Camera& camera, const Pose& pose) {
   RenderSettings weights_only;
   weights_only.rgb = false;
   weights_only.alpha = true;
   return RenderCache(render(model, camera, pose, weights_only));
 }
 
-}  // namespace
-
 SelectionMasker::SelectionMasker(const GaussianModel& model, const Camera& camera, const Pose& pose)
-    : SelectionMasker(weights_cache(model, camera, pose)) {}
+    : SelectionMasker(render_weights(model, camera, pose)) {}
 
 SelectionMasker::SelectionMasker(const RenderCache& cache)
     : width_(cache.width()),

@@ -31,6 +31,9 @@
 
 namespace gslift {
 
+// The blend weights alpha_i T_i of one render of `model` from (camera, pose).
+RenderCache render_weights(const GaussianModel& model, const Camera& camera, const Pose& pose);
+
 class SelectionMasker {
  public:
   explicit SelectionMasker(const RenderCache& cache);

@@ -121,6 +121,9 @@ Capture load_capture_files(const fs::path& input, const CaptureOptions& options)
   if (options.downscale < 1 || options.downscale > kMaxDownscale)
     throw InputError(input.string() + ": downscale must be from 1 to " +
                      std::to_string(kMaxDownscale) + ", got " + std::to_string(options.downscale));
+  if (options.train_every < 1)
+    throw InputError(input.string() + ": train_every must be at least 1, got " +
+                     std::to_string(options.train_every));
   const fs::path path = input.filename() == "capture.yaml" ? input.parent_path() : input;
   Capture capture;
   capture.root = fs::is_regular_file(path) ? path.parent_path() : path;
@@ -140,6 +143,8 @@ Capture load_capture_files(const fs::path& input, const CaptureOptions& options)
   if (!named_held_out && options.holdout_every > 0)
     for (size_t i = 0; i < views.size(); ++i)
       views[i].held_out = i % static_cast<size_t>(options.holdout_every) == 0;
+  for (size_t i = 0; i < views.size(); ++i)
+    if (i % static_cast<size_t>(options.train_every) != 0) views[i].held_out = true;
   for (const auto& v : views) capture.views.push_back(make_view(v, options));
   return capture;
 }
@@ -164,6 +169,10 @@ const ParamTable<CaptureOptions>& capture_param_table() {
                "hold out every n-th view (NeRF protocol: 8) when capture.yaml names no test "
                "views; 0 = none",
                0)
+          .add("train_every", &O::train_every,
+               "train on every n-th view alone (index % n == 0); the others are held out too "
+               "(scored, never trained on); 1 = all",
+               1)
           .add("skip_missing_images", &O::skip_missing_images,
                "COLMAP: leave out images the model lists but the images folder lacks, with a "
                "warning, instead of failing")

@@ -36,6 +36,10 @@ struct CaptureOptions {
   // folders, so `../../etc/passwd`, absolute paths and symlinks that leave it are refused. Set
   // for a capture you trust whose files really live elsewhere.
   bool allow_outside_paths = false;
+  // Train on every n-th view alone (index % n == 0, in the capture's view order): the others are
+  // held out as well, so they stay there to be scored but nothing trains on them (issue 28's DTU
+  // test setting, a third of the photos: 3). 1 = every view trains (the held-out views aside).
+  int train_every = 1;
 };
 
 // The params of ingest.capture that shape the reading: one entry per field above.

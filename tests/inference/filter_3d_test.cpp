@@ -178,3 +178,82 @@ TEST_CASE("filter_3d: growth searches the kept centres themselves", "[inference]
   CHECK(r.instance_ids[corner] == 0);
   CHECK(r.grown == 2);
 }
+
+TEST_CASE("filter_3d: growth that would turn a selection into the scene is refused",
+          "[inference][filter_3d]") {
+  // Issue 28: a sparse selection (a 5 x 5 grid at spacing 2: growth radius 2) lying under a dense
+  // unassigned surface (11 x 11 at spacing 1, 1 above it, every point at most sqrt(3) from a
+  // selected one): one ball query takes the whole surface, 25 -> 146 Gaussians (5.8x).
+  Points p;
+  for (int i = 0; i < 5; ++i)
+    for (int j = 0; j < 5; ++j) p.add(2 * i, 2 * j, 0, 0);
+  for (int i = -1; i <= 9; ++i)
+    for (int j = -1; j <= 9; ++j) p.add(i, j, 1, -1);
+  SECTION("unbounded (the defaults), it floods") {
+    const Filter3dOptions o = only(false, false, true);
+    const Filter3dResult r = filter_instances_3d(p.means, p.ids, o);
+    CHECK(r.grown == 121);
+    CHECK(r.refused == 0);
+    REQUIRE(r.growth.size() == 1);
+    CHECK(r.growth[0].after == 146);
+  }
+  SECTION("by max_growth_ratio 3, it is refused and the un-grown selection kept") {
+    Filter3dOptions o = only(false, false, true);
+    o.max_growth_ratio = 3;
+    const Filter3dResult r = filter_instances_3d(p.means, p.ids, o);
+    CHECK(r.grown == 0);
+    CHECK(r.refused == 1);
+    REQUIRE(r.growth.size() == 1);
+    CHECK(r.growth[0].id == 0);
+    CHECK(r.growth[0].kept == 25);
+    CHECK(r.growth[0].would_be == 146);
+    CHECK(r.growth[0].after == 25);
+    CHECK(r.growth[0].refused);
+    CHECK(r.instance_ids == p.ids);
+  }
+  SECTION("the scene-fraction bound alone refuses it too (146 of 146 Gaussians)") {
+    // (off by default: docs/saga.md)
+    Filter3dOptions o = only(false, false, true);
+    o.max_growth_ratio = 0;
+    o.max_scene_fraction = 0.99;
+    CHECK(filter_instances_3d(p.means, p.ids, o).refused == 1);
+  }
+}
+
+TEST_CASE("filter_3d: growth that fills an object's edge passes the bounds",
+          "[inference][filter_3d]") {
+  // A 5 x 5 grid (radius 1) with its next row unassigned (5 Gaussians 1 away: 25 -> 30, 1.2x)
+  // in a scene of 200 more Gaussians far away (30 of 230: 13%).
+  Points p;
+  p.grid(0, 0, 5, 5, 0);
+  p.grid(5, 0, 1, 5, -1);
+  p.grid(100, 100, 20, 10, -1);
+  Filter3dOptions o = only(false, false, true);
+  o.max_growth_ratio = 3;
+  o.max_scene_fraction = 0.5;
+  const Filter3dResult r = filter_instances_3d(p.means, p.ids, o);
+  CHECK(r.grown == 5);
+  CHECK(r.refused == 0);
+  REQUIRE(r.growth.size() == 1);
+  CHECK(r.growth[0].kept == 25);
+  CHECK(r.growth[0].after == 30);
+  CHECK_FALSE(r.growth[0].refused);
+}
+
+TEST_CASE("filter_3d: growth_box_margin keeps growth inside the selection's widened box",
+          "[inference][filter_3d]") {
+  // A 5 x 5 grid (box [0, 4]^2, radius 1) and unassigned Gaussians 1 past its edge: x = 5 is
+  // outside the box widened by 5% (4.2) and inside it widened by 30% (5.2).
+  Points p;
+  p.grid(0, 0, 5, 5, 0);
+  p.grid(5, 0, 1, 5, -1);
+  const size_t above = p.add(2, 2, 0.9, -1);  // z = 0.9 against a flat box: widened by 0
+  Filter3dOptions o = only(false, false, true);
+  o.growth_box_margin = 0.05;
+  Filter3dResult r = filter_instances_3d(p.means, p.ids, o);
+  CHECK(r.grown == 0);
+  CHECK(r.instance_ids[above] == -1);
+  o.growth_box_margin = 0.3;
+  r = filter_instances_3d(p.means, p.ids, o);
+  CHECK(r.grown == 5);
+}

@@ -220,3 +220,17 @@ TEST_CASE("prompts in a free camera select as prompts in the capture's view do")
   CHECK_THROWS_AS(seg.select_in_camera(mask, cam, pose, 0.75), InputError);
   CHECK_THROWS_AS(seg.select_in_camera(point({{64, 1}}), cam, pose, 0.75), InputError);
 }
+
+TEST_CASE("view_mask: a click's answer per pixel of a view, by the rule that selected Gaussians") {
+  const GaussianModel model = feature_scene();
+  const Capture capture = one_view();
+  PromptSegmenter seg(model, capture, PromptOptions{});
+  const PromptSelection s = seg.select(point({{17, 24}}));
+  const cv::Mat1b m = seg.view_mask(s, 0);
+  REQUIRE(m.size() == cv::Size(64, 48));
+  CHECK(m(24, 17) == 255);  // the left blob's centre
+  CHECK(m(24, 47) == 0);    // the right blob's (cos 0)
+  CHECK(m(0, 0) == 0);      // no Gaussian: no feature
+  // With a negative click on the right blob, the left blob's pixels still pass.
+  CHECK(seg.view_mask(seg.select(point({{17, 24}}, {{47, 24}})), 0)(24, 17) == 255);
+}

@@ -117,6 +117,23 @@ TEST_CASE("holdout_every marks every n-th view when capture.yaml names none") {
   CHECK(load_capture(dir).test_views().empty());
 }
 
+TEST_CASE("train_every keeps every n-th view for training and holds out the others") {
+  // 3 views: train_every 3 trains on cam_00 alone; cam_01 and cam_02 stay, held out.
+  const auto dir = test::write_small_capture("capture_train_every", "");
+  CaptureOptions o;
+  o.train_every = 3;
+  const Capture c = load_capture(dir, o);
+  CHECK(c.views.size() == 3);
+  CHECK(c.train_views() == std::vector<int>{0});
+  CHECK(c.test_views() == std::vector<int>{1, 2});
+  // With holdout_every 2 as well (cam_00 and cam_02 held out), no view is left to train on.
+  o.holdout_every = 2;
+  o.train_every = 2;
+  CHECK(load_capture(dir, o).train_views().empty());
+  o.train_every = 0;
+  CHECK_THROWS_WITH(load_capture(dir, o), Contains("train_every"));
+}
+
 TEST_CASE("NeRF transforms.json: intrinsics, per-frame overrides, missing images") {
   const auto dir = test::scratch_dir("nerf_fixture");
   write_rgb_png(dir / "imgs/a.png", cv::Mat(4, 6, CV_8UC3, cv::Scalar::all(9)));
