@@ -22,22 +22,18 @@
 
 #include "base/atomic_file.hpp"
 #include "base/statistics.hpp"
+#include "bench/common/json_file.hpp"
 #include "bench/common/tsv.hpp"
 #include "report/charts.hpp"
 #include "report/pareto.hpp"
 
 using namespace gslift;
+using bench::read_json_or_discarded;
 using bench::read_tsv;
 using nlohmann::json;
 namespace fs = std::filesystem;
 
 namespace {
-
-json read_json(const fs::path& file) {
-  std::ifstream in(file);
-  if (!in) return json();
-  return json::parse(in, nullptr, false);
-}
 
 // What a node cost where it ran (its cache key's miss).
 struct Cost {
@@ -74,11 +70,11 @@ int main(int argc, char** argv) {
   std::vector<Run> runs;
   std::map<std::string, Cost> costs;
   for (const auto& e : fs::directory_iterator(dir)) {
-    const json sweep = read_json(e.path() / "sweep.json");
+    const json sweep = read_json_or_discarded(e.path() / "sweep.json");
     if (!sweep.is_object()) continue;
     for (const auto& row : sweep["runs"]) {
       Run r{e.path().filename().string(), row,
-            read_json(e.path() / row["dir"].get<std::string>() / "run.json")};
+            read_json_or_discarded(e.path() / row["dir"].get<std::string>() / "run.json")};
       if (!r.record.is_object()) continue;
       for (const auto& n : r.record["nodes"])
         if (n.value("cache", "") == "miss" && n.contains("cache_key"))

@@ -20,20 +20,16 @@
 #include "base/atomic_file.hpp"
 #include "base/statistics.hpp"
 #include "base/svg.hpp"
+#include "bench/common/json_file.hpp"
 #include "bench/common/tsv.hpp"
 
 using namespace gslift;
+using bench::read_json_or_discarded;
 using bench::read_tsv;
 using nlohmann::json;
 namespace fs = std::filesystem;
 
 namespace {
-
-json read_json(const fs::path& file) {
-  std::ifstream in(file);
-  if (!in) return json();
-  return json::parse(in, nullptr, false);
-}
 
 // One method on one set: its rooms' headline values, keyed by (capture, seed) for pairing.
 struct SetResult {
@@ -47,7 +43,7 @@ struct SetResult {
 
 SetResult read_set(const fs::path& dir, const std::vector<std::string>& row) {
   SetResult r{row[0], row[1], row[2], row[3], {}, {}, {}, 0, {}};
-  const json sweep = read_json(dir / "sweep.json");
+  const json sweep = read_json_or_discarded(dir / "sweep.json");
   if (!sweep.is_object()) return r;
   const std::string node = r.headline.substr(0, r.headline.find('.') + 1);
   for (const auto& run : sweep["runs"]) {
