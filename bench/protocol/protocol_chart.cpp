@@ -2,10 +2,10 @@
 // protocol.tsv) or a method's ablations (bench/langor/langor.tsv, ...), from the sweeps' folders:
 //  - <table>.json: per line (method or variant, and set) the headline metric over its rooms (mean,
 //    std, min, max, each room's value), the headline node's other records (means), the mean of
-//    every other record of the graph (per-view records left out), failed rooms, the median time
-//    and peak memory of a room and the median wall time of each node; and the paired comparisons
-//    of the pairs.tsv beside the table: first minus second, room by room (the same capture and
-//    seed), with the mean's 95% t interval;
+//    every other record of the graph (per-view and per-item ones left out), failed rooms, the
+//    median time and peak memory of a room and the median wall time of each node; and the paired
+//    comparisons of the pairs.tsv beside the table: first minus second, room by room (the same
+//    capture and seed), with the mean's 95% t interval;
 //  - <table>.svg: per line a dev bar and a test bar (mean, whiskers one std), each room a dot;
 //  - a markdown table on stdout, as the READMEs show it.
 //   protocol_chart SWEEPS_DIR TABLE.tsv RESULTS_DIR
@@ -39,7 +39,7 @@ struct SetResult {
   std::string method, set, graph, headline;
   std::map<std::pair<std::string, uint64_t>, double> rooms;
   std::map<std::string, std::vector<double>> others;   // the headline node's other records
-  std::map<std::string, std::vector<double>> records;  // every record but per-view ones
+  std::map<std::string, std::vector<double>> records;  // every record but per-view/item ones
   std::map<std::string, std::vector<double>> node_s;   // wall time per node
   std::vector<double> times, peak_mb;
   int failed = 0;
@@ -65,8 +65,10 @@ SetResult read_set(const fs::path& dir, const std::vector<std::string>& row) {
     for (const auto& [k, v] : metrics.items())
       if (k.rfind(node, 0) == 0 && k != r.headline && k.find('/') == std::string::npos)
         r.others[k.substr(node.size())].push_back(v.get<double>());
+    // One level of '/' at most: train/CA and recall/<class> stay, per-view and per-item records
+    // (view/<name>/CA, growth/<k>/kept) would bury them.
     for (const auto& [k, v] : metrics.items())
-      if (k.find("view/") == std::string::npos) r.records[k].push_back(v.get<double>());
+      if (std::count(k.begin(), k.end(), '/') <= 1) r.records[k].push_back(v.get<double>());
     if (run.contains("node_wall_s"))
       for (const auto& [k, v] : run["node_wall_s"].items()) r.node_s[k].push_back(v.get<double>());
     r.times.push_back(run["total_s"].get<double>());

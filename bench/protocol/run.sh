@@ -57,7 +57,8 @@ while IFS=$'\t' read -r method set graph headline inputs extra; do
   name="${method}_${set}"
   args=()
   if [[ "$inputs" != "-" ]]; then
-    args+=(--inputs "${inputs_override:-$inputs}")
+    inputs="${inputs_override:-$inputs}"
+    args+=(--inputs "$inputs")
   fi
   # shellcheck disable=SC2206  # the further arguments are words, as written in the table
   [[ -n "${extra:-}" ]] && args+=($extra)
@@ -70,7 +71,7 @@ while IFS=$'\t' read -r method set graph headline inputs extra; do
   fi
   [[ -f "$out/$name/.done" ]] && { echo "$stem: $name done already" >&2; continue; }
   rm -rf "${out:?}/$name"
-  echo "$stem: $name ($graph over ${inputs})" >&2
+  echo "$stem: $name ($graph over $inputs)" >&2
   "$gslift" sweep "$graph" "${args[@]}" --no-cache --threads 2 --log-level warn \
     --out "$out/$name" > "$out/$name.txt" || true
   touch "$out/$name/.done"
