@@ -51,7 +51,7 @@ wanted() {  # wanted NAME SET: is this line asked for
   return 1
 }
 failed=0
-while IFS=$'\t' read -r method set graph headline inputs extra; do
+while IFS=$'\t' read -r method set graph _ inputs extra; do
   [[ -z "$method" || "$method" == \#* ]] && continue
   wanted "$method" "$set" || continue
   name="${method}_${set}"

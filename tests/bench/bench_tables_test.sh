@@ -46,7 +46,7 @@ for t in "${tables[@]}"; do
   # data here), then of each capture set once: every room of a set is checked the same way for
   # every line, and a gslift start costs about 0.4 s.
   names=()
-  while IFS=$'\t' read -r name set graph headline inputs extra; do
+  while IFS=$'\t' read -r name set graph _ inputs _; do
     [[ -z "$name" || "$name" == \#* ]] && continue
     if [ -z "$have_dtu" ] && grep -q "dtu" <<< "$graph"; then continue; fi
     names+=("$name/$set")
