@@ -8,7 +8,7 @@
 //    capture and seed), with the mean's 95% t interval;
 //  - <table>.svg: per line a dev bar and a test bar (mean, whiskers one std), each room a dot;
 //  - a markdown table on stdout, as the READMEs show it.
-//   protocol_chart SWEEPS_DIR TABLE.tsv RESULTS_DIR
+//   protocol_chart SWEEPS_DIR TABLE.tsv RESULTS_DIR   (TABLE a folder: its protocol.tsv)
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -96,7 +96,9 @@ int main(int argc, char** argv) {
     std::cerr << "usage: protocol_chart SWEEPS_DIR TABLE.tsv RESULTS_DIR\n";
     return 2;
   }
-  const fs::path dir = argv[1], table = argv[2], results = argv[3];
+  const fs::path dir = argv[1], results = argv[3];
+  // A folder is the protocol's (its protocol.tsv): how run.sh called this before tables.
+  const fs::path table = fs::is_directory(argv[2]) ? fs::path(argv[2]) / "protocol.tsv" : argv[2];
   const std::string stem = table.stem().string();
   std::vector<SetResult> sets;
   for (const auto& row : read_tsv(table)) {
