@@ -337,10 +337,10 @@ int main(int argc, char** argv) {
       jo.recon.iterations = 500;
       jo.recon.background = parse_enum(background, background_names(), "--background");
       const ViewClassifierResult jc =
-          train_view_classifiers_jointly(capture, *b.partitions, jo, [&](int step, int total) {
-            if ((step + 1) % 100 == 0)
-              std::fprintf(stderr, "[protosaga] seed %d joint step %d / %d\n", seed, step + 1,
-                           total);
+          train_view_classifiers_jointly(capture, *b.partitions, jo, [&](const TrainingStep& s) {
+            if (s.step % 100 == 0)
+              std::fprintf(stderr, "[protosaga] seed %d joint step %d / %d\n", seed, s.step,
+                           s.total);
           });
       seconds["joint_reconstruction"].push_back(jc.seconds);
       MemoryBankOptions o;

@@ -89,9 +89,9 @@ void run_reconstruct(NodeContext& ctx, ReconstructNodeParams p) {
   ReconstructOptions& o = p.recon;
   o.seed = ctx.seed();
   ReconstructResult r =
-      reconstruct(*ctx.input<Capture>("capture"), o, [&](int step, int total, double, size_t) {
+      reconstruct(*ctx.input<Capture>("capture"), o, [&](const TrainingStep& step, size_t) {
         ctx.check_cancelled();
-        ctx.progress(static_cast<double>(step + 1) / total, "optimising");
+        ctx.progress(step);
       });
   ctx.record("gaussians", static_cast<double>(r.model.size()));
   ctx.record("initial_gaussians", static_cast<double>(r.initial_gaussians));
