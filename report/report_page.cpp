@@ -146,9 +146,9 @@ bool is_side_by_side(const fs::path& rel) {
          name.compare(name.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
 
-// A picture of the run folder as an <img>: embedded as a data URI, or linked to the file.
-std::string picture_img(const RunRecord& run, const fs::path& rel, bool embed) {
-  const std::string data = read_bytes(run.dir / rel);
+// A picture of the run folder (`data`: the bytes of its file `rel`) as an <img>: embedded as a
+// data URI, or linked to the file.
+std::string picture_img(const fs::path& rel, const std::string& data, bool embed) {
   const PixelSize px = picture_size(data);
   const std::string src =
       embed ? "data:" + picture_mime(rel) + ";base64," + base64(data) : esc(relative_href(rel));
@@ -196,7 +196,8 @@ std::string results_section(const RunRecord& run, const ReportOptions& options,
   for (const auto& [folder, files] : run_files(run))
     for (const fs::path& rel : files) {
       if (!is_side_by_side(rel)) continue;
-      views += "<figure class=\"side-by-side\">" + picture_img(run, rel, options.embed_pictures) +
+      views += "<figure class=\"side-by-side\">" +
+               picture_img(rel, read_bytes(run.dir / rel), options.embed_pictures) +
                "<figcaption>ground truth | render | instances · <code>" +
                esc(rel.generic_string()) + "</code></figcaption></figure>\n";
       if (stats) ++(options.embed_pictures ? stats->pictures_embedded : stats->pictures_linked);
@@ -232,18 +233,10 @@ std::string pictures_and_files(const RunRecord& run, const ReportOptions& option
       const PixelSize px = picture_size(data);
       const std::string dims = px.width ? std::to_string(px.width) + "×" + std::to_string(px.height)
                                         : std::string("size unknown");
-      std::string src = esc(relative_href(rel));
-      if (options.embed_pictures) {
-        src = "data:" + mime + ";base64," + base64(data);
-        used += data.size();
-      }
+      if (options.embed_pictures) used += data.size();
       ++shown;
-      group += "<figure class=\"picture\"><img src=\"" + src + "\" alt=\"" +
-               esc(rel.generic_string()) + "\"" +
-               (px.width ? " width=\"" + std::to_string(px.width) + "\" height=\"" +
-                               std::to_string(px.height) + "\""
-                         : std::string()) +
-               " loading=\"eager\"><figcaption>" + link + " · " + dims + " · " + size_text(bytes) +
+      group += "<figure class=\"picture\">" + picture_img(rel, data, options.embed_pictures) +
+               "<figcaption>" + link + " · " + dims + " · " + size_text(bytes) +
                "</figcaption></figure>\n";
     }
     if (!group.empty())
