@@ -99,7 +99,7 @@ void run_text_query(NodeContext& ctx, TextQueryNodeOptions o) {
   ctx.record("query_classes", landed);
   const auto dir = ctx.out_dir();
   if (!dir.empty()) {
-    write_query_files(results, *capture, dir);
+    write_query_files(results, *capture, *model, dir);
     GaussianModel segmented = *model;
     segmented.class_ids = query_class_ids(segmented, results);
     write_ply(segmented, dir / "segmented.ply");

@@ -172,8 +172,8 @@ int run_segment_session(const GaussianModel& model, const Capture& capture,
             const int vi = capture.find_view(vm.view);
             const cv::Mat rgb =
                 capture.views[vi].rgb.present() ? capture.views[vi].rgb.load() : cv::Mat();
-            write_mask_files(dir, vm.view + "__" + query_file_stem(p.name), vm.masks[0].pixels,
-                             rgb);
+            write_mask_files(dir, vm.view + "__" + query_file_stem(p.name), vm.masks[0].pixels, rgb,
+                             p.name);
           }
         }
         reply["output"] = dir.string();
