@@ -138,7 +138,7 @@ std::vector<std::pair<std::string, std::vector<fs::path>>> run_files(const RunRe
 }
 
 // The side-by-side picture of a view (ground truth | render | instances), as the text-query node
-// names it (nodes/inference/query_files.hpp kGtRenderInstancesSuffix): the report shows these
+// names it (nodes/scene/caption_strip.hpp kGtRenderInstancesSuffix): the report shows these
 // first, under the results, and not again among the pictures.
 bool is_side_by_side(const fs::path& rel) {
   const std::string suffix = "_gt_render_instances.png", name = rel.filename().string();

@@ -3,13 +3,20 @@
 #include <spdlog/spdlog.h>
 
 #include <cstdio>
+#include <map>
+
+#include <opencv2/imgproc.hpp>
 
 #include "base/atomic_file.hpp"
 #include "nodes/eval/binary_segmentation.hpp"
 #include "nodes/eval/instance_hungarian.hpp"
+#include "nodes/eval/instance_picture.hpp"
 #include "nodes/eval/langor_eval.hpp"
 #include "nodes/eval/semantic_eval.hpp"
+#include "nodes/scene/caption_strip.hpp"
 #include "nodes/scene/image_io.hpp"
+#include "nodes/splat/channel_images.hpp"
+#include "nodes/splat/rasterizer.hpp"
 #include "nodes/splat/reconstruct.hpp"
 
 namespace gslift {
@@ -66,6 +73,28 @@ void run_binary_segmentation(NodeContext& ctx, const BinarySegmentationOptions& 
 // The views scored are those of the predictions; nothing to choose.
 struct InstanceEvalOptions {};
 
+// Ground truth | render | instances for each held-out view scored (the report's picture).
+void write_instance_pictures(const GaussianModel& model, const Capture& capture,
+                             const LabelMapSet& predictions, const InstanceScores& s,
+                             const std::filesystem::path& dir) {
+  std::map<int, int> pred_to_gt;
+  for (size_t k = 0; k < s.gt_ids.size(); ++k)
+    if (s.matched_pred[k] > 0) pred_to_gt[s.matched_pred[k]] = s.gt_ids[k];
+  for (const LabelMap& m : predictions.views) {
+    const int vi = capture.find_view(m.view);
+    if (vi < 0 || !capture.views[vi].held_out || !capture.views[vi].gt_instance.present()) continue;
+    const View& view = capture.views[vi];
+    const cv::Mat3b render_rgb =
+        channel_image(render(model, view.camera, view.pose, RenderSettings{}), "rgb");
+    cv::Mat1i predicted = m.labels;
+    if (predicted.size() != render_rgb.size())
+      cv::resize(m.labels, predicted, render_rgb.size(), 0, 0, cv::INTER_NEAREST);
+    const cv::Mat3b picture = instance_comparison_picture(
+        view.gt_instance.load(), render_rgb, predicted, pred_to_gt, m.view + " (held out)");
+    if (!picture.empty()) write_rgb_png(dir / (m.view + kGtRenderInstancesSuffix), picture);
+  }
+}
+
 void run_instance_hungarian(NodeContext& ctx, const InstanceEvalOptions&) {
   const auto predictions = ctx.input<LabelMapSet>("predictions");
   const auto capture = ctx.input<Capture>("capture");
@@ -83,13 +112,14 @@ void run_instance_hungarian(NodeContext& ctx, const InstanceEvalOptions&) {
     ctx.record("psnr", mean_psnr(*ctx.input<GaussianModel>("model"), *capture, views));
   }
   const auto dir = ctx.out_dir();
-  if (!dir.empty()) {
-    std::string csv = "gt_label,matched_pred,iou\n";
-    for (size_t k = 0; k < s.gt_ids.size(); ++k)
-      csv += std::to_string(s.gt_ids[k]) + "," + std::to_string(s.matched_pred[k]) + "," +
-             std::to_string(s.matched_iou[k]) + "\n";
-    write_file_atomically(dir / "matches.csv", csv);
-  }
+  if (dir.empty()) return;
+  std::string csv = "gt_label,matched_pred,iou\n";
+  for (size_t k = 0; k < s.gt_ids.size(); ++k)
+    csv += std::to_string(s.gt_ids[k]) + "," + std::to_string(s.matched_pred[k]) + "," +
+           std::to_string(s.matched_iou[k]) + "\n";
+  write_file_atomically(dir / "matches.csv", csv);
+  if (ctx.has_input("model"))
+    write_instance_pictures(*ctx.input<GaussianModel>("model"), *capture, *predictions, s, dir);
 }
 
 void record_scores(NodeContext& ctx, const std::string& prefix, const SemanticScores& s) {

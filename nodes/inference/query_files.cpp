@@ -52,8 +52,6 @@ void tint(cv::Vec3b& p, const cv::Vec3b& colour) {
 
 }  // namespace
 
-const char* const kGtRenderInstancesSuffix = "_gt_render_instances.png";
-
 void write_mask_files(const std::filesystem::path& dir, const std::string& stem,
                       const cv::Mat1b& mask, const cv::Mat& rgb, const std::string& label) {
   write_png(dir / (stem + "_mask.png"), mask);

@@ -24,9 +24,6 @@ std::string query_file_stem(const std::string& query);
 void write_mask_files(const std::filesystem::path& dir, const std::string& stem,
                       const cv::Mat1b& mask, const cv::Mat& rgb, const std::string& label);
 
-// The name the side-by-side picture of a view ends with; `gslift report` looks for it.
-extern const char* const kGtRenderInstancesSuffix;  // "_gt_render_instances.png"
-
 // Ground truth | render | instances of one answered view: the view's ground-truth classes, the
 // model's render, and the render with each query's mask in the colour of the class it landed on
 // (label_colour of the class id), with a legend of the class names shown. Empty when the view

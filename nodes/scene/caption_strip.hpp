@@ -11,6 +11,10 @@
 
 namespace gslift {
 
+// The name a view's ground truth | render | instances picture ends with, whichever node writes
+// it (inference.text_query, eval.instance_hungarian); `gslift report` looks for it.
+inline constexpr const char* kGtRenderInstancesSuffix = "_gt_render_instances.png";
+
 struct LegendEntry {
   std::string label;
   cv::Vec3b colour;  // RGB, as the pictures are held

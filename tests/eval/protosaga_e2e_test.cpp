@@ -46,6 +46,13 @@ TEST_CASE("protosaga and gaga graphs on a small embedded OR reach their accuracy
   CHECK(record(ps, "assoc", "entries") >= 8);
   CHECK(record(ps, "assoc_eval", "mIoU") >= 40);
   CHECK(record(ps, "eval", "mIoU") >= 25);
+  // The report's picture of each held-out view (issue 32): ground truth | render | instances.
+  int pictures = 0;
+  for (const auto& e : std::filesystem::directory_iterator(test::scratch_root() /
+                                                           "protosaga_e2e_protosaga" / "eval"))
+    pictures += e.path().filename().string().find("_gt_render_instances.png") != std::string::npos;
+  CHECK(pictures >= 1);
+  CHECK(pictures == record(ps, "eval", "views"));
   const RunResult gaga =
       run_small(registry, "gaga.yaml", {"recon.iterations=200", "lift.iterations=150"});
   INFO((gaga.error ? gaga.error->str() : std::string("ok")));
