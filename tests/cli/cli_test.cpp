@@ -56,6 +56,12 @@ TEST_CASE("synth takes --threads and --log-level like every other command", "[cl
   const auto level = run_command(kBinary + " synth --out x --log-level loud");
   CHECK(level.code == exit_code::kUsage);
   CHECK(level.output.find("unknown --log-level 'loud'") != std::string::npos);
+  const auto depth_kind = run_command(kBinary + " synth --out x --rig-depth raw");
+  CHECK(depth_kind.code == exit_code::kUsage);
+  CHECK(depth_kind.output.find("--rig-depth is sensor or registered") != std::string::npos);
+  const auto depth_layout = run_command(kBinary + " synth --out x --rig-depth registered");
+  CHECK(depth_layout.code == exit_code::kUsage);
+  CHECK(depth_layout.output.find("--rig-depth needs --layout rig") != std::string::npos);
   const auto help = run_command(kBinary + " synth --help");
   CHECK(help.code == exit_code::kOk);
   CHECK(help.output.find("--threads N") != std::string::npos);
