@@ -293,3 +293,51 @@ embedded:or?seed=2&views=5&width=64&height=48  # a comment
                     " --input x --out " + shell_quoted(dir / "both"))
             .code == exit_code::kUsage);
 }
+
+TEST_CASE("production SAGA and detector fusion validate on a capture without ground truth",
+          "[cli][preflight][production]") {
+  const fs::path dir = test::scratch_dir("cli_production_graphs");
+  const fs::path capture = dir / "capture";
+  REQUIRE(run_command(kBinary + " synth --out '" + capture.string() +
+                      "' --width 96 --height 72 --views 5 --log-level warn")
+              .code == exit_code::kOk);
+  fs::remove_all(capture / "gt");  // a capture of one's own has no ground truth
+  const std::string graphs = std::string(GSLIFT_SOURCE_DIR) + "/graphs/";
+  const auto validate = [&](const std::string& graph, const std::string& sets) {
+    return run_command(kBinary + " validate '" + graphs + graph + "' --input '" + capture.string() +
+                       "'" + sets);
+  };
+  // The evaluated graphs need ground truth: refused, naming it.
+  const auto saga = validate("saga.yaml", "");
+  INFO(saga.output);
+  CHECK(saga.code == exit_code::kBadInput);
+  CHECK(saga.output.find("node 'truth' (masks.ground_truth) needs ground-truth instance") !=
+        std::string::npos);
+  const auto fusion = validate("detector_fusion.yaml", "");
+  INFO(fusion.output);
+  CHECK(fusion.code == exit_code::kBadInput);
+  CHECK(fusion.output.find("node 'source3d' (fusion.render_semantics) needs ground-truth class "
+                           "names") != std::string::npos);
+
+  // Their production forms need what only the user can give: a prompt file, a vocabulary.
+  const auto no_prompts = validate("production/saga.yaml", "");
+  INFO(no_prompts.output);
+  CHECK(no_prompts.code == exit_code::kInvalidGraph);
+  CHECK(no_prompts.output.find("graph param 'prompts' has no value") != std::string::npos);
+  CHECK(no_prompts.output.find("--set prompts=VALUE") != std::string::npos);
+  const fs::path prompts = dir / "clicks.json";
+  std::ofstream(prompts) << R"([{"name": "table", "view": "cam_00", "positive": [[48, 40]]}])";
+  const auto prompted =
+      validate("production/saga.yaml", " --set prompts='" + prompts.string() + "'");
+  INFO(prompted.output);
+  CHECK(prompted.code == exit_code::kOk);
+
+  const auto no_classes = validate("production/detector_fusion.yaml", "");
+  INFO(no_classes.output);
+  CHECK(no_classes.code == exit_code::kInvalidGraph);
+  CHECK(no_classes.output.find("graph param 'classes' has no value") != std::string::npos);
+  const auto classes =
+      validate("production/detector_fusion.yaml", " --set 'classes=[operating table, surgeon]'");
+  INFO(classes.output);
+  CHECK(classes.code == exit_code::kOk);
+}
