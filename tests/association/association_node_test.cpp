@@ -230,7 +230,7 @@ TEST_CASE("feature maps: training views only, contribution = blend weights summe
 // The empty-result checks (runtime/empty_result.hpp): an empty lifting or association fails its
 // node as bad input (gslift run's exit 4) with the cause, nothing downstream runs, and
 // allow_empty: true accepts the empty output.
-TEST_CASE("a lifting with no instance fails its node; allow_empty accepts it") {
+TEST_CASE("a lifting with no instance fails its node, allow_empty accepts it") {
   // Four training masks, one sample each: HDBSCAN with min_cluster_size 5 calls all of them noise.
   const std::string lift =
       "{type: lifting.mask_level, " + kLiftInputs + ", params: {min_cluster_size: 5";
@@ -257,7 +257,7 @@ TEST_CASE("a lifting with no instance fails its node; allow_empty accepts it") {
 }
 
 TEST_CASE(
-    "an association with no Gaussian in any instance fails its node; allow_empty accepts it") {
+    "an association with no Gaussian in any instance fails its node, allow_empty accepts it") {
   // Every Gaussian's summed blend weight is far below this: none may join an instance.
   const std::string g = graph("{type: lifting.mask_level, " + kLiftInputs + "}") +
                         "    params: {min_contribution: 1.0e9";

@@ -121,7 +121,7 @@ TEST_CASE("extends errors: a missing base and a cycle of files") {
   CHECK(with_code(absent, "unreadable-file")[0].loc.line == 0);
 }
 
-TEST_CASE("a node declared null removes the base's node; one the base lacks is an error") {
+TEST_CASE("a node declared null removes the base's node, one the base lacks is an error") {
   // A production graph drops the evaluated graph's leaf this way.
   const auto r = load_graph_text("extends: base.yaml\nnodes:\n  show: null\n", "prod.yaml",
                                  catalog(), {}, test_data("graphs"));
@@ -145,7 +145,7 @@ TEST_CASE("a node declared null removes the base's node; one the base lacks is a
 }
 
 TEST_CASE(
-    "an input declared null unwires the base's input; one the base does not wire is an error") {
+    "an input declared null unwires the base's input, one the base does not wire is an error") {
   // Production SAGA replaces its ground-truth reference masks by a prompt file this way.
   const auto r = load_graph_text(
       "extends: base.yaml\nnodes:\n  total: {type: math.mul, in: {b: null}}\n"

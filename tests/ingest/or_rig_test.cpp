@@ -79,7 +79,7 @@ TEST_CASE("rig calibration: focal lengths, transposed K, OpenCV order, OpenGL ax
                     Contains("camera04.json") && Contains("color_parameters.height"));
 }
 
-TEST_CASE("a rig time step is a capture; depth at its own size registers to colour") {
+TEST_CASE("a rig time step is a capture, depth at its own size registers to colour") {
   const auto rec = test::scratch_dir("or_rig_recording");
   // Calibrations in the recording, frames in its time-step folder.
   write_rig_text(rec / "camera01.json", hand_written_camera(R"({"m00": 0, "m10": 0, "m20": 0})"));
@@ -171,7 +171,8 @@ TEST_CASE("Azure Kinect raw calibration: modes scale the normalised intrinsics, 
                     Contains("not the size of an Azure Kinect colour mode"));
 }
 
-TEST_CASE("Azure Kinect raw calibration: a time step registers depth through it; bad files") {
+TEST_CASE(
+    "Azure Kinect raw calibration: a time step registers depth through it, bad files are refused") {
   const auto rec = test::scratch_dir("k4a_rig_recording");
   fs::copy_file(kK4aRig / "camera01.json", rec / "camera01.json");
   fs::copy_file(kK4aRig / "camera01_pose.json", rec / "camera01_pose.json");

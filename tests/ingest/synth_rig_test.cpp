@@ -78,7 +78,7 @@ synth::OrCaptureSettings exact_depth_rig() {
 
 }  // namespace
 
-TEST_CASE("a generated rig time step reads back; its depth registers within 1% of the truth") {
+TEST_CASE("a generated rig time step reads back, its depth registers within 1% of the truth") {
   const auto dir = test::scratch_dir("synth_rig") / "recording";
   const auto settings = exact_depth_rig();
   synth::write_or_rig_recording(settings, dir, 2);
