@@ -17,11 +17,13 @@ const CommandHelp& report_help() {
   static const CommandHelp help{
       "usage: gslift report DIR [--max-picture-mb N]\n\n"
       "Writes DIR/report.html, one self-contained page (pictures embedded, charts as SVG, no\n"
-      "external links). For a run folder (run.json): the graph, a timeline of the nodes, each\n"
-      "node's time, memory and records, and every picture the run wrote. For a sweep folder\n"
-      "(sweep.json): the summary table, each metric against time, memory and every varied\n"
-      "param, and a section per run; each run's own report.html is written too, with its\n"
-      "pictures linked (gslift report RUN_DIR embeds them).\n\n",
+      "external links). For a run folder (run.json): the results first (headline metrics\n"
+      "against the README's floors, the per-class table, ground truth | render | instances\n"
+      "per held-out view), then the graph, a timeline of the nodes, each node's time, memory\n"
+      "and records, and every other picture the run wrote. For a sweep folder (sweep.json):\n"
+      "the summary table, each metric against time (runs from the stage cache marked cached),\n"
+      "memory and every varied param, and a section per run; each run's own report.html is\n"
+      "written too, with its pictures linked (gslift report RUN_DIR embeds them).\n\n",
       {{"max-picture-mb", "N",
         "embed pictures until their files add up to N MB; the rest are\n"
         "listed with links (default 32)"},

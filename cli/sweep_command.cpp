@@ -1,5 +1,6 @@
 // `gslift sweep GRAPH --grid ...`: one `gslift run` child per grid point and seed, each validated
 // before the first runs; sweep.json, results.csv and summary.csv rewritten after every run.
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <stdexcept>
@@ -36,7 +37,7 @@ const CommandHelp& sweep_help() {
   static const CommandHelp help{
       "usage: gslift sweep GRAPH [--grid NODE.PARAM=V1,V2,...]... [--seeds 0-4]\n"
       "                    --out DIR [--input PATH | --inputs SET] [--set NODE.PARAM=VALUE]...\n"
-      "                    [--threads N]\n"
+      "                    [--threads N] [--dry-run]\n"
       "                    [--log-level L] [--cache-dir DIR] [--cache-size GB] [--no-cache]\n\n"
       "Runs GRAPH once per combination of the --grid values (the cartesian product), capture of\n"
       "--inputs and seed, each as a `gslift run` of its own in DIR/runs/NNNN/ (its output in\n"
@@ -49,7 +50,8 @@ const CommandHelp& sweep_help() {
       "failed run is a row with its error; the sweep goes on. With two or more combinations,\n"
       "each is compared with the first capture by capture and seed: the mean difference and\n"
       "its 95% interval (sweep.json's paired, and the table's last lines). gslift report DIR\n"
-      "draws it.\n\n",
+      "draws it. --dry-run validates every combination (and each capture of --inputs) and\n"
+      "prints the plan without running anything (a spec's check; --out is then not needed).\n\n",
       {{"grid", "NODE.PARAM=V,...",
         "the values of one param (repeatable); commas inside [] or\n"
         "quotes belong to a value; NODE.type=A,B swaps stages"},
@@ -67,6 +69,7 @@ const CommandHelp& sweep_help() {
        kCacheOptions[0].described("stage cache folder (as gslift run)"),
        kCacheOptions[1].described("cap of the cache folder (default 10, 0 = no cap)"),
        kCacheOptions[2].described("every run runs every node"),
+       {"dry-run", "", "validate every combination and print the plan; run nothing"},
        kHelpOption},
       "\nExit code 6 when some runs failed (the table has them), 130 when interrupted.\n"};
   return help;
@@ -76,7 +79,8 @@ int cmd_sweep(int argc, char** argv, const Registry& registry) {
   const Args args = parse_args(argc, argv, 2, sweep_help().options);
   if (args.flags.count("help")) return print_command_help(sweep_help()), 0;
   if (args.positional.size() != 1) throw UsageError("sweep expects one GRAPH file");
-  if (!args.has("out")) throw UsageError("sweep needs --out DIR");
+  const bool dry_run = args.flags.count("dry-run") != 0;
+  if (!args.has("out") && !dry_run) throw UsageError("sweep needs --out DIR");
   // Seeds alone are a sweep too: the graph as it is, once per seed (a mean over rooms).
   if (!args.has("grid") && !args.has("seeds") && !args.has("inputs"))
     throw UsageError("sweep needs a --grid NODE.PARAM=V1,V2, --seeds LIST or --inputs SET");
@@ -84,7 +88,7 @@ int cmd_sweep(int argc, char** argv, const Registry& registry) {
     throw UsageError("sweep takes --input PATH or --inputs SET, not both");
   set_up_logging(args);
   const fs::path out = args.last("out");
-  check_output_folder(out);
+  if (!dry_run) check_output_folder(out);
   const std::string graph_file = args.positional[0];
   std::vector<GridAxis> axes;
   std::vector<uint64_t> seeds;
@@ -138,6 +142,17 @@ int cmd_sweep(int argc, char** argv, const Registry& registry) {
     // Each capture of a set is checked as `gslift validate --input` would, before the first run:
     // a misspelt line of the set is one error now, not a failed room an hour in.
     if (!p.input.empty()) check_preflight(*graph, registry);
+  }
+  if (dry_run) {
+    // The plan a spec would run (bench/*/ tables check themselves this way): every combination
+    // passed validation above; nothing ran and nothing was written.
+    std::printf(
+        "sweep --dry-run: %zu runs of %s (grid combinations %zu, seeds %zu, captures %zu), "
+        "every combination valid\n",
+        points.size(), graph_file.c_str(),
+        points.size() / seeds.size() / std::max<size_t>(inputs.size(), 1), seeds.size(),
+        std::max<size_t>(inputs.size(), 1));
+    return exit_code::kOk;
   }
 
   install_interrupt_handlers();

@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <fstream>
 #include <sstream>
+#include <vector>
 
 #include "base/errors.hpp"
 
@@ -107,6 +108,58 @@ std::string picture_mime(const std::filesystem::path& file) {
   return {};
 }
 
+namespace {
+
+std::vector<std::string> table_cells(const std::string& line) {
+  std::vector<std::string> cells;
+  std::string cell;
+  for (size_t k = 1; k < line.size(); ++k) {
+    if (line[k] != '|') {
+      cell += line[k];
+      continue;
+    }
+    const size_t first = cell.find_first_not_of(' '), last = cell.find_last_not_of(' ');
+    cells.push_back(first == std::string::npos ? "" : cell.substr(first, last - first + 1));
+    cell.clear();
+  }
+  return cells;
+}
+
+}  // namespace
+
+std::string markdown_table_html(const std::string& markdown) {
+  std::vector<std::vector<std::string>> rows;
+  std::vector<bool> right;
+  size_t start = 0;
+  while (start < markdown.size()) {
+    size_t end = markdown.find('\n', start);
+    if (end == std::string::npos) end = markdown.size();
+    std::string line = markdown.substr(start, end - start);
+    start = end + 1;
+    while (!line.empty() && (line.back() == '\r' || line.back() == ' ')) line.pop_back();
+    if (line.size() < 2 || line.front() != '|' || line.back() != '|') continue;
+    std::vector<std::string> cells = table_cells(line);
+    if (!rows.empty() && right.empty() && !cells.empty() &&
+        cells[0].find("---") != std::string::npos) {
+      for (const auto& c : cells) right.push_back(!c.empty() && c.back() == ':');
+      continue;
+    }
+    rows.push_back(std::move(cells));
+  }
+  if (rows.empty()) return {};
+  std::string h = "<table class=\"markdown\">\n";
+  for (size_t r = 0; r < rows.size(); ++r) {
+    h += "<tr>";
+    for (size_t c = 0; c < rows[r].size(); ++c) {
+      const char* tag = r == 0 ? "th" : "td";
+      h += std::string("<") + tag + (c < right.size() && right[c] ? " class=\"num\"" : "") + ">" +
+           html_escape(rows[r][c]) + "</" + tag + ">";
+    }
+    h += "</tr>\n";
+  }
+  return h + "</table>\n";
+}
+
 std::string size_text(uintmax_t bytes) {
   char buf[32];
   if (bytes < 1024)
@@ -135,7 +188,9 @@ section { background: white; border: 1px solid var(--line); border-radius: 8px;
 .badge { display: inline-block; padding: 1px 9px; border-radius: 10px; font-size: 12px;
          font-weight: 600; color: white; background: #8a8a8a; vertical-align: middle; }
 .badge.ok { background: var(--ok); } .badge.failed, .badge.interrupted { background: var(--bad); }
-.badge.hit { background: #2f6db5; } .badge.miss { background: #b7791f; }
+.badge.hit, .badge.cached { background: #2f6db5; } .badge.miss { background: #b7791f; }
+.badge.holds { background: var(--ok); } .badge.below { background: var(--bad); }
+figure.side-by-side { margin: 0 0 14px; } figure.side-by-side img { max-width: 100%; height: auto; }
 .error { background: #fbe4e1; border: 1px solid #e6a59c; color: #7b1d12; border-radius: 6px;
          padding: 10px 14px; white-space: pre-wrap; font-family: ui-monospace, monospace; }
 .note { color: var(--muted); font-size: 13px; }

@@ -32,6 +32,11 @@ PixelSize picture_size(const std::string& bytes);
 // "image/png" or "image/jpeg" by the file's extension (case-insensitive); empty for others.
 std::string picture_mime(const std::filesystem::path& file);
 
+// A Markdown pipe table (the header row, the |---| row, the body rows; as eval/metrics.md holds
+// it) as an HTML table, cells escaped, columns aligned right where the |---:| row says so. Lines
+// that are not table rows are left out; empty when there is no table.
+std::string markdown_table_html(const std::string& markdown);
+
 // "12.3 KB", "4.5 MB".
 std::string size_text(uintmax_t bytes);
 

@@ -8,6 +8,7 @@
 
 #include "base/errors.hpp"
 #include "base/json_read.hpp"
+#include "runtime/run_record.hpp"
 
 namespace gslift::report {
 
@@ -114,6 +115,12 @@ const GraphNode* RunRecord::graph_node(const std::string& id) const {
   return nullptr;
 }
 
+size_t RunRecord::cache_hits() const {
+  size_t n = 0;
+  for (const auto& node : nodes) n += node.cache == "hit";
+  return n;
+}
+
 bool RunRecord::has_cache_column() const {
   for (const auto& n : nodes)
     if (!n.cache.empty()) return true;
@@ -163,6 +170,7 @@ RunRecord read_run_record(const fs::path& dir) {
     r.started_at = optional_string(run, "started_at");
     r.total_s = run.value("total_s", 0.0);
     r.peak_rss_mb = run.value("peak_rss_mb", 0.0);
+    r.headline = headline_metrics(j);
   } catch (const json::exception& e) {
     throw InputError((dir / "run.json").string() + " is not a gslift run record: " + e.what());
   }

@@ -48,11 +48,16 @@ struct RunRecord {
   int threads = 0;
   std::string started_at;
   double total_s = 0, peak_rss_mb = 0;
+  // The evaluation nodes' summary metrics, ("<node>.<key>", value) in graph order
+  // (runtime/run_record.hpp headline_metrics: what sweeps and batches print too).
+  std::vector<std::pair<std::string, double>> headline;
 
   const NodeRun* node(const std::string& id) const;
   const GraphNode* graph_node(const std::string& id) const;
   // Whether any node says whether it came from the stage cache.
   bool has_cache_column() const;
+  // How many nodes were loaded from the stage cache instead of run.
+  size_t cache_hits() const;
 };
 
 // Reads DIR/run.json. Throws InputError naming the path when DIR or run.json is missing, or

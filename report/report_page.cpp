@@ -3,11 +3,13 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <optional>
 #include <set>
 
 #include "base/atomic_file.hpp"
 #include "base/errors.hpp"
 #include "report/charts.hpp"
+#include "report/floors.hpp"
 #include "report/html.hpp"
 #include "report/timeline.hpp"
 
@@ -135,6 +137,75 @@ std::vector<std::pair<std::string, std::vector<fs::path>>> run_files(const RunRe
   return out;
 }
 
+// The side-by-side picture of a view (ground truth | render | instances), as the text-query node
+// names it (nodes/inference/query_files.hpp kGtRenderInstancesSuffix): the report shows these
+// first, under the results, and not again among the pictures.
+bool is_side_by_side(const fs::path& rel) {
+  const std::string suffix = "_gt_render_instances.png", name = rel.filename().string();
+  return name.size() > suffix.size() &&
+         name.compare(name.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
+// A picture of the run folder (`data`: the bytes of its file `rel`) as an <img>: embedded as a
+// data URI, or linked to the file.
+std::string picture_img(const fs::path& rel, const std::string& data, bool embed) {
+  const PixelSize px = picture_size(data);
+  const std::string src =
+      embed ? "data:" + picture_mime(rel) + ";base64," + base64(data) : esc(relative_href(rel));
+  return "<img src=\"" + src + "\" alt=\"" + esc(rel.generic_string()) + "\"" +
+         (px.width ? " width=\"" + std::to_string(px.width) + "\" height=\"" +
+                         std::to_string(px.height) + "\""
+                   : std::string()) +
+         " loading=\"eager\">";
+}
+
+// What the run measured, first: the headline metrics beside the README's floors (floors.hpp),
+// each evaluation node's table as its metrics.md has it, then ground truth | render | instances
+// for every view that has that picture.
+std::string results_section(const RunRecord& run, const ReportOptions& options,
+                            ReportStats* stats) {
+  std::string h = "<section id=\"results\"><h2>Results</h2>\n";
+  if (run.headline.empty()) {
+    h += "<p class=\"note\">No evaluation node recorded a metric in this run.</p>\n";
+  } else {
+    h += "<table class=\"headline\">\n<tr><th>metric</th><th class=\"num\">value</th>"
+         "<th class=\"num\">floor</th><th></th><th>floor set by</th></tr>\n";
+    for (const auto& [metric, value] : run.headline) {
+      const MetricFloor* f = find_floor(run.graph_name, metric);
+      h += "<tr><td><code>" + esc(metric) + "</code></td><td class=\"num headline-value\">" +
+           esc(number_text(value)) + "</td><td class=\"num\">" +
+           (f ? "&ge; " + esc(number_text(f->floor)) : std::string("–")) + "</td><td>" +
+           (f ? badge(value >= f->floor ? "holds" : "below") : std::string()) + "</td><td>" +
+           (f ? esc(f->source) : std::string()) + "</td></tr>\n";
+    }
+    h += "</table>\n<p class=\"note\">The floors are what the README's Results holds the method "
+         "to, over the mean of its dev rooms (report/floors.cpp); one room may sit below "
+         "them.</p>\n";
+  }
+  for (const auto& n : run.nodes) {
+    if (n.type.rfind("eval.", 0) != 0) continue;
+    std::error_code ec;
+    const fs::path md = run.dir / n.id / "metrics.md";
+    if (!fs::is_regular_file(md, ec)) continue;
+    const std::string table = markdown_table_html(read_bytes(md));
+    if (!table.empty())
+      h += "<h3 id=\"classes-" + esc(n.id) + "\">Per class: <code>" + esc(n.id) +
+           "/metrics.md</code></h3><div class=\"scroll\">" + table + "</div>\n";
+  }
+  std::string views;
+  for (const auto& [folder, files] : run_files(run))
+    for (const fs::path& rel : files) {
+      if (!is_side_by_side(rel)) continue;
+      views += "<figure class=\"side-by-side\">" +
+               picture_img(rel, read_bytes(run.dir / rel), options.embed_pictures) +
+               "<figcaption>ground truth | render | instances · <code>" +
+               esc(rel.generic_string()) + "</code></figcaption></figure>\n";
+      if (stats) ++(options.embed_pictures ? stats->pictures_embedded : stats->pictures_linked);
+    }
+  if (!views.empty()) h += "<h3 id=\"views\">Ground truth | render | instances</h3>\n" + views;
+  return h + "</section>\n";
+}
+
 std::string pictures_and_files(const RunRecord& run, const ReportOptions& options,
                                ReportStats* stats) {
   std::string pictures, others, skipped;
@@ -148,6 +219,7 @@ std::string pictures_and_files(const RunRecord& run, const ReportOptions& option
       const std::string link = "<a href=\"" + esc(relative_href(rel)) + "\"><code>" +
                                esc(rel.generic_string()) + "</code></a>";
       const std::string mime = picture_mime(rel);
+      if (is_side_by_side(rel)) continue;  // shown under the results
       if (mime.empty()) {
         others += "<tr><td>" + link + "</td><td class=\"num\">" + size_text(bytes) + "</td></tr>\n";
         continue;
@@ -161,18 +233,10 @@ std::string pictures_and_files(const RunRecord& run, const ReportOptions& option
       const PixelSize px = picture_size(data);
       const std::string dims = px.width ? std::to_string(px.width) + "×" + std::to_string(px.height)
                                         : std::string("size unknown");
-      std::string src = esc(relative_href(rel));
-      if (options.embed_pictures) {
-        src = "data:" + mime + ";base64," + base64(data);
-        used += data.size();
-      }
+      if (options.embed_pictures) used += data.size();
       ++shown;
-      group += "<figure class=\"picture\"><img src=\"" + src + "\" alt=\"" +
-               esc(rel.generic_string()) + "\"" +
-               (px.width ? " width=\"" + std::to_string(px.width) + "\" height=\"" +
-                               std::to_string(px.height) + "\""
-                         : std::string()) +
-               " loading=\"eager\"><figcaption>" + link + " · " + dims + " · " + size_text(bytes) +
+      group += "<figure class=\"picture\">" + picture_img(rel, data, options.embed_pictures) +
+               "<figcaption>" + link + " · " + dims + " · " + size_text(bytes) +
                "</figcaption></figure>\n";
     }
     if (!group.empty())
@@ -248,6 +312,7 @@ std::string run_report_html(const RunRecord& run, const ReportOptions& options,
     if (!n.error.empty() && run.error.find(n.error) == std::string::npos)
       b += "<div class=\"error\">node " + esc(n.id) + ": " + esc(n.error) + "</div>\n";
 
+  b += results_section(run, options, stats);
   b += "<section id=\"graph\"><h2>Graph</h2>" +
        figure("graph-diagram", graph_diagram_svg(run),
               "The resolved graph, sources on top; arrows are inputs labelled by port. Box "
@@ -295,6 +360,22 @@ std::string sweep_report_html(const SweepRecord& sweep) {
   if (metrics.empty()) metrics = all_metrics;
   size_t failed = 0;
   for (const auto& r : sweep.runs) failed += r.status != "ok";
+  // Each run's record (absent for a run that failed before writing one), and the grid points
+  // with a run that loaded nodes from the stage cache: their time is a cache read, not the time
+  // to compute, so the charts tag them instead of presenting them as fast.
+  std::vector<std::optional<RunRecord>> records;
+  std::vector<std::string> no_record;  // why a run has none
+  std::set<std::map<std::string, std::string>> cached_params;
+  for (const auto& r : sweep.runs) {
+    try {
+      records.emplace_back(read_run_record(sweep.dir / r.dir));
+      no_record.emplace_back();
+      if (records.back()->cache_hits()) cached_params.insert(r.params);
+    } catch (const InputError& e) {
+      records.emplace_back(std::nullopt);
+      no_record.emplace_back(e.what());
+    }
+  }
 
   const std::string status =
       failed ? "<span class=\"badge failed\">" + std::to_string(failed) + " failed</span>"
@@ -376,16 +457,23 @@ std::string sweep_report_html(const SweepRecord& sweep) {
         auto it = g.metrics.find(m);
         if (it == g.metrics.end()) continue;
         const MeanStd& x = time ? g.total_s : g.peak_rss_mb;
+        const bool cached = time && cached_params.count(g.params);
         c.points.push_back({x.mean, x.std, it->second.mean, it->second.std,
                             "#" + std::to_string(k + 1) + " " + params_text(g.params) + "\n" + m +
                                 " " + mean_std_text(it->second) + "\n" + c.x_label + " " +
-                                mean_std_text(x),
-                            "#" + std::to_string(k + 1), 0});
+                                mean_std_text(x) +
+                                (cached ? " (stage cache: not compute time)" : ""),
+                            "#" + std::to_string(k + 1) + (cached ? " cached" : ""), 0});
       }
       charts += figure("chart-" + std::to_string(chart_id++), scatter_svg(c),
                        esc(m) + " against " + esc(c.x_label) + "; error bars: ± one std over " +
                            "seeds; #: the row in the summary; dashed: Pareto front (" +
-                           (lower ? "lower" : "higher") + " is better).");
+                           (lower ? "lower" : "higher") + " is better)." +
+                           (time && !cached_params.empty()
+                                ? " Points tagged <em>cached</em> have a run that loaded nodes "
+                                  "from the stage cache: their time is not the time to compute "
+                                  "them (gslift sweep --no-cache measures it)."
+                                : std::string()));
     }
     for (const auto& p : varied) {
       ScatterChart c;
@@ -426,16 +514,23 @@ std::string sweep_report_html(const SweepRecord& sweep) {
   // Runs: a row each, then a section each with its nodes' times.
   b += "<section id=\"runs\"><h2>Runs</h2><div class=\"scroll\"><table class=\"runs-table\">\n"
        "<tr><th>run</th><th class=\"num\">seed</th><th>params</th><th>status</th>"
-       "<th class=\"num\">total</th><th class=\"num\">peak RSS</th>";
+       "<th class=\"num\">total</th><th>cache</th><th class=\"num\">peak RSS</th>";
   for (const auto& m : metrics) b += "<th class=\"num\">" + esc(m) + "</th>";
   b += "<th>error</th></tr>\n";
   std::string sections;
-  for (const auto& r : sweep.runs) {
+  for (size_t i = 0; i < sweep.runs.size(); ++i) {
+    const SweepRun& r = sweep.runs[i];
+    const std::optional<RunRecord>& run = records[i];
     const std::string anchor = "run-" + fs::path(r.dir).filename().string();
     b += std::string("<tr") + (r.status != "ok" ? " class=\"failed\"" : "") + "><td><a href=\"#" +
          esc(anchor) + "\"><code>" + esc(r.dir) + "</code></a></td><td class=\"num\">" +
          std::to_string(r.seed) + "</td><td><code>" + esc(params_text(r.params)) +
          "</code></td><td>" + badge(r.status) + "</td><td class=\"num\">" + seconds(r.total_s) +
+         "</td><td>" +
+         (run && run->cache_hits()
+              ? badge("cached") + " <span class=\"note\">" + std::to_string(run->cache_hits()) +
+                    " of " + std::to_string(run->nodes.size()) + " nodes</span>"
+              : std::string("–")) +
          "</td><td class=\"num\">" + megabytes(r.peak_rss_mb) + "</td>";
     for (const auto& m : metrics) {
       auto it = r.metrics.find(m);
@@ -446,13 +541,12 @@ std::string sweep_report_html(const SweepRecord& sweep) {
     sections += "<details id=\"" + esc(anchor) + "\"><summary><code>" + esc(r.dir) + "</code> " +
                 badge(r.status) + " <span class=\"note\">seed " + std::to_string(r.seed) + " · " +
                 esc(params_text(r.params)) + "</span></summary>";
-    try {
-      const RunRecord run = read_run_record(sweep.dir / r.dir);
+    if (run) {
       sections += "<p><a href=\"" + esc(relative_href(fs::path(r.dir) / "report.html")) +
-                  "\">the run's own report</a> (graph, timeline, pictures)</p>" + node_table(run);
-      if (!run.error.empty()) sections += "<div class=\"error\">" + esc(run.error) + "</div>";
-    } catch (const InputError& e) {
-      sections += "<p class=\"note\">no run record: " + esc(e.what()) + "</p>";
+                  "\">the run's own report</a> (graph, timeline, pictures)</p>" + node_table(*run);
+      if (!run->error.empty()) sections += "<div class=\"error\">" + esc(run->error) + "</div>";
+    } else {
+      sections += "<p class=\"note\">no run record: " + esc(no_record[i]) + "</p>";
     }
     if (!r.error.empty()) sections += "<div class=\"error\">" + esc(r.error) + "</div>";
     sections += "</details>\n";

@@ -142,6 +142,10 @@ class RunningNode final : public NodeContext {
     if (options_.progress) options_.progress->node_progress(node().id, fraction, what);
   }
 
+  void progress(const TrainingStep& step) override {
+    if (options_.progress) options_.progress->node_step(node().id, step);
+  }
+
   bool cancelled() const override {
     return stopping_.load(std::memory_order_relaxed) ||
            (options_.cancel && options_.cancel->load(std::memory_order_relaxed));

@@ -15,6 +15,7 @@
 #include "base/errors.hpp"
 #include "graph/graph.hpp"
 #include "graph/node_spec.hpp"
+#include "runtime/progress.hpp"
 #include "runtime/value.hpp"
 
 namespace gslift {
@@ -61,6 +62,11 @@ class NodeContext {
 
   // Progress for long nodes in [0,1]; cheap, may be called every iteration.
   virtual void progress(double fraction, const std::string& what = {}) = 0;
+  // A training loop's step (step / total, loss, train PSNR): the progress line adds the time
+  // left. Without a richer sink it is the fraction with the fields as text.
+  virtual void progress(const TrainingStep& step) {
+    progress(step_fraction(step), training_step_text(step));
+  }
   // True once the run is cancelled (another node failed, or SIGINT). Long loops poll it.
   virtual bool cancelled() const = 0;
   void check_cancelled() const {

@@ -109,13 +109,27 @@ void write_run_record(const std::filesystem::path& file, const Graph& graph,
   write_file_atomically(file, json_text(run_record_json(graph, result)));
 }
 
+namespace {
+
+// What the evaluation nodes count beside their metrics (queries asked, views scored, labels
+// matched): sizes, not results, so no headline, table column or chart shows them as one.
+bool is_count_record(const std::string& key) {
+  for (const char* count : {"queries", "classes", "prompts", "target_views", "views", "gt_labels",
+                            "pred_labels", "hits"})
+    if (key == count) return true;
+  return false;
+}
+
+}  // namespace
+
 std::vector<std::pair<std::string, double>> headline_metrics(const nlohmann::json& record) {
   std::vector<std::pair<std::string, double>> out;
   if (!record.contains("nodes") || !record.at("nodes").is_array()) return out;
   for (const auto& n : record.at("nodes")) {
     if (n.value("type", std::string()).rfind("eval.", 0) != 0 || !n.contains("records")) continue;
     for (const auto& [key, value] : n.at("records").items())
-      if (value.is_number() && key.find('/') == std::string::npos && out.size() < 5)
+      if (value.is_number() && key.find('/') == std::string::npos && !is_count_record(key) &&
+          out.size() < 5)
         out.emplace_back(n.value("id", std::string()) + "." + key, value.get<double>());
   }
   return out;

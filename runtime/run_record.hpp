@@ -38,8 +38,8 @@ nlohmann::json run_record_json(const Graph& graph, const RunResult& result);
 std::string json_text(const nlohmann::json& j);
 
 // The headline metrics of a record: the evaluation nodes' (type eval.*) numeric records without
-// per-class entries ("IoU/table"), at most five, as ("<node>.<key>", value) in graph order. What
-// `gslift sweep` and `gslift batch` print per run.
+// per-class entries ("IoU/table") and counts ("queries", "views", "hits"), at most five, as
+// ("<node>.<key>", value) in graph order. What `gslift sweep` and `gslift batch` print per run.
 std::vector<std::pair<std::string, double>> headline_metrics(const nlohmann::json& record);
 
 // Writes run_record_json with json_text and write_file_atomically.

@@ -1,11 +1,14 @@
-// The dev/test protocol's results (issue 28) from bench/protocol/run.sh's sweeps:
-//  - protocol.json: per method and set the headline metric over its rooms (mean, std, min, max,
-//    each room's value), the method's other evaluation records (means), failed rooms, the median
-//    time of a room; and the paired comparisons of pairs.tsv: first minus second, room by room
-//    (the same capture and seed), with the mean's 95% t interval;
-//  - protocol.svg: per method a dev bar and a test bar (mean, whiskers one std), each room a dot;
-//  - a markdown table on stdout, as the README and bench/README.md show it.
-//   protocol_chart PROTOCOL_DIR TSV_DIR RESULTS_DIR
+// The results of a table of sweeps (bench/protocol/run.sh): the dev/test protocol (issue 28,
+// protocol.tsv) or a method's ablations (bench/langor/langor.tsv, ...), from the sweeps' folders:
+//  - <table>.json: per line (method or variant, and set) the headline metric over its rooms (mean,
+//    std, min, max, each room's value), the headline node's other records (means), the mean of
+//    every other record of the graph (per-view and per-item ones left out), failed rooms, the
+//    median time and peak memory of a room and the median wall time of each node; and the paired
+//    comparisons of the pairs.tsv beside the table: first minus second, room by room (the same
+//    capture and seed), with the mean's 95% t interval;
+//  - <table>.svg: per line a dev bar and a test bar (mean, whiskers one std), each room a dot;
+//  - a markdown table on stdout, as the READMEs show it.
+//   protocol_chart SWEEPS_DIR TABLE.tsv RESULTS_DIR   (TABLE a folder: its protocol.tsv)
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -35,14 +38,16 @@ namespace {
 struct SetResult {
   std::string method, set, graph, headline;
   std::map<std::pair<std::string, uint64_t>, double> rooms;
-  std::map<std::string, std::vector<double>> others;  // the headline node's other records
-  std::vector<double> times;
+  std::map<std::string, std::vector<double>> others;   // the headline node's other records
+  std::map<std::string, std::vector<double>> records;  // every record but per-view/item ones
+  std::map<std::string, std::vector<double>> node_s;   // wall time per node
+  std::vector<double> times, peak_mb;
   int failed = 0;
   std::vector<std::string> errors;
 };
 
 SetResult read_set(const fs::path& dir, const std::vector<std::string>& row) {
-  SetResult r{row[0], row[1], row[2], row[3], {}, {}, {}, 0, {}};
+  SetResult r{row[0], row[1], row[2], row[3], {}, {}, {}, {}, {}, {}, 0, {}};
   const json sweep = read_json_or_discarded(dir / "sweep.json");
   if (!sweep.is_object()) return r;
   const std::string node = r.headline.substr(0, r.headline.find('.') + 1);
@@ -60,7 +65,14 @@ SetResult read_set(const fs::path& dir, const std::vector<std::string>& row) {
     for (const auto& [k, v] : metrics.items())
       if (k.rfind(node, 0) == 0 && k != r.headline && k.find('/') == std::string::npos)
         r.others[k.substr(node.size())].push_back(v.get<double>());
+    // One level of '/' at most: train/CA and recall/<class> stay, per-view and per-item records
+    // (view/<name>/CA, growth/<k>/kept) would bury them.
+    for (const auto& [k, v] : metrics.items())
+      if (std::count(k.begin(), k.end(), '/') <= 1) r.records[k].push_back(v.get<double>());
+    if (run.contains("node_wall_s"))
+      for (const auto& [k, v] : run["node_wall_s"].items()) r.node_s[k].push_back(v.get<double>());
     r.times.push_back(run["total_s"].get<double>());
+    r.peak_mb.push_back(run["peak_rss_mb"].get<double>());
   }
   return r;
 }
@@ -81,12 +93,15 @@ std::string fixed(double x, int decimals = 1) {
 
 int main(int argc, char** argv) {
   if (argc != 4) {
-    std::cerr << "usage: protocol_chart PROTOCOL_DIR TSV_DIR RESULTS_DIR\n";
+    std::cerr << "usage: protocol_chart SWEEPS_DIR TABLE.tsv RESULTS_DIR\n";
     return 2;
   }
-  const fs::path dir = argv[1], tsv = argv[2], results = argv[3];
+  const fs::path dir = argv[1], results = argv[3];
+  // A folder is the protocol's (its protocol.tsv): how run.sh called this before tables.
+  const fs::path table = fs::is_directory(argv[2]) ? fs::path(argv[2]) / "protocol.tsv" : argv[2];
+  const std::string stem = table.stem().string();
   std::vector<SetResult> sets;
-  for (const auto& row : read_tsv(tsv / "protocol.tsv")) {
+  for (const auto& row : read_tsv(table)) {
     if (row.size() < 5) continue;
     SetResult r = read_set(dir / (row[0] + "_" + row[1]), row);
     if (!r.rooms.empty() || r.failed > 0) sets.push_back(std::move(r));
@@ -107,7 +122,10 @@ int main(int argc, char** argv) {
   for (const auto& s : sets) {
     const auto v = values(s);
     const auto [mean, sd] = mean_std(v);
-    json others = json::object(), rooms = json::array();
+    json others = json::object(), rooms = json::array(), records = json::object(),
+         node_s = json::object();
+    for (const auto& [k, xs] : s.records) records[k] = mean_std(xs).first;
+    for (const auto& [k, xs] : s.node_s) node_s[k] = median(xs);
     std::string other_text;
     for (const auto& [k, xs] : s.others) {
       others[k] = mean_std(xs).first;
@@ -130,6 +148,9 @@ int main(int argc, char** argv) {
                         {"max", hi},
                         {"others", others},
                         {"median_time_s", median(s.times)},
+                        {"median_peak_mb", median(s.peak_mb)},
+                        {"median_node_s", node_s},
+                        {"records", records},
                         {"rooms", rooms}});
     std::cout << "| " << s.method << " | " << s.set << " | " << v.size()
               << (s.failed ? " (" + std::to_string(s.failed) + " failed)" : std::string()) << " | "
@@ -139,7 +160,7 @@ int main(int argc, char** argv) {
   }
 
   json out_pairs = json::array();
-  for (const auto& row : read_tsv(tsv / "pairs.tsv")) {
+  for (const auto& row : read_tsv(table.parent_path() / "pairs.tsv")) {  // none: no file
     if (row.size() < 3) continue;
     const SetResult *a = find(row[0], row[2]), *b = find(row[1], row[2]);
     if (!a || !b) continue;
@@ -175,7 +196,10 @@ int main(int argc, char** argv) {
   const double group_w = 130, left = 50, top = 40, plot_h = 260;
   const double width = std::max(620.0, left + group_w * static_cast<double>(methods.size()) + 20);
   Svg svg(width, top + plot_h + 70, 12, true);
-  svg.text(left, 20, "Headline metric per method: dev rooms (settings chosen there) | test rooms",
+  svg.text(left, 20,
+           (stem == "protocol" ? std::string("Headline metric per method")
+                               : stem + ": " + sets.front().headline + " per variant") +
+               ": dev rooms (settings chosen there) | test rooms",
            "font-weight='bold'");
   const auto y_of = [&](double v) { return top + plot_h * (1 - std::clamp(v, 0.0, 100.0) / 100); };
   for (int t = 0; t <= 100; t += 20) {
@@ -204,13 +228,15 @@ int main(int argc, char** argv) {
     }
     svg.text(x0 + 45, y_of(0) + 32, methods[m], "text-anchor='middle'");
   }
-  svg.text(left, top + plot_h + 60,
-           "bars: mean over rooms, whiskers: one std, dots: rooms; headline metric per method in "
-           "protocol.json",
-           "font-size='10'");
-  write_file_atomically(results / "protocol.svg", svg.str());
-  write_file_atomically(results / "protocol.json",
-                        json({{"sets", out_sets}, {"pairs", out_pairs}}).dump(1) + "\n");
-  std::cout << "\nwrote " << (results / "protocol.json").string() << " and protocol.svg\n";
+  svg.text(
+      left, top + plot_h + 60,
+      "bars: mean over rooms, whiskers: one std, dots: rooms; every record in " + stem + ".json",
+      "font-size='10'");
+  write_file_atomically(results / (stem + ".svg"), svg.str());
+  write_file_atomically(
+      results / (stem + ".json"),
+      json({{"table", table.generic_string()}, {"sets", out_sets}, {"pairs", out_pairs}}).dump(1) +
+          "\n");
+  std::cout << "\nwrote " << (results / (stem + ".json")).string() << " and " << stem << ".svg\n";
   return 0;
 }

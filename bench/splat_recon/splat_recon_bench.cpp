@@ -72,15 +72,15 @@ nlohmann::json run_case(const Case& c, int repeat) {
   std::vector<ReconstructResult> runs;
   for (int k = 0; k < repeat; ++k) {
     const auto start = std::chrono::steady_clock::now();
-    runs.push_back(
-        reconstruct(capture, c.options, [&](int step, int total, double loss, size_t gaussians) {
-          if ((step + 1) % 25 != 0) return;
-          const double t =
-              std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-          std::cerr << "[splat_recon] " << c.name << " run " << k + 1 << " step " << step + 1 << "/"
-                    << total << " loss " << loss << " gaussians " << gaussians << " at " << t
-                    << " s\n";
-        }));
+    runs.push_back(reconstruct(capture, c.options, [&](const TrainingStep& s, size_t gaussians) {
+      const int step = s.step - 1, total = s.total;
+      const double loss = s.loss;
+      if ((step + 1) % 25 != 0) return;
+      const double t =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      std::cerr << "[splat_recon] " << c.name << " run " << k + 1 << " step " << step + 1 << "/"
+                << total << " loss " << loss << " gaussians " << gaussians << " at " << t << " s\n";
+    }));
   }
   std::vector<double> seconds;
   for (const ReconstructResult& run : runs) seconds.push_back(run.seconds);

@@ -39,7 +39,7 @@ struct GrabcutPriorOptions {
   // contribution that would zero every class is skipped). Capped at 0.99 the priors still win
   // the single-view fusion against the 3D source's 0.8, but the views can outvote one another:
   // at seed 0, 320x240, final CA 80.3 at 1, 83.8 at 0.8, 83.9 at 0.9, 86.0 at 0.95, 87.9 at 0.99
-  // (docs/detector_fusion.md; 5 seeds at 640x480 in bench_detector_fusion, "certain_priors").
+  // (docs/detector_fusion.md: 5 seeds at 640x480, "certain priors").
   float max_confidence = 0.99f;
   bool refine = true;            // false: paint the priors as they are (no GrabCut)
   bool sort_by_size = true;      // paper 002: decreasing size; false keeps the detector's order

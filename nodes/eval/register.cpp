@@ -122,7 +122,7 @@ void run_semantic_eval(NodeContext& ctx, const SemanticEvalOptions& o) {
                 std::to_string(v.scores.ca) + "," + std::to_string(v.scores.cp) + "\n";
   write_file_atomically(dir / "views.csv", per_view);
   write_file_atomically(dir / "confusion.csv", confusion_csv(e.all, predictions->classes));
-  write_rgb_png(dir / "confusion.png", confusion_heatmap(e.all));
+  write_rgb_png(dir / "confusion.png", confusion_heatmap_captioned(e.all, predictions->classes));
 }
 
 }  // namespace

@@ -6,6 +6,7 @@
 
 #include "base/errors.hpp"
 #include "base/fixed_point.hpp"
+#include "nodes/scene/caption_strip.hpp"
 
 namespace gslift {
 namespace {
@@ -90,6 +91,25 @@ cv::Mat confusion_heatmap(const Confusion& m, int cell) {
   cv::applyColorMap(big, bgr, cv::COLORMAP_VIRIDIS);
   cv::cvtColor(bgr, rgb, cv::COLOR_BGR2RGB);
   return rgb;
+}
+
+cv::Mat3b confusion_heatmap_captioned(const Confusion& m, const std::vector<std::string>& classes) {
+  // The colour scale's ends and middle, from the same colour map as the cells.
+  cv::Mat1b shares(1, 3);
+  shares << 0, 128, 255;
+  cv::Mat bgr;
+  cv::applyColorMap(shares, bgr, cv::COLORMAP_VIRIDIS);
+  std::vector<LegendEntry> legend;
+  const char* names[] = {"0% of the row", "50%", "100%"};
+  for (int k = 0; k < 3; ++k) {
+    const cv::Vec3b c = bgr.at<cv::Vec3b>(0, k);
+    legend.push_back({names[k], cv::Vec3b(c[2], c[1], c[0])});
+  }
+  // The rows' (and columns') classes in order, on white swatches: names, not colours.
+  for (size_t i = 0; i < classes.size(); ++i)
+    legend.push_back({std::to_string(i) + " " + classes[i], cv::Vec3b(255, 255, 255)});
+  return with_caption(confusion_heatmap(m),
+                      "confusion: rows ground truth, columns predicted (last: unlabelled)", legend);
 }
 
 const ParamTable<SemanticEvalOptions>& semantic_eval_param_table() {

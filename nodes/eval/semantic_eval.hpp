@@ -47,4 +47,9 @@ std::string confusion_csv(const Confusion& confusion, const std::vector<std::str
 // cell, viridis colours, RGB order (write_rgb_png).
 cv::Mat confusion_heatmap(const Confusion& confusion, int cell = 24);
 
+// The heat map with its caption strip: what the rows and columns are, the class of each row in
+// order, and the colour scale's ends (nodes/scene/caption_strip.hpp).
+cv::Mat3b confusion_heatmap_captioned(const Confusion& confusion,
+                                      const std::vector<std::string>& classes);
+
 }  // namespace gslift

@@ -41,6 +41,7 @@
 #include <cstdint>
 #include <functional>
 
+#include "base/training_step.hpp"
 #include "nodes/scene/capture.hpp"
 #include "nodes/scene/gaussian_model.hpp"
 #include "nodes/scene/masks.hpp"
@@ -81,7 +82,7 @@ struct ContrastiveResult {
 };
 
 // Called after every iteration with (iteration, total); may throw to stop the run.
-using ContrastiveProgress = std::function<void(int, int)>;
+using ContrastiveProgress = TrainingProgress;
 
 // Trains features for `model` on the masks of the capture's TRAINING views (masks of held-out
 // views are ignored: they are test data). Throws InputError when a ViewMasks names a view the

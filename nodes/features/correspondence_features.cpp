@@ -18,7 +18,7 @@ namespace gslift {
 CorrespondenceResult train_correspondence_features(const GaussianModel& model,
                                                    const Capture& capture, const MaskSet& masks,
                                                    const CorrespondenceOptions& o,
-                                                   const std::function<void(int, int)>& progress) {
+                                                   const TrainingProgress& progress) {
   const auto t0 = std::chrono::steady_clock::now();
   correspondence_param_table().validate(o, "features.correspondence");
   if (o.variant == AffinityVariant::ScaleGated)

@@ -14,6 +14,7 @@
 #include <cstdint>
 #include <functional>
 
+#include "base/training_step.hpp"
 #include "nodes/scene/capture.hpp"
 #include "nodes/scene/gaussian_model.hpp"
 #include "nodes/scene/masks.hpp"
@@ -69,8 +70,9 @@ struct CorrespondenceResult {
 
 // Trains features on the masks of the capture's TRAINING views. Throws InputError when the model
 // is empty, no training view has a mask or an option is out of range.
-CorrespondenceResult train_correspondence_features(
-    const GaussianModel& model, const Capture& capture, const MaskSet& masks,
-    const CorrespondenceOptions& options, const std::function<void(int, int)>& progress = {});
+CorrespondenceResult train_correspondence_features(const GaussianModel& model,
+                                                   const Capture& capture, const MaskSet& masks,
+                                                   const CorrespondenceOptions& options,
+                                                   const TrainingProgress& progress = {});
 
 }  // namespace gslift

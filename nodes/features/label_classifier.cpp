@@ -16,7 +16,7 @@ namespace gslift {
 LabelClassifierResult train_label_classifier(const GaussianModel& model, const Capture& capture,
                                              const LabelMapSet& maps,
                                              const LabelClassifierOptions& o,
-                                             const std::function<void(int, int)>& progress) {
+                                             const TrainingProgress& progress) {
   const auto t0 = std::chrono::steady_clock::now();
   label_classifier_param_table().validate(o, "features.label_classifier");
   if (model.size() == 0) throw InputError("features.label_classifier: the model has no Gaussians");

@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <functional>
 
+#include "base/training_step.hpp"
 #include "nodes/features/neighbour_kl.hpp"
 #include "nodes/scene/capture.hpp"
 #include "nodes/scene/gaussian_model.hpp"
@@ -43,6 +44,6 @@ struct LabelClassifierResult {
 LabelClassifierResult train_label_classifier(const GaussianModel& model, const Capture& capture,
                                              const LabelMapSet& labels,
                                              const LabelClassifierOptions& options,
-                                             const std::function<void(int, int)>& progress = {});
+                                             const TrainingProgress& progress = {});
 
 }  // namespace gslift

@@ -22,7 +22,7 @@ PixelTrainingLoss train_pixel_features(const std::vector<PixelRows>& rows, size_
                                        const PixelTrainingSettings& s, const PixelBatchStep& step,
                                        std::vector<float>& features, std::vector<float>& extras,
                                        const PixelTrainingExtraTerm& extra_term,
-                                       const std::function<void(int, int)>& progress) {
+                                       const TrainingProgress& progress) {
   const int dim = s.dim;
   const size_t n = features.size() / dim;
   std::vector<float> grad(features.size());
@@ -55,7 +55,7 @@ PixelTrainingLoss train_pixel_features(const std::vector<PixelRows>& rows, size_
     if (!extras.empty())
       extra_adam.step(extras.data(), extra_grad.data(), extras.size(),
                       static_cast<float>(s.extra_lr));
-    if (progress) progress(it, s.iterations);
+    if (progress) progress({it + 1, s.iterations, total});
   }
   return loss;
 }

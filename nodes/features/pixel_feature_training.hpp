@@ -17,6 +17,7 @@
 #include <functional>
 #include <vector>
 
+#include "base/training_step.hpp"
 #include "nodes/scene/camera.hpp"
 #include "nodes/scene/gaussian_model.hpp"
 #include "nodes/splat/pixel_rows.hpp"
@@ -64,13 +65,14 @@ struct PixelTrainingLoss {
 };
 
 // Runs settings.iterations steps over `batches` batches per iteration, updating features (N x dim
-// row-major) and extras in place. progress(it, total) runs after each iteration and may throw to
+// row-major) and extras in place. progress (steps done, total, the
+// iteration's loss) runs after each iteration and may throw to
 // stop the run.
 PixelTrainingLoss train_pixel_features(const std::vector<PixelRows>& rows, size_t batches,
                                        const PixelTrainingSettings& settings,
                                        const PixelBatchStep& step, std::vector<float>& features,
                                        std::vector<float>& extras,
                                        const PixelTrainingExtraTerm& extra_term = {},
-                                       const std::function<void(int, int)>& progress = {});
+                                       const TrainingProgress& progress = {});
 
 }  // namespace gslift

@@ -18,12 +18,12 @@ namespace {
 
 void run_contrastive(NodeContext& ctx, ContrastiveOptions o) {
   o.seed = ctx.seed();
-  ContrastiveResult r = train_contrastive_features(
-      *ctx.input<GaussianModel>("model"), *ctx.input<Capture>("capture"),
-      *ctx.input<MaskSet>("masks"), o, [&](int it, int total) {
-        ctx.check_cancelled();
-        ctx.progress(static_cast<double>(it + 1) / total, "contrastive features");
-      });
+  ContrastiveResult r =
+      train_contrastive_features(*ctx.input<GaussianModel>("model"), *ctx.input<Capture>("capture"),
+                                 *ctx.input<MaskSet>("masks"), o, [&](const TrainingStep& step) {
+                                   ctx.check_cancelled();
+                                   ctx.progress(step);
+                                 });
   ctx.record("masks", r.masks);
   ctx.record("loss_start", r.loss_start);
   ctx.record("loss_end", r.loss_end);
@@ -48,9 +48,9 @@ void run_correspondence(NodeContext& ctx, CorrespondenceOptions o) {
   o.seed = ctx.seed();
   CorrespondenceResult r = train_correspondence_features(
       *ctx.input<GaussianModel>("model"), *ctx.input<Capture>("capture"),
-      *ctx.input<MaskSet>("masks"), o, [&](int it, int total) {
+      *ctx.input<MaskSet>("masks"), o, [&](const TrainingStep& step) {
         ctx.check_cancelled();
-        ctx.progress(static_cast<double>(it + 1) / total, "correspondence features");
+        ctx.progress(step);
       });
   ctx.record("views", r.views);
   ctx.record("masks", r.masks);
@@ -86,10 +86,9 @@ void run_view_classifiers(NodeContext& ctx, ViewClassifierOptions o) {
     throw InputError(joint ? "training: joint reconstructs the capture itself (the recon_* "
                              "params): leave the model input unconnected"
                            : "training: frozen needs the model input (the reconstruction)");
-  const auto progress = [&](int it, int total) {
+  const auto progress = [&](const TrainingStep& step) {
     ctx.check_cancelled();
-    ctx.progress(static_cast<double>(it + 1) / total,
-                 joint ? "joint reconstruction and view classifiers" : "view classifiers");
+    ctx.progress(step);
   };
   const Capture& capture = *ctx.input<Capture>("capture");
   const LabelMapSet& partitions = *ctx.input<LabelMapSet>("partitions");
@@ -113,12 +112,12 @@ void run_view_classifiers(NodeContext& ctx, ViewClassifierOptions o) {
 
 void run_label_classifier(NodeContext& ctx, LabelClassifierOptions o) {
   o.seed = ctx.seed();
-  LabelClassifierResult r = train_label_classifier(
-      *ctx.input<GaussianModel>("model"), *ctx.input<Capture>("capture"),
-      *ctx.input<LabelMapSet>("labels"), o, [&](int it, int total) {
-        ctx.check_cancelled();
-        ctx.progress(static_cast<double>(it + 1) / total, "label classifier");
-      });
+  LabelClassifierResult r =
+      train_label_classifier(*ctx.input<GaussianModel>("model"), *ctx.input<Capture>("capture"),
+                             *ctx.input<LabelMapSet>("labels"), o, [&](const TrainingStep& step) {
+                               ctx.check_cancelled();
+                               ctx.progress(step);
+                             });
   ctx.record("classes", static_cast<double>(r.classifier.classes));
   ctx.record("loss_start", r.loss_start);
   ctx.record("loss_end", r.loss_end);

@@ -90,7 +90,7 @@ float QuantileMap::operator()(float x) const {
 CorrespondenceResult train_scale_gated_features(const GaussianModel& model, const Capture& capture,
                                                 const MaskSet& masks,
                                                 const CorrespondenceOptions& o,
-                                                const std::function<void(int, int)>& progress) {
+                                                const TrainingProgress& progress) {
   const auto t0 = std::chrono::steady_clock::now();
   if (model.size() == 0) throw InputError("features.correspondence: the model has no Gaussians");
   CorrespondenceResult result;

@@ -26,6 +26,7 @@
 // and evaluates the norm regulariser over the sampled pixels rather than the whole image.
 #pragma once
 
+#include "base/training_step.hpp"
 #include "nodes/features/correspondence_features.hpp"
 
 namespace gslift {
@@ -34,7 +35,7 @@ namespace gslift {
 CorrespondenceResult train_scale_gated_features(const GaussianModel& model, const Capture& capture,
                                                 const MaskSet& masks,
                                                 const CorrespondenceOptions& options,
-                                                const std::function<void(int, int)>& progress);
+                                                const TrainingProgress& progress);
 
 // sklearn's QuantileTransformer(output_distribution="uniform") fitted on `values`: maps a value
 // to [0, 1] by linear interpolation between min(1000, n) quantiles (ties averaged both ways).

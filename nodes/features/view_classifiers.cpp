@@ -92,7 +92,7 @@ const EnumNames<FeatureTraining>& feature_training_names() {
 ViewClassifierResult train_view_classifiers(const GaussianModel& model, const Capture& capture,
                                             const LabelMapSet& partitions,
                                             const ViewClassifierOptions& o,
-                                            const std::function<void(int, int)>& progress) {
+                                            const TrainingProgress& progress) {
   const auto t0 = std::chrono::steady_clock::now();
   view_classifier_param_table().validate(o, "features.view_classifiers");
   if (model.size() == 0) throw InputError("features.view_classifiers: the model has no Gaussians");
@@ -146,7 +146,7 @@ ViewClassifierResult train_view_classifiers(const GaussianModel& model, const Ca
 ViewClassifierResult train_view_classifiers_jointly(const Capture& capture,
                                                     const LabelMapSet& partitions,
                                                     const ViewClassifierOptions& o,
-                                                    const std::function<void(int, int)>& progress) {
+                                                    const TrainingProgress& progress) {
   const auto t0 = std::chrono::steady_clock::now();
   view_classifier_param_table().validate(o, "features.view_classifiers");
   const int dim = o.dim;
@@ -219,8 +219,8 @@ ViewClassifierResult train_view_classifiers_jointly(const Capture& capture,
   recon.seed = o.seed;
   ReconstructResult rec = reconstruct(
       capture, recon,
-      [&](int step, int total, double, size_t) {
-        if (progress) progress(step, total);
+      [&](const TrainingStep& step, size_t) {
+        if (progress) progress(step);
       },
       &objective);
 

@@ -16,6 +16,7 @@
 #include <functional>
 #include <optional>
 
+#include "base/training_step.hpp"
 #include "nodes/scene/capture.hpp"
 #include "nodes/scene/gaussian_model.hpp"
 #include "nodes/scene/label_maps.hpp"
@@ -75,13 +76,14 @@ struct ViewClassifierResult {
 ViewClassifierResult train_view_classifiers(const GaussianModel& model, const Capture& capture,
                                             const LabelMapSet& partitions,
                                             const ViewClassifierOptions& options,
-                                            const std::function<void(int, int)>& progress = {});
+                                            const TrainingProgress& progress = {});
 
 // Joint training: reconstructs `capture` with options.recon and the view classifiers' L_CE
 // (weight options.lambda_ce) trained together; the seed of the reconstruction is options.seed.
 // Throws like train_view_classifiers and reconstruct().
-ViewClassifierResult train_view_classifiers_jointly(
-    const Capture& capture, const LabelMapSet& partitions, const ViewClassifierOptions& options,
-    const std::function<void(int, int)>& progress = {});
+ViewClassifierResult train_view_classifiers_jointly(const Capture& capture,
+                                                    const LabelMapSet& partitions,
+                                                    const ViewClassifierOptions& options,
+                                                    const TrainingProgress& progress = {});
 
 }  // namespace gslift

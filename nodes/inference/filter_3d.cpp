@@ -80,16 +80,43 @@ std::vector<int> components_within(const Eigen::MatrixXd& pts, double r) {
   return label;
 }
 
+Eigen::VectorXf unit_feature(const std::vector<float>& features, int dim, size_t g) {
+  Eigen::VectorXf f = Eigen::Map<const Eigen::VectorXf>(features.data() + g * dim, dim);
+  const float norm = f.norm();
+  return norm > 0 ? Eigen::VectorXf(f / norm) : f;
+}
+
+// Per instance, the normalised mean of its kept Gaussians' normalised features.
+std::map<int32_t, Eigen::VectorXf> feature_prototypes(const std::vector<float>& features, int dim,
+                                                      const std::vector<size_t>& kept_all,
+                                                      const std::vector<int32_t>& kept_instance) {
+  std::map<int32_t, Eigen::VectorXf> sum;
+  for (size_t j = 0; j < kept_all.size(); ++j) {
+    auto [it, fresh] = sum.try_emplace(kept_instance[j], Eigen::VectorXf::Zero(dim));
+    it->second += unit_feature(features, dim, kept_all[j]);
+  }
+  for (auto& [id, s] : sum)
+    if (s.norm() > 0) s.normalize();
+  return sum;
+}
+
 }  // namespace
 
 Filter3dResult filter_instances_3d(const std::vector<float>& means,
                                    const std::vector<int32_t>& instance_ids,
-                                   const Filter3dOptions& o) {
+                                   const Filter3dOptions& o, const std::vector<float>& features,
+                                   int feature_dim) {
   filter_3d_param_table().validate(o, "inference.filter_3d");
   if (means.size() != 3 * instance_ids.size())
     throw std::invalid_argument("filter_3d: " + std::to_string(means.size() / 3) +
                                 " Gaussians but " + std::to_string(instance_ids.size()) +
                                 " instance ids");
+  const bool feature_gate = o.grow && o.growth_min_similarity > -1;
+  if (feature_gate &&
+      (feature_dim <= 0 || features.size() != size_t(feature_dim) * instance_ids.size()))
+    throw std::invalid_argument(
+        "filter_3d: growth_min_similarity needs the Gaussians' features (the model has " +
+        std::to_string(feature_dim) + " feature channels)");
   Filter3dResult result;
   result.instance_ids = instance_ids;
   std::map<int32_t, std::vector<size_t>> members;  // ordered: results do not depend on hashing
@@ -169,12 +196,17 @@ Filter3dResult filter_instances_3d(const std::vector<float>& means,
     // reuse depended on the other threads' allocations, so growth changed with the thread count.)
     const Eigen::MatrixXd kept_centres = centres(means, kept_all);
     const open3d::geometry::KDTreeFlann tree(kept_centres);
+    const std::map<int32_t, Eigen::VectorXf> prototype =
+        feature_gate ? feature_prototypes(features, feature_dim, kept_all, kept_instance)
+                     : std::map<int32_t, Eigen::VectorXf>{};
     std::vector<int32_t> joined(instance_ids.size(), -1);
     tbb::parallel_for(size_t(0), instance_ids.size(), [&](size_t g) {
       if (is_kept[g]) return;
       std::vector<int> idx;
       std::vector<double> d2;
       const Eigen::Vector3d p(means[3 * g], means[3 * g + 1], means[3 * g + 2]);
+      const Eigen::VectorXf f =
+          feature_gate ? unit_feature(features, feature_dim, g) : Eigen::VectorXf();
       // The nearest kept Gaussian (among the 8 nearest) whose instance may take this one and
       // whose radius reaches it.
       tree.SearchKNN(p, 8, idx, d2);
@@ -185,6 +217,7 @@ Filter3dResult filter_instances_3d(const std::vector<float>& means,
         if (b != box.end() && ((p.array() < b->second.first.array()).any() ||
                                (p.array() > b->second.second.array()).any()))
           continue;
+        if (feature_gate && f.dot(prototype.at(id)) < o.growth_min_similarity) continue;
         if (std::sqrt(d2[j]) <= radius.at(id)) {
           joined[g] = id;
           break;
@@ -242,7 +275,12 @@ const ParamTable<Filter3dOptions>& filter_3d_param_table() {
           .add("max_scene_fraction", &O::max_scene_fraction,
                "growth is refused when it would leave an instance more than this fraction of "
                "the scene's Gaussians; 1 = no bound",
-               0, 1);
+               0, 1)
+          .add("growth_min_similarity", &O::growth_min_similarity,
+               "a Gaussian joins by growth only when its feature's cosine similarity to the "
+               "instance's mean feature reaches this (growth stops at feature edges); -1 = no "
+               "check",
+               -1, 1);
   return table;
 }
 

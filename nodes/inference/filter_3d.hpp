@@ -47,6 +47,10 @@ struct Filter3dOptions {
   double max_growth_ratio = 0;
   // ... or more than this fraction of all the scene's Gaussians [decision, dev set]; 1 = no bound.
   double max_scene_fraction = 1.0;
+  // Growth that stops at feature discontinuities (issue 28): a Gaussian joins an instance only
+  // when the cosine similarity of its feature to the instance's prototype (the normalised mean of
+  // its kept Gaussians' normalised features) reaches this; -1 = no check, SAGA's ball query.
+  double growth_min_similarity = -1;
 };
 
 const ParamTable<Filter3dOptions>& filter_3d_param_table();
@@ -69,10 +73,12 @@ struct Filter3dResult {
   int64_t refused = 0;  // instances whose growth was refused
 };
 
-// means: N x 3 centres (row-major); instance_ids: N ids, -1 = unassigned. Deterministic at any
-// thread count. Throws std::invalid_argument on inconsistent sizes.
+// means: N x 3 centres (row-major); instance_ids: N ids, -1 = unassigned; features: N x
+// feature_dim (row-major), needed only for growth_min_similarity. Deterministic at any thread
+// count. Throws std::invalid_argument on inconsistent sizes, or a similarity gate without features.
 Filter3dResult filter_instances_3d(const std::vector<float>& means,
                                    const std::vector<int32_t>& instance_ids,
-                                   const Filter3dOptions& options);
+                                   const Filter3dOptions& options,
+                                   const std::vector<float>& features = {}, int feature_dim = 0);
 
 }  // namespace gslift

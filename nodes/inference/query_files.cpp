@@ -3,12 +3,17 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <set>
 
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 
 #include "base/atomic_file.hpp"
+#include "nodes/scene/caption_strip.hpp"
 #include "nodes/scene/image_io.hpp"
+#include "nodes/scene/label_maps.hpp"
+#include "nodes/splat/channel_images.hpp"
+#include "nodes/splat/rasterizer.hpp"
 
 namespace gslift {
 namespace {
@@ -40,12 +45,62 @@ cv::Mat overlay(const cv::Mat& rgb, const cv::Mat1b& mask) {
   return out;
 }
 
+// Half of `colour` over the pixel.
+void tint(cv::Vec3b& p, const cv::Vec3b& colour) {
+  for (int k = 0; k < 3; ++k) p[k] = static_cast<uint8_t>((p[k] + colour[k]) / 2);
+}
+
 }  // namespace
 
+const char* const kGtRenderInstancesSuffix = "_gt_render_instances.png";
+
 void write_mask_files(const std::filesystem::path& dir, const std::string& stem,
-                      const cv::Mat1b& mask, const cv::Mat& rgb) {
+                      const cv::Mat1b& mask, const cv::Mat& rgb, const std::string& label) {
   write_png(dir / (stem + "_mask.png"), mask);
-  if (rgb.size() == mask.size()) write_rgb_png(dir / (stem + "_overlay.png"), overlay(rgb, mask));
+  if (rgb.size() == mask.size())
+    write_rgb_png(dir / (stem + "_overlay.png"),
+                  with_caption(overlay(rgb, mask), "'" + label + "' over the view",
+                               {{"selected pixels", cv::Vec3b(255, 64, 64)}}));
+}
+
+cv::Mat3b gt_render_instances(const TextQueryResults& results,
+                              const TextQueryResults::ViewAnswers& answers, const View& view,
+                              const std::map<int, std::string>& classes, const cv::Mat3b& render) {
+  if (!view.gt_semantic.present()) return {};
+  const cv::Mat1i truth = view.gt_semantic.load();
+  if (truth.size() != render.size()) return {};
+  std::map<std::string, int> class_id;
+  for (const auto& [id, name] : classes) class_id[name] = id;
+  std::set<int> shown;
+  cv::Mat3b gt(truth.size(), cv::Vec3b(0, 0, 0));
+  for (int y = 0; y < truth.rows; ++y)
+    for (int x = 0; x < truth.cols; ++x)
+      if (truth(y, x) > 0) {
+        gt(y, x) = label_colour(truth(y, x));
+        shown.insert(truth(y, x));
+      }
+  cv::Mat3b instances = render.clone();
+  for (size_t q = 0; q < answers.masks.size() && q < results.query_classes.size(); ++q) {
+    auto it = class_id.find(results.query_classes[q]);
+    if (it == class_id.end()) continue;
+    shown.insert(it->second);
+    const cv::Vec3b colour = label_colour(it->second);
+    for (int y = 0; y < instances.rows; ++y)
+      for (int x = 0; x < instances.cols; ++x)
+        if (answers.masks[q](y, x)) tint(instances(y, x), colour);
+  }
+  std::vector<LegendEntry> legend;
+  for (int id : shown) {
+    auto it = classes.find(id);
+    legend.push_back(
+        {it == classes.end() ? "class " + std::to_string(id) : it->second, label_colour(id)});
+  }
+  return with_caption(
+      side_by_side(
+          {{"ground truth", gt}, {"render", render}, {"instances (text queries)", instances}}),
+      answers.view + std::string(view.held_out ? " (held out)" : "") +
+          ": ground truth | render | instances; black: background",
+      legend);
 }
 
 std::string query_file_stem(const std::string& query) {
@@ -63,7 +118,7 @@ std::string query_file_stem(const std::string& query) {
 }
 
 void write_query_files(const TextQueryResults& results, const Capture& capture,
-                       const std::filesystem::path& dir) {
+                       const GaussianModel& model, const std::filesystem::path& dir) {
   nlohmann::json queries = nlohmann::json::array();
   for (size_t q = 0; q < results.queries.size(); ++q) {
     nlohmann::json entry = {{"query", results.queries[q]},
@@ -83,9 +138,16 @@ void write_query_files(const TextQueryResults& results, const Capture& capture,
         vi >= 0 && capture.views[vi].rgb.present() ? capture.views[vi].rgb.load() : cv::Mat();
     for (size_t q = 0; q < results.queries.size(); ++q) {
       const std::string stem = answers.view + "__" + query_file_stem(results.queries[q]);
-      write_mask_files(dir, stem, answers.masks[q], rgb);
+      write_mask_files(dir, stem, answers.masks[q], rgb, results.queries[q]);
       write_png(dir / (stem + "_relevancy.png"), relevancy_png(answers.relevancy[q]));
     }
+    if (vi < 0 || !capture.views[vi].gt_semantic.present()) continue;
+    const View& view = capture.views[vi];
+    const cv::Mat3b render_rgb =
+        channel_image(render(model, view.camera, view.pose, RenderSettings{}), "rgb");
+    const cv::Mat3b picture =
+        gt_render_instances(results, answers, view, capture.classes, render_rgb);
+    if (!picture.empty()) write_rgb_png(dir / (answers.view + kGtRenderInstancesSuffix), picture);
   }
 }
 

@@ -99,7 +99,7 @@ void run_text_query(NodeContext& ctx, TextQueryNodeOptions o) {
   ctx.record("query_classes", landed);
   const auto dir = ctx.out_dir();
   if (!dir.empty()) {
-    write_query_files(results, *capture, dir);
+    write_query_files(results, *capture, *model, dir);
     GaussianModel segmented = *model;
     segmented.class_ids = query_class_ids(segmented, results);
     write_ply(segmented, dir / "segmented.ply");
@@ -113,7 +113,8 @@ void run_filter_3d(NodeContext& ctx, const Filter3dOptions& o) {
     throw InputError("inference.filter_3d: the model has " +
                      std::to_string(model->instance_ids.size()) + " instance ids for " +
                      std::to_string(model->size()) + " Gaussians (run an association first)");
-  Filter3dResult r = filter_instances_3d(model->means, model->instance_ids, o);
+  Filter3dResult r = filter_instances_3d(model->means, model->instance_ids, o, model->features,
+                                         model->feature_dim);
   ctx.record("outliers", static_cast<double>(r.outliers));
   ctx.record("component_dropped", static_cast<double>(r.component_dropped));
   ctx.record("grown", static_cast<double>(r.grown));

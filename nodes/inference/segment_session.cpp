@@ -135,7 +135,8 @@ int run_segment_session(const GaussianModel& model, const Capture& capture,
       if (j.value("filter", false)) {
         std::vector<int32_t> ids(s.selected.size());
         for (size_t g = 0; g < ids.size(); ++g) ids[g] = s.selected[g] ? 0 : -1;
-        const Filter3dResult f = filter_instances_3d(model.means, ids, Filter3dOptions{});
+        const Filter3dResult f = filter_instances_3d(model.means, ids, Filter3dOptions{},
+                                                     model.features, model.feature_dim);
         for (size_t g = 0; g < ids.size(); ++g) indicator[g] = f.instance_ids[g] == 0;
       }
       const double select_ms = ms_since(t0);
@@ -171,8 +172,8 @@ int run_segment_session(const GaussianModel& model, const Capture& capture,
             const int vi = capture.find_view(vm.view);
             const cv::Mat rgb =
                 capture.views[vi].rgb.present() ? capture.views[vi].rgb.load() : cv::Mat();
-            write_mask_files(dir, vm.view + "__" + query_file_stem(p.name), vm.masks[0].pixels,
-                             rgb);
+            write_mask_files(dir, vm.view + "__" + query_file_stem(p.name), vm.masks[0].pixels, rgb,
+                             p.name);
           }
         }
         reply["output"] = dir.string();

@@ -48,7 +48,7 @@ void write_selection_files(const MaskSet& masks, const GaussianModel& model,
     const cv::Mat rgb =
         vi >= 0 && capture.views[vi].rgb.present() ? capture.views[vi].rgb.load() : cv::Mat();
     for (const Mask& m : vm.masks)
-      write_mask_files(dir, vm.view + "__" + query_file_stem(m.label), m.pixels, rgb);
+      write_mask_files(dir, vm.view + "__" + query_file_stem(m.label), m.pixels, rgb, m.label);
   }
   for (size_t k = 0; k < names.size(); ++k)
     write_ply(selected_gaussians(model, static_cast<int>(k)),

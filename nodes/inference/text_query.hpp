@@ -14,8 +14,8 @@
 // instead of a pass over every (pixel, Gaussian) pair of the cache. Measured on the default
 // embedded OR (640x480, ~80k Gaussians, ~12M cache entries): the sparse product took 6.7 to
 // 15.3 ms per mask depending on the load of the machine (it is memory bound and parallel, so
-// other processes on the two cores doubled it); the planes take well under 1 ms (bench_langor,
-// docs/langor.md).
+// other processes on the two cores doubled it); the planes take well under 1 ms (docs/langor.md;
+// bench_viewer times a query).
 #pragma once
 
 #include <string>

@@ -73,8 +73,14 @@ long long stem_number(const std::string& stem) {
 
 }  // namespace
 
+const EnumNames<MaskChannel>& mask_channel_names() {
+  static const EnumNames<MaskChannel> names = {{MaskChannel::Gray, "gray"},
+                                               {MaskChannel::Alpha, "alpha"}};
+  return names;
+}
+
 MaskSet mask_folder(const Capture& capture, const std::filesystem::path& folder, ViewSet which,
-                    const std::string& label) {
+                    const std::string& label, MaskChannel channel) {
   if (!std::filesystem::is_directory(folder))
     throw InputError("masks.folder: no folder " + folder.string());
   std::map<std::string, std::filesystem::path> by_stem;
@@ -97,7 +103,9 @@ MaskSet mask_folder(const Capture& capture, const std::filesystem::path& folder,
     } else {
       continue;
     }
-    cv::Mat m = read_image(file, cv::IMREAD_GRAYSCALE);
+    cv::Mat m =
+        channel == MaskChannel::Alpha ? read_alpha(file) : read_image(file, cv::IMREAD_GRAYSCALE);
+    if (m.empty()) throw InputError("masks.folder: " + file.string() + " has no alpha channel");
     const cv::Size size(view.camera.width, view.camera.height);
     if (m.size() != size) cv::resize(m, m, size, 0, 0, cv::INTER_AREA);
     Mask mask;

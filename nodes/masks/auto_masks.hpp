@@ -47,11 +47,17 @@ MaskSet auto_mask_set(const Capture& capture, const AutoMaskOptions& options);
 // instance id, labelled with the id in decimal (masks_from_instance_map).
 MaskSet ground_truth_masks(const Capture& capture, ViewSet which);
 
+// Which channel of a mask image holds the mask: its grey level (DTU's mask/), or its alpha (the
+// Blender scenes' RGBA renders, whose alpha is the exact object coverage).
+enum class MaskChannel { Gray, Alpha };
+const EnumNames<MaskChannel>& mask_channel_names();  // gray, alpha
+
 // Binary object masks from image files, one per view (DTU's mask/0NN.png): the file whose stem is
-// the view's name, or is the same number (view "000024", file "024.png"). Read as grayscale,
+// the view's name, or is the same number (view "000024", file "024.png"). The channel is read,
 // resized to the view's size (area filter) and thresholded at > 127; the mask is labelled
-// `label`. Views of `which` without a file get none; unreadable files are InputErrors.
+// `label`. Views of `which` without a file get none; unreadable files, and files without alpha
+// when alpha is asked for, are InputErrors.
 MaskSet mask_folder(const Capture& capture, const std::filesystem::path& folder, ViewSet which,
-                    const std::string& label);
+                    const std::string& label, MaskChannel channel = MaskChannel::Gray);
 
 }  // namespace gslift

@@ -58,6 +58,7 @@ struct MaskFolderOptions {
   std::string folder;
   std::string label = "object";
   ViewSet views = ViewSet::All;
+  MaskChannel channel = MaskChannel::Gray;
 };
 
 const ParamTable<MaskFolderOptions>& mask_folder_table() {
@@ -69,7 +70,9 @@ const ParamTable<MaskFolderOptions>& mask_folder_table() {
                "the same number); relative: to the capture's folder first")
           .required()
           .add("label", &O::label, "label of every mask (prompts and evaluation match on it)")
-          .add("views", &O::views, view_set_names(), "views to read masks for");
+          .add("views", &O::views, view_set_names(), "views to read masks for")
+          .add("channel", &O::channel, mask_channel_names(),
+               "where the mask is: gray (a mask image) or alpha (an RGBA render's coverage)");
   return table;
 }
 
@@ -78,7 +81,7 @@ void run_mask_folder(NodeContext& ctx, const MaskFolderOptions& o) {
   std::filesystem::path folder = o.folder;
   if (folder.is_relative() && !capture->root.empty() && !std::filesystem::exists(folder))
     folder = capture->root / folder;
-  MaskSet set = mask_folder(*capture, folder, o.views, o.label);
+  MaskSet set = mask_folder(*capture, folder, o.views, o.label, o.channel);
   if (set.views.empty())
     throw InputError("masks.folder: no file of " + folder.string() + " matches a view of '" +
                      capture->name + "'");

@@ -1,6 +1,10 @@
 #include "nodes/scene/label_maps.hpp"
 
+#include <algorithm>
+#include <map>
+
 #include "base/hash.hpp"
+#include "nodes/scene/caption_strip.hpp"
 #include "nodes/scene/capture.hpp"
 #include "nodes/scene/image_io.hpp"
 
@@ -23,15 +27,36 @@ void write_label_map_files(const LabelMapSet& maps, const Capture* rgb,
     if (v < 0 || !rgb->views[v].rgb.present()) continue;
     cv::Mat3b image = rgb->views[v].rgb.load();
     if (image.size() != m.labels.size()) continue;
+    std::map<int, int> area;
     for (int y = 0; y < image.rows; ++y)
       for (int x = 0; x < image.cols; ++x) {
         const int id = m.labels(y, x);
         if (id == 0) continue;
+        ++area[id];
         const cv::Vec3b c = label_colour(id);
         cv::Vec3b& p = image(y, x);
         for (int k = 0; k < 3; ++k) p[k] = static_cast<uchar>((p[k] + c[k]) / 2);
       }
-    write_rgb_png(dir / (m.view + "_overlay.png"), image);
+    // The legend names the largest labels; a view of many speckle labels would fill a page.
+    constexpr size_t kLegendIds = 16;
+    std::vector<std::pair<int, int>> by_area;
+    for (const auto& [id, pixels] : area) by_area.push_back({-pixels, id});
+    std::sort(by_area.begin(), by_area.end());
+    std::vector<LegendEntry> legend;
+    for (size_t k = 0; k < by_area.size() && k < kLegendIds; ++k)
+      legend.push_back(
+          {"id " + std::to_string(by_area[k].second), label_colour(by_area[k].second)});
+    const std::string more =
+        by_area.size() > kLegendIds
+            ? " (" + std::to_string(by_area.size() - kLegendIds) + " smaller labels not listed)"
+            : std::string();
+    write_rgb_png(dir / (m.view + "_overlay.png"),
+                  with_caption(image,
+                               m.view +
+                                   ": instance labels over the view, a colour per id; "
+                                   "uncoloured: unlabelled" +
+                                   more,
+                               legend));
   }
 }
 

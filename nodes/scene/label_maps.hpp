@@ -28,7 +28,8 @@ GSLIFT_PORT_TYPE(LabelMapSet, "LabelMapSet");
 
 // Writes <view>_labels.png (16-bit ids, read back with read_label_map) for every map in `dir`, and
 // with `rgb` (the capture's views by name; may be null) <view>_overlay.png: the view's RGB half
-// blended with one colour per id (id 0 left as it is). Throws InputError past 65535 ids.
+// blended with one colour per id (id 0 left as it is), captioned with a legend of the ids it shows
+// (the largest first, at most kLegendIds). Throws InputError past 65535 ids.
 struct Capture;
 void write_label_map_files(const LabelMapSet& maps, const Capture* rgb,
                            const std::filesystem::path& dir);

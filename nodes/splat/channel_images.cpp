@@ -99,4 +99,13 @@ cv::Mat channel_image(const RenderOutput& out, const std::string& channel) {
   return image;
 }
 
+std::string channel_meaning(const std::string& channel) {
+  if (channel == "rgb") return "the rendered colour";
+  if (channel == "depth") return "grey, black nearest to white farthest; black: no depth";
+  if (channel == "normal") return "world normal (n + 1) / 2 as RGB (x red, y green, z blue)";
+  if (channel == "alpha") return "accumulated opacity, black 0 to white 1";
+  if (channel == "features") return "first three feature channels as RGB, each min-max scaled";
+  throw std::invalid_argument("unknown render channel '" + channel + "'");
+}
+
 }  // namespace gslift

@@ -26,4 +26,8 @@ void request_channel(RenderSettings& settings, const std::string& channel);
 // The channel must have been rendered into `out`.
 cv::Mat channel_image(const RenderOutput& out, const std::string& channel);
 
+// What the colours of a channel's picture mean, as above, for its caption ("depth: grey, black
+// nearest to white farthest; black where nothing was drawn").
+std::string channel_meaning(const std::string& channel);
+
 }  // namespace gslift

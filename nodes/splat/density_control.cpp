@@ -57,11 +57,13 @@ bool is_density_step(const DensityControlOptions& o, int step, int iterations) {
   return o.interval > 0 && step >= o.start && step <= stop && (step - o.start) % o.interval == 0;
 }
 
-DensityChange densify_and_prune(GaussianModel& model, const DensityStats& stats,
-                                const DensityControlOptions& o, double extent, uint64_t seed,
-                                const std::vector<char>& also_prune) {
+namespace {
+
+// Rows to prune, each counted in `change` under its first reason.
+std::vector<char> mark_pruned(const GaussianModel& model, const DensityControlOptions& o,
+                              double extent, const std::vector<char>& also_prune,
+                              DensityChange& change) {
   const size_t n = model.size();
-  DensityChange change;
   std::vector<char> prune(n, 0);
   for (size_t i = 0; i < n; ++i) {
     const double opacity = 1 / (1 + std::exp(-static_cast<double>(model.opacity_logits[i])));
@@ -75,7 +77,21 @@ DensityChange densify_and_prune(GaussianModel& model, const DensityStats& stats,
       continue;
     prune[i] = 1;
   }
-  // Growth candidates by mean gradient, largest first (index breaks ties: deterministic).
+  change.pruned = std::count(prune.begin(), prune.end(), 1);
+  return prune;
+}
+
+struct Growth {
+  std::vector<size_t> clones, splits;  // ascending row order
+};
+
+// Growth candidates by mean view-space gradient, largest first (index breaks ties, so the
+// choice is deterministic), cloned when small and split when large (3DGS Sec. 5.2), until the
+// Gaussian budget is spent.
+Growth choose_growth(const GaussianModel& model, const DensityStats& stats,
+                     const DensityControlOptions& o, double extent, const std::vector<char>& prune,
+                     DensityChange& change) {
+  const size_t n = model.size();
   std::vector<std::pair<double, size_t>> grow;
   for (size_t i = 0; i < n && i < stats.grad_sum.size(); ++i) {
     if (prune[i] || stats.visible[i] == 0) continue;
@@ -83,7 +99,7 @@ DensityChange densify_and_prune(GaussianModel& model, const DensityStats& stats,
     if (mean > o.grad_threshold) grow.emplace_back(-mean, i);
   }
   std::sort(grow.begin(), grow.end());
-  const size_t kept_before = n - std::count(prune.begin(), prune.end(), 1);
+  const size_t kept_before = n - change.pruned;
   // Each clone adds one Gaussian, each split adds split_children - 1.
   size_t budget_left = o.max_gaussians > kept_before ? o.max_gaussians - kept_before : 0;
   std::vector<char> clone(n, 0), split(n, 0);
@@ -98,20 +114,23 @@ DensityChange densify_and_prune(GaussianModel& model, const DensityStats& stats,
     budget_left -= cost;
     (small ? clone : split)[i] = 1;
   }
-
-  for (size_t i = 0; i < n; ++i)
-    if (!prune[i] && !split[i]) change.source.push_back(static_cast<int>(i));
-  change.pruned = std::count(prune.begin(), prune.end(), 1);
-  std::vector<size_t> clones, splits;
+  Growth out;
   for (size_t i = 0; i < n; ++i) {
-    if (clone[i]) clones.push_back(i);
-    if (split[i]) splits.push_back(i);
+    if (clone[i]) out.clones.push_back(i);
+    if (split[i]) out.splits.push_back(i);
+    if (!prune[i] && !split[i]) change.source.push_back(static_cast<int>(i));
   }
-  change.cloned = clones.size();
-  change.split = splits.size();
-  const size_t total =
-      change.source.size() + clones.size() + splits.size() * std::max(o.split_children, 0);
+  change.cloned = out.clones.size();
+  change.split = out.splits.size();
+  return out;
+}
 
+// The new model: kept rows (change.source so far), then clones, then split children sampled
+// from N(mu, Sigma) of their parent (3DGS densify_and_split) and shrunk.
+GaussianModel grown_model(const GaussianModel& model, const Growth& growth,
+                          const DensityControlOptions& o, uint64_t seed, DensityChange& change) {
+  const size_t total = change.source.size() + growth.clones.size() +
+                       growth.splits.size() * std::max(o.split_children, 0);
   GaussianModel out;
   out.sh_degree = model.sh_degree;
   out.feature_dim = model.feature_dim;
@@ -120,13 +139,12 @@ DensityChange densify_and_prune(GaussianModel& model, const DensityStats& stats,
   out.resize(total);
   size_t row = 0;
   for (int i : change.source) copy_row(model, i, out, row++);
-  for (size_t i : clones) {
+  for (size_t i : growth.clones) {
     copy_row(model, i, out, row++);
     change.source.push_back(-1);
   }
   const float shrink = std::log(static_cast<float>(o.split_scale_divisor));
-  for (size_t i : splits) {
-    // Children sampled from N(mu, Sigma) of the parent (3DGS densify_and_split).
+  for (size_t i : growth.splits) {
     RandomStream rng(stream_seed(seed, "densify.split", i));
     const Eigen::Matrix3d R = model.rotation(i);
     for (int c = 0; c < o.split_children; ++c) {
@@ -142,7 +160,18 @@ DensityChange densify_and_prune(GaussianModel& model, const DensityStats& stats,
       change.source.push_back(-1);
     }
   }
-  model = std::move(out);
+  return out;
+}
+
+}  // namespace
+
+DensityChange densify_and_prune(GaussianModel& model, const DensityStats& stats,
+                                const DensityControlOptions& o, double extent, uint64_t seed,
+                                const std::vector<char>& also_prune) {
+  DensityChange change;
+  const std::vector<char> prune = mark_pruned(model, o, extent, also_prune, change);
+  const Growth growth = choose_growth(model, stats, o, extent, prune, change);
+  model = grown_model(model, growth, o, seed, change);
   return change;
 }
 

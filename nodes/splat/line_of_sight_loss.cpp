@@ -18,6 +18,26 @@
 
 namespace gslift {
 
+namespace {
+
+// Each pixel's cut depth in a tile: depth_factor x its prior depth; a pixel without a prior gets
+// a cut of 0, which puts every Gaussian behind it (the near plane is > 0). Returns the pixels
+// with a prior.
+size_t depth_prior_cut(const cv::Mat1f& prior_depth, const PixelRect& tile, double depth_factor,
+                       float* cut) {
+  size_t observed = 0;
+  for (int p = 0; p < kTilePixels; ++p) {
+    const int x = tile.x0 + p % kTileSize, y = tile.y0 + p / kTileSize;
+    const float D = x < tile.x1 && y < tile.y1 ? prior_depth(y, x) : 0.f;
+    const bool has = D > 0 && std::isfinite(D);
+    cut[p] = has ? static_cast<float>(depth_factor * D) : 0.f;
+    observed += has;
+  }
+  return observed;
+}
+
+}  // namespace
+
 double opacity_before_prior(const GaussianModel& model, const Camera& camera, const Pose& pose,
                             const cv::Mat1f& prior_depth, const RenderOutput& forward,
                             double depth_factor, double scale, ModelGrads* grads,
@@ -43,14 +63,7 @@ double opacity_before_prior(const GaussianModel& model, const Camera& camera, co
       alignas(64) float cut[kTilePixels];
       for (int t = r.begin(); t != r.end(); ++t) {
         const PixelRect tile = tile_pixels(s, t);
-        for (int p = 0; p < kTilePixels; ++p) {
-          const int x = tile.x0 + p % kTileSize, y = tile.y0 + p / kTileSize;
-          const float D = x < tile.x1 && y < tile.y1 ? prior_depth(y, x) : 0.f;
-          // No prior: a cut of 0 puts every Gaussian behind it (the near plane is > 0).
-          const bool has = D > 0 && std::isfinite(D);
-          cut[p] = has ? static_cast<float>(depth_factor * D) : 0.f;
-          tile_observed[t] += has;
-        }
+        tile_observed[t] = depth_prior_cut(prior_depth, tile, depth_factor, cut);
         // Alphas and early stop exactly as the forward pass blends, restricted to the Gaussians in
         // front of each pixel's cut.
         blend_tile(

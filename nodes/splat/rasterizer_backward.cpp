@@ -235,6 +235,67 @@ void backward_tile(const RasterState& s, int t, const PixelGrads& pixel_grads, f
   }
 }
 
+// The forward pass's state and the accumulator fit this model and camera.
+void check_backward_sizes(const GaussianModel& model, const Camera& camera, const RasterState& s,
+                          const ModelGrads& accumulate) {
+  const size_t n = model.size();
+  if (s.projections.size() != n || s.width != camera.width || s.height != camera.height)
+    throw InputError("render_backward: the forward pass was rendered for another model or camera");
+  const int K = GaussianModel::sh_coeffs(model.sh_degree);
+  if (accumulate.means.size() != 3 * n || accumulate.log_scales.size() != 3 * n ||
+      accumulate.quats.size() != 4 * n || accumulate.opacity_logits.size() != n ||
+      accumulate.sh.size() != n * K * 3 ||
+      accumulate.features.size() != n * size_t(model.feature_dim) ||
+      accumulate.mean2d_abs.size() != n || accumulate.visible.size() != n)
+    throw InputError("render_backward: ModelGrads sizes do not match the model (call reset())");
+}
+
+// backward_tile with the common channel counts as loops of fixed length (rgb; rgb + depth +
+// normal (+ alpha); 16 features).
+void backward_tile_channels(const RasterState& s, int t, const PixelGrads& pixel_grads,
+                            float* slot_grads, BackwardScratch& scratch) {
+  switch (s.channels) {
+    case 3:
+      return backward_tile<3>(s, t, pixel_grads, slot_grads, scratch);
+    case 7:
+      return backward_tile<7>(s, t, pixel_grads, slot_grads, scratch);
+    case 8:
+      return backward_tile<8>(s, t, pixel_grads, slot_grads, scratch);
+    case 16:
+      return backward_tile<16>(s, t, pixel_grads, slot_grads, scratch);
+    default:
+      return backward_tile<0>(s, t, pixel_grads, slot_grads, scratch);
+  }
+}
+
+// Gaussian gi's colour gradient d_rgb through its SH coefficients and, through the view
+// direction, its mean. A clamped (negative) colour channel passes no gradient.
+void sh_colour_backward(const GaussianModel& model, const ViewTransform& view, int sh_degree,
+                        size_t gi, const float* d_rgb, ModelGrads& accumulate) {
+  const int K = GaussianModel::sh_coeffs(model.sh_degree);
+  float basis[kMaxShCoeffs];
+  Eigen::Vector3f basis_grad[kMaxShCoeffs];
+  float length;
+  const Eigen::Vector3f dir = view_direction(view, &model.means[3 * gi], length);
+  sh_basis(sh_degree, dir, basis, basis_grad);
+  const float* sh = &model.sh[gi * K * 3];
+  const Eigen::Vector3f raw = sh_colour(sh, sh_degree, basis);
+  Eigen::Vector3f d_colour;
+  for (int c = 0; c < 3; ++c) d_colour[c] = raw[c] < 0.f ? 0.f : d_rgb[c];
+  Eigen::Vector3f d_dir = Eigen::Vector3f::Zero();
+  for (int k = 0; k < GaussianModel::sh_coeffs(sh_degree); ++k) {
+    float along = 0.f;
+    for (int c = 0; c < 3; ++c) {
+      accumulate.sh[(gi * K + k) * 3 + c] += basis[k] * d_colour[c];
+      along += sh[3 * k + c] * d_colour[c];
+    }
+    d_dir += along * basis_grad[k];
+  }
+  // dir = (mu - centre) / |mu - centre|.
+  const Eigen::Vector3f d_mu = (d_dir - dir * dir.dot(d_dir)) / length;
+  for (int k = 0; k < 3; ++k) accumulate.means[3 * gi + k] += d_mu[k];
+}
+
 }  // namespace
 
 void render_backward(const GaussianModel& model, const Camera& camera, const Pose& pose,
@@ -244,15 +305,8 @@ void render_backward(const GaussianModel& model, const Camera& camera, const Pos
   if (!forward.state) throw InputError("render_backward: the forward output has no raster state");
   const RasterState& s = *forward.state;
   const size_t n = model.size();
-  if (s.projections.size() != n || s.width != camera.width || s.height != camera.height)
-    throw InputError("render_backward: the forward pass was rendered for another model or camera");
-  const int K = GaussianModel::sh_coeffs(model.sh_degree);
+  check_backward_sizes(model, camera, s, accumulate);
   const int D = model.feature_dim;
-  if (accumulate.means.size() != 3 * n || accumulate.log_scales.size() != 3 * n ||
-      accumulate.quats.size() != 4 * n || accumulate.opacity_logits.size() != n ||
-      accumulate.sh.size() != n * K * 3 || accumulate.features.size() != n * size_t(D) ||
-      accumulate.mean2d_abs.size() != n || accumulate.visible.size() != n)
-    throw InputError("render_backward: ModelGrads sizes do not match the model (call reset())");
   const PixelGrads pixel_grads(s, settings, forward, grads);
   const ViewTransform view(camera, pose);
 
@@ -264,35 +318,14 @@ void render_backward(const GaussianModel& model, const Camera& camera, const Pos
   tbb::parallel_for(tbb::blocked_range<int>(0, s.tile_count()),
                     [&](const tbb::blocked_range<int>& r) {
                       BackwardScratch scratch(s.channels);
-                      for (int t = r.begin(); t != r.end(); ++t) {
-                        // The common channel counts get loops of fixed length (rgb; rgb + depth +
-                        // normal (+ alpha); 16 features).
-                        switch (s.channels) {
-                          case 3:
-                            backward_tile<3>(s, t, pixel_grads, slot_grads.data(), scratch);
-                            break;
-                          case 7:
-                            backward_tile<7>(s, t, pixel_grads, slot_grads.data(), scratch);
-                            break;
-                          case 8:
-                            backward_tile<8>(s, t, pixel_grads, slot_grads.data(), scratch);
-                            break;
-                          case 16:
-                            backward_tile<16>(s, t, pixel_grads, slot_grads.data(), scratch);
-                            break;
-                          default:
-                            backward_tile<0>(s, t, pixel_grads, slot_grads.data(), scratch);
-                            break;
-                        }
-                      }
+                      for (int t = r.begin(); t != r.end(); ++t)
+                        backward_tile_channels(s, t, pixel_grads, slot_grads.data(), scratch);
                     });
 
   // Pass 2, per Gaussian: sum its slots in tile order, then chain through colour and projection.
   tbb::parallel_for(
       tbb::blocked_range<size_t>(0, n, 256), [&](const tbb::blocked_range<size_t>& r) {
         std::vector<float> sum(stride);
-        float basis[kMaxShCoeffs];
-        Eigen::Vector3f basis_grad[kMaxShCoeffs];
         for (size_t gi = r.begin(); gi != r.end(); ++gi) {
           if (s.slot_offsets[gi] == s.slot_offsets[gi + 1]) continue;
           std::fill(sum.begin(), sum.end(), 0.f);
@@ -303,27 +336,8 @@ void render_backward(const GaussianModel& model, const Camera& camera, const Pos
 
           const float o = sigmoid(model.opacity_logits[gi]);
           accumulate.opacity_logits[gi] += sum[5] * o * (1.f - o);
-          if (s.rgb_offset >= 0) {
-            float length;
-            const Eigen::Vector3f dir = view_direction(view, mean, length);
-            sh_basis(s.sh_degree, dir, basis, basis_grad);
-            const float* sh = &model.sh[gi * K * 3];
-            const Eigen::Vector3f raw = sh_colour(sh, s.sh_degree, basis);
-            Eigen::Vector3f d_colour;
-            for (int c = 0; c < 3; ++c) d_colour[c] = raw[c] < 0.f ? 0.f : dv[s.rgb_offset + c];
-            Eigen::Vector3f d_dir = Eigen::Vector3f::Zero();
-            for (int k = 0; k < GaussianModel::sh_coeffs(s.sh_degree); ++k) {
-              float along = 0.f;
-              for (int c = 0; c < 3; ++c) {
-                accumulate.sh[(gi * K + k) * 3 + c] += basis[k] * d_colour[c];
-                along += sh[3 * k + c] * d_colour[c];
-              }
-              d_dir += along * basis_grad[k];
-            }
-            // dir = (mu - centre) / |mu - centre|.
-            const Eigen::Vector3f d_mu = (d_dir - dir * dir.dot(d_dir)) / length;
-            for (int k = 0; k < 3; ++k) accumulate.means[3 * gi + k] += d_mu[k];
-          }
+          if (s.rgb_offset >= 0)
+            sh_colour_backward(model, view, s.sh_degree, gi, dv + s.rgb_offset, accumulate);
           for (int f = 0; s.feature_offset >= 0 && f < D; ++f)
             accumulate.features[gi * D + f] += dv[s.feature_offset + f];
 

@@ -88,64 +88,36 @@ uint32_t depth_order(float depth) {
 }
 
 // Projects every Gaussian, computes its blended values and fills the depth-sorted tile lists.
-void bin_gaussians(const GaussianModel& model, const ViewTransform& view,
-                   const RenderSettings& settings, RasterState& s) {
-  const size_t n = model.size();
+// Gaussian g's channel values (rgb from its SH at this view, depth, normal, features, alpha) in
+// the state's layout.
+void write_channel_values(const GaussianModel& model, const ViewTransform& view,
+                          const ProjectedGaussian& p, size_t g, RasterState& s) {
   const int K = GaussianModel::sh_coeffs(model.sh_degree);
   const int D = model.feature_dim;
-  s.projections.resize(n);
-  s.values.assign(n * s.channels, 0.f);
-  std::vector<BlendRect> rects(n);
-  // Per Gaussian, what all its tile-list entries share (all but the slot): computed once here
-  // rather than once per tile, since a Gaussian is in about three tiles.
-  UninitVector<TileGaussian> entries(n);
-  tbb::parallel_for(
-      tbb::blocked_range<size_t>(0, n, 1024), [&](const tbb::blocked_range<size_t>& r) {
-        float basis[kMaxShCoeffs];
-        for (size_t g = r.begin(); g != r.end(); ++g) {
-          ProjectedGaussian& p = s.projections[g];
-          if (!project_gaussian(view, &model.means[3 * g], &model.log_scales[3 * g],
-                                &model.quats[4 * g], settings.near, p))
-            continue;
-          const float o = sigmoid(model.opacity_logits[g]);
-          const BlendRect& rect = rects[g] = blend_rect(p, o, s.min_alpha, s.width, s.height);
-          if (rect.tiles() == 0) {
-            p.radius = 0;
-            continue;
-          }
-          entries[g] = {p.mean2d.x(),
-                        p.mean2d.y(),
-                        p.conic[0],
-                        p.conic[1],
-                        p.conic[2],
-                        o,
-                        std::log(s.min_alpha / std::max(o, 1e-30f)),
-                        int16_t(rect.x0),
-                        int16_t(rect.y0),
-                        int16_t(rect.x1),
-                        int16_t(rect.y1),
-                        uint32_t(g),
-                        0u};
-          float* v = s.values.data() + g * s.channels;  // values is empty without channels
-          if (s.rgb_offset >= 0) {
-            float length;
-            sh_basis(s.sh_degree, view_direction(view, &model.means[3 * g], length), basis);
-            const Eigen::Vector3f c = sh_colour(&model.sh[g * K * 3], s.sh_degree, basis);
-            for (int k = 0; k < 3; ++k) v[s.rgb_offset + k] = std::max(c[k], 0.f);
-          }
-          if (s.depth_offset >= 0) v[s.depth_offset] = p.depth;
-          if (s.normal_offset >= 0)
-            for (int k = 0; k < 3; ++k) v[s.normal_offset + k] = p.normal[k];
-          for (int f = 0; s.feature_offset >= 0 && f < D; ++f)
-            v[s.feature_offset + f] = model.features[g * D + f];
-          if (s.alpha_offset >= 0) v[s.alpha_offset] = 1.f;
-        }
-      });
+  float* v = s.values.data() + g * s.channels;  // values is empty without channels
+  if (s.rgb_offset >= 0) {
+    float basis[kMaxShCoeffs];
+    float length;
+    sh_basis(s.sh_degree, view_direction(view, &model.means[3 * g], length), basis);
+    const Eigen::Vector3f c = sh_colour(&model.sh[g * K * 3], s.sh_degree, basis);
+    for (int k = 0; k < 3; ++k) v[s.rgb_offset + k] = std::max(c[k], 0.f);
+  }
+  if (s.depth_offset >= 0) v[s.depth_offset] = p.depth;
+  if (s.normal_offset >= 0)
+    for (int k = 0; k < 3; ++k) v[s.normal_offset + k] = p.normal[k];
+  for (int f = 0; s.feature_offset >= 0 && f < D; ++f)
+    v[s.feature_offset + f] = model.features[g * D + f];
+  if (s.alpha_offset >= 0) v[s.alpha_offset] = 1.f;
+}
 
+// The tile lists of binned Gaussians (their screen rectangles and list entries).
+void sort_tile_lists(const std::vector<BlendRect>& rects, const UninitVector<TileGaussian>& entries,
+                     RasterState& s) {
   // Slots: Gaussian g owns one per tile of its rectangle, row by row. Tile lists: a counting sort
   // of the (tile, Gaussian) pairs by tile, each pair as its 64-bit sort key (depth order, Gaussian
   // index), then a sort of each tile's keys: ties in depth are broken by Gaussian index, so the
   // order never depends on scheduling, and sorting integers is 2x faster than comparing structs.
+  const size_t n = rects.size();
   const int tiles = s.tile_count();
   s.slot_offsets.assign(n + 1, 0);
   s.tile_offsets.assign(tiles + 1, 0);
@@ -185,6 +157,47 @@ void bin_gaussians(const GaussianModel& model, const ViewTransform& view,
   });
 }
 
+void bin_gaussians(const GaussianModel& model, const ViewTransform& view,
+                   const RenderSettings& settings, RasterState& s) {
+  const size_t n = model.size();
+  s.projections.resize(n);
+  s.values.assign(n * s.channels, 0.f);
+  std::vector<BlendRect> rects(n);
+  // Per Gaussian, what all its tile-list entries share (all but the slot): computed once here
+  // rather than once per tile, since a Gaussian is in about three tiles.
+  UninitVector<TileGaussian> entries(n);
+  tbb::parallel_for(
+      tbb::blocked_range<size_t>(0, n, 1024), [&](const tbb::blocked_range<size_t>& r) {
+        for (size_t g = r.begin(); g != r.end(); ++g) {
+          ProjectedGaussian& p = s.projections[g];
+          if (!project_gaussian(view, &model.means[3 * g], &model.log_scales[3 * g],
+                                &model.quats[4 * g], settings.near, p))
+            continue;
+          const float o = sigmoid(model.opacity_logits[g]);
+          const BlendRect& rect = rects[g] = blend_rect(p, o, s.min_alpha, s.width, s.height);
+          if (rect.tiles() == 0) {
+            p.radius = 0;
+            continue;
+          }
+          entries[g] = {p.mean2d.x(),
+                        p.mean2d.y(),
+                        p.conic[0],
+                        p.conic[1],
+                        p.conic[2],
+                        o,
+                        std::log(s.min_alpha / std::max(o, 1e-30f)),
+                        int16_t(rect.x0),
+                        int16_t(rect.y0),
+                        int16_t(rect.x1),
+                        int16_t(rect.y1),
+                        uint32_t(g),
+                        0u};
+          write_channel_values(model, view, p, g, s);
+        }
+      });
+  sort_tile_lists(rects, entries, s);
+}
+
 // Blends tile t front to back (blend_tile) into acc, structure of arrays: channel c of tile pixel
 // p at [c * 256 + p], so that adding one entry's values to a row is a 16-lane FMA per channel.
 // kChannels > 0 fixes the channel count, so the channel loop unrolls. With `feature_rows` (one flag
@@ -206,6 +219,100 @@ void forward_tile(const RasterState& s, int t, const float* values, float* acc, 
   });
 }
 
+// The image size, tile grid and channel layout of a render (raster_state.hpp).
+void set_channel_layout(const GaussianModel& model, const Camera& camera,
+                        const RenderSettings& settings, RasterState& s) {
+  s.width = camera.width;
+  s.height = camera.height;
+  s.tiles_x = (s.width + kTileSize - 1) / kTileSize;
+  s.tiles_y = (s.height + kTileSize - 1) / kTileSize;
+  s.sh_degree =
+      settings.sh_degree < 0 ? model.sh_degree : std::min(settings.sh_degree, model.sh_degree);
+  s.min_alpha = std::max(0.f, settings.min_alpha);
+  auto add_block = [&](bool on, int size, int& offset) {
+    if (on) {
+      offset = s.channels;
+      s.channels += size;
+    }
+  };
+  add_block(settings.rgb, 3, s.rgb_offset);
+  add_block(settings.depth, 1, s.depth_offset);
+  add_block(settings.normal, 3, s.normal_offset);
+  add_block(settings.alpha || (settings.depth && settings.normalize_depth), 1, s.alpha_offset);
+  // Features last: the backward pass skips the channels past the last one with a gradient in a
+  // tile row, and a feature objective's gradient is sparse (sampled pixels, feature_objective.hpp).
+  add_block(settings.features && model.feature_dim > 0, model.feature_dim, s.feature_offset);
+  s.background.assign(s.channels, 0.f);
+  for (int k = 0; s.rgb_offset >= 0 && k < 3; ++k)
+    s.background[s.rgb_offset + k] = settings.background[k];
+}
+
+// The tile rows that hold a requested feature pixel, a flag per row at [tile * kTileSize + row];
+// empty when every pixel's features are wanted.
+std::vector<uint8_t> feature_row_flags(const RasterState& s, const RenderSettings& settings) {
+  std::vector<uint8_t> rows;
+  if (s.feature_offset < 0 || !settings.feature_pixels) return rows;
+  const size_t pixels = size_t(s.width) * s.height;
+  rows.assign(size_t(s.tile_count()) * kTileSize, 0);
+  for (const uint32_t p : *settings.feature_pixels) {
+    if (p >= pixels)
+      throw InputError("rasterizer: feature pixel " + std::to_string(p) + " is outside the image");
+    const int x = int(p % s.width), y = int(p / s.width);
+    rows[size_t((y / kTileSize) * s.tiles_x + x / kTileSize) * kTileSize + y % kTileSize] = 1;
+  }
+  return rows;
+}
+
+// forward_tile with the common channel counts as fixed-size loops (see backward_tile).
+void blend_tile_channels(const RasterState& s, int t, const float* values, float* acc,
+                         TileBlend& blend, const uint8_t* rows) {
+  switch (s.channels) {
+    case 3:
+      return forward_tile<3>(s, t, values, acc, blend, rows);
+    case 7:
+      return forward_tile<7>(s, t, values, acc, blend, rows);
+    case 8:
+      return forward_tile<8>(s, t, values, acc, blend, rows);
+    case 16:
+      return forward_tile<16>(s, t, values, acc, blend, rows);
+    default:
+      return forward_tile<0>(s, t, values, acc, blend, rows);
+  }
+}
+
+// A blended tile's accumulators ([channel][tile pixel], forward_tile) into the output images and
+// the state the backward pass reads.
+void store_tile(RasterState& s, int t, const float* acc, const TileBlend& blend,
+                const RenderSettings& settings, RenderOutput& out) {
+  const int D = out.feature_dim;
+  const PixelRect tile = tile_pixels(s, t);
+  for (int y = tile.y0; y < tile.y1; ++y)
+    for (int x = tile.x0; x < tile.x1; ++x) {
+      const int p = (y - tile.y0) * kTileSize + (x - tile.x0);
+      const size_t pix = size_t(y) * s.width + x;
+      auto a = [&](int c) { return acc[size_t(c) * kTilePixels + p]; };
+      const float T = blend.T[p];
+      s.final_transmittance[pix] = T;
+      s.contributors[pix] = blend.last[p];
+      for (int c = 0; s.rgb_offset >= 0 && c < 3; ++c)
+        out.rgb[pix * 3 + c] = a(s.rgb_offset + c) + T * settings.background[c];
+      if (s.depth_offset >= 0) {
+        float d = a(s.depth_offset);
+        if (settings.normalize_depth) {
+          const float alpha = a(s.alpha_offset);
+          d = alpha >= kMinAlphaForDepth ? d / alpha : 0.f;
+        }
+        out.depth[pix] = d;
+      }
+      for (int c = 0; s.normal_offset >= 0 && c < 3; ++c)
+        out.normal[pix * 3 + c] = a(s.normal_offset + c);
+      for (int f = 0; s.feature_offset >= 0 && f < D; ++f)
+        out.features[pix * D + f] = a(s.feature_offset + f);
+      if (s.alpha_offset >= 0) s.alpha_sum[pix] = a(s.alpha_offset);
+      if (settings.alpha) out.alpha[pix] = a(s.alpha_offset);
+    }
+}
+
 }  // namespace
 
 RenderOutput render(const GaussianModel& model, const Camera& camera, const Pose& pose,
@@ -221,31 +328,8 @@ RenderOutput render(const GaussianModel& model, const Camera& camera, const Pose
   const ViewTransform view(camera, pose);
   auto state = std::make_shared<RasterState>();
   RasterState& s = *state;
-  s.width = camera.width;
-  s.height = camera.height;
-  s.tiles_x = (s.width + kTileSize - 1) / kTileSize;
-  s.tiles_y = (s.height + kTileSize - 1) / kTileSize;
-  s.sh_degree =
-      settings.sh_degree < 0 ? model.sh_degree : std::min(settings.sh_degree, model.sh_degree);
-  s.min_alpha = std::max(0.f, settings.min_alpha);
+  set_channel_layout(model, camera, settings, s);
   const int D = model.feature_dim;
-  auto add_block = [&](bool on, int size, int& offset) {
-    if (on) {
-      offset = s.channels;
-      s.channels += size;
-    }
-  };
-  add_block(settings.rgb, 3, s.rgb_offset);
-  add_block(settings.depth, 1, s.depth_offset);
-  add_block(settings.normal, 3, s.normal_offset);
-  add_block(settings.alpha || (settings.depth && settings.normalize_depth), 1, s.alpha_offset);
-  // Features last: the backward pass skips the channels past the last one with a gradient in a
-  // tile row, and a feature objective's gradient is sparse (sampled pixels, feature_objective.hpp).
-  add_block(settings.features && D > 0, D, s.feature_offset);
-  s.background.assign(s.channels, 0.f);
-  for (int k = 0; s.rgb_offset >= 0 && k < 3; ++k)
-    s.background[s.rgb_offset + k] = settings.background[k];
-
   bin_gaussians(model, view, settings, s);
 
   const size_t pixels = size_t(s.width) * s.height;
@@ -258,19 +342,7 @@ RenderOutput render(const GaussianModel& model, const Camera& camera, const Pose
   if (settings.normal) out.normal.assign(pixels * 3, 0.f);
   if (settings.alpha) out.alpha.assign(pixels, 0.f);
   if (settings.features) out.features.assign(pixels * D, 0.f);
-  // The tile rows that hold a requested feature pixel, a flag per row at [tile * kTileSize + row].
-  std::vector<uint8_t> feature_rows;
-  if (s.feature_offset >= 0 && settings.feature_pixels) {
-    feature_rows.assign(size_t(s.tile_count()) * kTileSize, 0);
-    for (const uint32_t p : *settings.feature_pixels) {
-      if (p >= pixels)
-        throw InputError("rasterizer: feature pixel " + std::to_string(p) +
-                         " is outside the image");
-      const int x = int(p % s.width), y = int(p / s.width);
-      feature_rows[size_t((y / kTileSize) * s.tiles_x + x / kTileSize) * kTileSize +
-                   y % kTileSize] = 1;
-    }
-  }
+  const std::vector<uint8_t> feature_rows = feature_row_flags(s, settings);
   s.final_transmittance.assign(pixels, 1.f);
   s.contributors.assign(pixels, 0);
   if (s.alpha_offset >= 0) s.alpha_sum.assign(pixels, 0.f);
@@ -285,51 +357,8 @@ RenderOutput render(const GaussianModel& model, const Camera& camera, const Pose
           std::fill(acc.begin(), acc.end(), 0.f);
           const uint8_t* rows =
               feature_rows.empty() ? nullptr : feature_rows.data() + size_t(t) * kTileSize;
-          // The common channel counts get fixed-size loops (see backward_tile).
-          switch (s.channels) {
-            case 3:
-              forward_tile<3>(s, t, values.data(), acc.data(), blend, rows);
-              break;
-            case 7:
-              forward_tile<7>(s, t, values.data(), acc.data(), blend, rows);
-              break;
-            case 8:
-              forward_tile<8>(s, t, values.data(), acc.data(), blend, rows);
-              break;
-            case 16:
-              forward_tile<16>(s, t, values.data(), acc.data(), blend, rows);
-              break;
-            default:
-              forward_tile<0>(s, t, values.data(), acc.data(), blend, rows);
-              break;
-          }
-          const PixelRect tile = tile_pixels(s, t);
-          for (int y = tile.y0; y < tile.y1; ++y)
-            for (int x = tile.x0; x < tile.x1; ++x) {
-              const int p = (y - tile.y0) * kTileSize + (x - tile.x0);
-              const size_t pix = size_t(y) * s.width + x;
-              // acc is [channel][tile pixel] (forward_tile).
-              auto a = [&](int c) { return acc[size_t(c) * kTilePixels + p]; };
-              const float T = blend.T[p];
-              s.final_transmittance[pix] = T;
-              s.contributors[pix] = blend.last[p];
-              for (int c = 0; s.rgb_offset >= 0 && c < 3; ++c)
-                out.rgb[pix * 3 + c] = a(s.rgb_offset + c) + T * settings.background[c];
-              if (s.depth_offset >= 0) {
-                float d = a(s.depth_offset);
-                if (settings.normalize_depth) {
-                  const float alpha = a(s.alpha_offset);
-                  d = alpha >= kMinAlphaForDepth ? d / alpha : 0.f;
-                }
-                out.depth[pix] = d;
-              }
-              for (int c = 0; s.normal_offset >= 0 && c < 3; ++c)
-                out.normal[pix * 3 + c] = a(s.normal_offset + c);
-              for (int f = 0; s.feature_offset >= 0 && f < D; ++f)
-                out.features[pix * D + f] = a(s.feature_offset + f);
-              if (s.alpha_offset >= 0) s.alpha_sum[pix] = a(s.alpha_offset);
-              if (settings.alpha) out.alpha[pix] = a(s.alpha_offset);
-            }
+          blend_tile_channels(s, t, values.data(), acc.data(), blend, rows);
+          store_tile(s, t, acc.data(), blend, settings, out);
         }
       });
 

@@ -110,6 +110,17 @@ LossSummary tail_mean(const std::vector<LossSummary>& history) {
   return mean;
 }
 
+// PSNR (dB) of a float RGB render, clamped to [0,1], against a float target in [0,1], over the
+// pixels of `mask` when one is given (NaN when it is empty of pixels).
+double float_psnr(const cv::Mat& rendered, const cv::Mat& target, const cv::Mat1b& mask = {}) {
+  cv::Mat clamped;
+  cv::min(cv::max(rendered, 0.0), 1.0, clamped);
+  const double pixels = mask.empty() ? clamped.total() : cv::countNonZero(mask);
+  if (pixels == 0) return std::numeric_limits<double>::quiet_NaN();
+  const double mse = cv::norm(clamped, target, cv::NORM_L2SQR, mask) / (pixels * 3);
+  return mse > 0 ? 10 * std::log10(1.0 / mse) : std::numeric_limits<double>::infinity();
+}
+
 // One reconstruction's training state: the model, its targets, terms, optimiser and strategy.
 class Training {
  public:
@@ -246,6 +257,9 @@ LossSummary Training::step(int step) {
   for (size_t k = 0; k < terms_.size(); ++k)
     loss.total += terms_[k]->weight() * loss.terms[k].second;
   if (objective_) loss.total += objective_->weight * loss.features;
+  // The render the step made, read as it is (the rasterizer's buffer is not written through).
+  const cv::Mat rendered(out.height, out.width, CV_32FC3, const_cast<float*>(out.rgb.data()));
+  loss.render_psnr = float_psnr(rendered, target.rgb);
   clock_.charge(phases.losses);
 
   adam_.step(model_, grads_, step, extent_, objective_);
@@ -292,13 +306,9 @@ double LossSummary::term(const std::string& name) const {
 }
 
 double psnr(const cv::Mat& rendered, const cv::Mat& target_rgb8, const cv::Mat1b& mask) {
-  cv::Mat clamped, target;
-  cv::min(cv::max(rendered, 0.0), 1.0, clamped);
+  cv::Mat target;
   target_rgb8.convertTo(target, CV_32FC3, 1.0 / 255);
-  const double pixels = mask.empty() ? clamped.total() : cv::countNonZero(mask);
-  if (pixels == 0) return std::numeric_limits<double>::quiet_NaN();
-  const double mse = cv::norm(clamped, target, cv::NORM_L2SQR, mask) / (pixels * 3);
-  return mse > 0 ? 10 * std::log10(1.0 / mse) : std::numeric_limits<double>::infinity();
+  return float_psnr(rendered, target, mask);
 }
 
 double mean_psnr(const GaussianModel& model, const Capture& capture, const std::vector<int>& views,
@@ -335,7 +345,9 @@ ReconstructResult reconstruct(const Capture& capture, const ReconstructOptions& 
     history.push_back(training.step(step));
     result.loss_history.push_back(history.back().total);
     result.iterations_run = step + 1;
-    if (callback) callback(step, options.iterations, history.back().total, training.model().size());
+    if (callback)
+      callback({step + 1, options.iterations, history.back().total, history.back().render_psnr},
+               training.model().size());
     if (plateaued(result.loss_history, options.plateau_window, options.plateau_tolerance)) {
       result.stopped_early = true;
       break;

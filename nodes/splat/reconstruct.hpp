@@ -7,6 +7,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <optional>
 #include <string>
 #include <utility>
@@ -14,6 +15,7 @@
 
 #include <opencv2/core.hpp>
 
+#include "base/training_step.hpp"
 #include "nodes/scene/capture.hpp"
 #include "nodes/scene/gaussian_model.hpp"
 #include "nodes/splat/adam.hpp"
@@ -127,6 +129,9 @@ void apply_recipe(ReconstructOptions& o, Recipe recipe);
 // Mean of each loss term over the last 10% of the steps (at least one step).
 struct LossSummary {
   double total = 0;
+  // PSNR (dB) of the step's render against its target view (the photometric L2 of the render
+  // the step made anyway): what the progress line shows as train PSNR. Read only, never a loss.
+  double render_psnr = std::numeric_limits<double>::quiet_NaN();
   double features = 0;  // the FeatureObjective's loss (unweighted); 0 without one
   // Each term the run trained with (loss_terms.hpp), unweighted, by name, in the terms' order.
   std::vector<std::pair<std::string, double>> terms;
@@ -180,9 +185,9 @@ struct ReconstructResult {
 // ended early, else "iterations" (the schedule ran out with the budget never reached).
 const char* model_size_reason(const ReconstructResult& result);
 
-// Called after every step with (step index, total steps, current total loss, Gaussian count). It
-// may throw (e.g. gslift::Cancelled) to abort the reconstruction.
-using ReconstructCallback = std::function<void(int step, int total, double loss, size_t gaussians)>;
+// Called after every step with the step (steps done, total, its loss and render PSNR) and the
+// Gaussian count. It may throw (e.g. gslift::Cancelled) to abort the reconstruction.
+using ReconstructCallback = std::function<void(const TrainingStep& step, size_t gaussians)>;
 
 // PSNR (dB) of a rendered RGB image (CV_32FC3, clamped to [0,1] here) against an 8-bit target,
 // over the pixels of `mask` when one is given (NaN when it is empty of pixels).

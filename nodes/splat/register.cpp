@@ -3,6 +3,7 @@
 #include <cmath>
 #include <map>
 
+#include "nodes/scene/caption_strip.hpp"
 #include "nodes/scene/capture.hpp"
 #include "nodes/scene/gaussian_model.hpp"
 #include "nodes/scene/image_io.hpp"
@@ -11,6 +12,7 @@
 #include "nodes/splat/rasterizer.hpp"
 #include "nodes/splat/reconstruct.hpp"
 #include "nodes/splat/reconstruction_check.hpp"
+#include "nodes/splat/view_geometry.hpp"
 
 namespace gslift {
 namespace {
@@ -87,9 +89,9 @@ void run_reconstruct(NodeContext& ctx, ReconstructNodeParams p) {
   ReconstructOptions& o = p.recon;
   o.seed = ctx.seed();
   ReconstructResult r =
-      reconstruct(*ctx.input<Capture>("capture"), o, [&](int step, int total, double, size_t) {
+      reconstruct(*ctx.input<Capture>("capture"), o, [&](const TrainingStep& step, size_t) {
         ctx.check_cancelled();
-        ctx.progress(static_cast<double>(step + 1) / total, "optimising");
+        ctx.progress(step);
       });
   ctx.record("gaussians", static_cast<double>(r.model.size()));
   ctx.record("initial_gaussians", static_cast<double>(r.initial_gaussians));
@@ -122,7 +124,10 @@ void run_reconstruct(NodeContext& ctx, ReconstructNodeParams p) {
     const std::vector<int> test = capture.test_views();
     for (size_t k = 0; k < r.test_pictures.size() && k < test.size(); ++k)
       write_rgb_png(dir / (capture.views[test[k]].name + "_heldout_geometry.png"),
-                    r.test_pictures[k]);
+                    with_caption(r.test_pictures[k],
+                                 capture.views[test[k]].name +
+                                     " (held out): the render against ground-truth depth",
+                                 view_geometry_legend()));
   }
   // Recorded and written above first, so that run.json and model.ply show the failure.
   const std::string failure = reconstruction_failure(r, p.min_train_psnr);
@@ -190,7 +195,10 @@ void run_render(NodeContext& ctx, const RenderNodeOptions& o) {
     const View& view = capture->views[views[k]];
     const RenderOutput out = render(*model, view.camera, view.pose, settings);
     for (const auto& c : o.channels) {
-      if (!dir.empty()) write_rgb_png(dir / (view.name + "_" + c + ".png"), channel_image(out, c));
+      if (!dir.empty())
+        write_rgb_png(
+            dir / (view.name + "_" + c + ".png"),
+            with_caption(channel_image(out, c), view.name + " " + c + ": " + channel_meaning(c)));
     }
     ctx.progress(static_cast<double>(k + 1) / views.size(), view.name);
   }

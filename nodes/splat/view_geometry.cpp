@@ -13,6 +13,11 @@
 namespace gslift {
 namespace {
 
+// The picture's colours (RGB): floaters red, holes blue; surfaces no training view saw are the
+// render greyed to a third over mid grey.
+const cv::Vec3b kFloaterColour(255, 0, 0);
+const cv::Vec3b kHoleColour(0, 64, 255);
+
 cv::Mat1f ground_truth_depth(const View& v) {
   const cv::Mat d = v.gt_depth.load();
   if (d.empty() || d.type() != CV_32FC1 || d.cols != v.camera.width || d.rows != v.camera.height)
@@ -167,9 +172,9 @@ ViewGeometry view_geometry(const GaussianModel& model, const Capture& capture, i
         if (!covered(y, x)) {
           c = c / 3 + cv::Vec3b(85, 85, 85);
         } else if (!drawn) {
-          c = cv::Vec3b(0, 64, 255);
+          c = kHoleColour;
         } else if (surface_depth[p] < 0.9 * t) {
-          c = cv::Vec3b(255, 0, 0);
+          c = kFloaterColour;
         }
       }
   }
@@ -222,6 +227,12 @@ ViewGeometry mean_view_geometry(const GaussianModel& model, const Capture& captu
     mean.*f = n ? sum / n : ViewGeometry::kNone;
   }
   return mean;
+}
+
+std::vector<LegendEntry> view_geometry_legend() {
+  return {{"floater (>10% in front of the true surface)", kFloaterColour},
+          {"hole (alpha < 0.5)", kHoleColour},
+          {"surface no training view saw", cv::Vec3b(128, 128, 128)}};
 }
 
 }  // namespace gslift

@@ -8,6 +8,7 @@
 
 #include <opencv2/core.hpp>
 
+#include "nodes/scene/caption_strip.hpp"
 #include "nodes/scene/capture.hpp"
 #include "nodes/scene/gaussian_model.hpp"
 #include "nodes/splat/rasterizer.hpp"
@@ -67,6 +68,10 @@ ViewGeometry view_geometry(const GaussianModel& model, const Capture& capture, i
                            const std::vector<int>& train,
                            const Eigen::Vector3f& background = Eigen::Vector3f::Zero(),
                            cv::Mat3b* picture = nullptr);
+
+// What the colours of view_geometry's picture mean, for its caption
+// (nodes/scene/caption_strip.hpp).
+std::vector<LegendEntry> view_geometry_legend();
 
 // The mean of each field over the given views (NaN fields are left out of their mean); with
 // `pictures`, each view's picture (view_geometry) in the order of `views`.

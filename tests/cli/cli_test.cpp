@@ -347,4 +347,43 @@ TEST_CASE("production SAGA and detector fusion validate on a capture without gro
       validate("production/detector_fusion.yaml", " --set 'classes=[operating table, surgeon]'");
   INFO(classes.output);
   CHECK(classes.code == exit_code::kOk);
+
+TEST_CASE("sweep --dry-run validates every combination and capture, runs and writes nothing",
+          "[cli]") {
+  const fs::path dir = test::scratch_dir("cli_sweep_dry_run");
+  const fs::path graph = write_file_text(dir / "rooms.yaml", R"(graph: rooms
+params: {input: ""}
+nodes:
+  capture: {type: ingest.capture, params: {path: "${input}"}}
+)");
+  const fs::path set = write_file_text(dir / "rooms.txt",
+                                       "embedded:or?seed=1&views=4&width=64&height=48\n"
+                                       "embedded:or?seed=2&views=5&width=64&height=48\n");
+  // 2 values x 2 rooms x 3 seeds, no --out needed; nothing is written.
+  const auto ok = run_command(kBinary + " sweep " + shell_quoted(graph) +
+                              " --grid capture.allow_outside_paths=false,true --inputs " +
+                              shell_quoted(set) + " --seeds 0-2 --dry-run");
+  INFO(ok.output);
+  CHECK(ok.code == exit_code::kOk);
+  CHECK(ok.output.find("12 runs of") != std::string::npos);
+  CHECK(ok.output.find("(grid combinations 2, seeds 3, captures 2)") != std::string::npos);
+  const auto with_out =
+      run_command(kBinary + " sweep " + shell_quoted(graph) + " --inputs " + shell_quoted(set) +
+                  " --dry-run --out " + shell_quoted(dir / "out"));
+  CHECK(with_out.code == exit_code::kOk);
+  CHECK_FALSE(fs::exists(dir / "out"));
+  // What a real sweep refuses before its first run, a dry run refuses the same way.
+  const auto misspelt = run_command(kBinary + " sweep " + shell_quoted(graph) +
+                                    " --grid capture.allow_outside_pahts=false --inputs " +
+                                    shell_quoted(set) + " --dry-run");
+  CHECK(misspelt.code == exit_code::kInvalidGraph);
+  CHECK(misspelt.output.find("allow_outside_pahts") != std::string::npos);
+  const fs::path two_views = write_file_text(dir / "two.txt", "embedded:or?seed=1&views=2\n");
+  const auto two = run_command(kBinary + " sweep " + shell_quoted(graph) + " --inputs " +
+                               shell_quoted(two_views) + " --dry-run");
+  CHECK(two.code == exit_code::kBadInput);
+  CHECK(two.output.find("views must be 4..8, got 2") != std::string::npos);
+  // Without --dry-run, --out stays required.
+  CHECK(run_command(kBinary + " sweep " + shell_quoted(graph) + " --inputs " + shell_quoted(set))
+            .code == exit_code::kUsage);
 }

@@ -47,13 +47,24 @@ TEST_CASE("train_pixel_features: constant gradients move features and extras by 
   settings.lr = 0.01;
   settings.extra_lr = 0.5;
   double extra_term_loss = 0.25;
-  const PixelTrainingLoss loss =
-      train_pixel_features(rows, 2, settings, step, features, extras,
-                           [&](int, const float*, const float*, float*, float*) {
-                             ++calls;
-                             return extra_term_loss;
-                           });
+  std::vector<TrainingStep> steps;  // what the progress line is told
+  const PixelTrainingLoss loss = train_pixel_features(
+      rows, 2, settings, step, features, extras,
+      [&](int, const float*, const float*, float*, float*) {
+        ++calls;
+        return extra_term_loss;
+      },
+      [&](const TrainingStep& s) { steps.push_back(s); });
   CHECK(calls == 3);
+  // Steps done 1..3 of 3, each with the iteration's loss; no render, so no PSNR.
+  REQUIRE(steps.size() == 3);
+  for (int k = 0; k < 3; ++k) {
+    CHECK(steps[k].step == k + 1);
+    CHECK(steps[k].total == 3);
+    CHECK(std::isnan(steps[k].train_psnr));
+  }
+  CHECK(steps[0].loss == loss.start);
+  CHECK(steps[2].loss == loss.end);
   // Mean of the two batches' losses before any update, plus the extra term.
   const double start = w * (0.1 - 0.2 + 0.3) - 2.0 * (1 + 2) / 2.0 + 0.25;
   CHECK(loss.start == Approx(start).epsilon(1e-5));

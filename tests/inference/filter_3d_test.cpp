@@ -257,3 +257,52 @@ TEST_CASE("filter_3d: growth_box_margin keeps growth inside the selection's wide
   r = filter_instances_3d(p.means, p.ids, o);
   CHECK(r.grown == 5);
 }
+
+TEST_CASE("filter_3d: growth stops at a feature edge when growth_min_similarity is set",
+          "[inference][filter_3d]") {
+  // A selected 5 x 5 grid (features along e0, one at 30 degrees to it) and an unassigned column
+  // beside it at x = 5, within the growth radius 1. The column's upper half carries the
+  // instance's feature direction (with a small tilt), its lower half another object's (e1).
+  Points p;
+  p.grid(0, 0, 5, 5, 0);
+  std::vector<float> features;
+  for (size_t g = 0; g < 25; ++g) {
+    const bool tilted = g == 12;  // cos 30 = 0.866: the prototype is still close to e0
+    features.push_back(tilted ? 0.866f : 1.f);
+    features.push_back(tilted ? 0.5f : 0.f);
+  }
+  std::vector<size_t> same, other;
+  for (int y = 0; y < 5; ++y) {
+    const size_t g = p.add(5, y, 0, -1);
+    if (y >= 3) {
+      same.push_back(g);
+      features.push_back(0.95f);  // cos to e0 = 0.95
+      features.push_back(0.31f);
+    } else {
+      other.push_back(g);
+      features.push_back(0.f);  // e1, unnormalised: the norm must not matter
+      features.push_back(2.f);
+    }
+  }
+  Filter3dOptions o = only(false, false, true);
+  SECTION("without the check, the ball query takes the whole column") {
+    const Filter3dResult r = filter_instances_3d(p.means, p.ids, o);
+    CHECK(r.grown == 5);
+  }
+  SECTION("with it, only the Gaussians whose feature matches join") {
+    o.growth_min_similarity = 0.9;
+    // Prototype: (24 e0 + (0.866, 0.5)) / |.| = (0.9998, 0.0201); the matching Gaussians'
+    // cosine to it is (0.95 x 0.9998 + 0.31 x 0.0201) / |(0.95, 0.31)| = 0.957 >= 0.9; e1's 0.0201.
+    const Filter3dResult r = filter_instances_3d(p.means, p.ids, o, features, 2);
+    CHECK(r.grown == 2);
+    for (const size_t g : same) CHECK(r.instance_ids[g] == 0);
+    for (const size_t g : other) CHECK(r.instance_ids[g] == -1);
+    o.growth_min_similarity = 0.96;  // just above the matching Gaussians' 0.957
+    CHECK(filter_instances_3d(p.means, p.ids, o, features, 2).grown == 0);
+  }
+  SECTION("the check without features is an error, not a silent ball query") {
+    o.growth_min_similarity = 0.9;
+    CHECK_THROWS_WITH(filter_instances_3d(p.means, p.ids, o),
+                      Catch::Matchers::Contains("growth_min_similarity needs the Gaussians'"));
+  }
+}

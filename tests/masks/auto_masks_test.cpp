@@ -1,6 +1,7 @@
 // Classical automatic masks on a drawn image whose objects are known, and their SAM-form JSON.
 #include "nodes/masks/auto_masks.hpp"
 
+#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "nodes/ingest/sam_masks.hpp"
@@ -82,4 +83,41 @@ TEST_CASE("automatic masks round-trip through the SAM automatic-mask JSON") {
     CHECK(cv::countNonZero(back[k].pixels != masks[k].pixels) == 0);
     CHECK(back[k].granularity == masks[k].granularity);
   }
+}
+
+TEST_CASE("masks.folder reads the alpha of RGBA renders, and refuses a file without alpha") {
+  const auto dir = test::scratch_dir("mask_folder_alpha");
+  // An 8x4 white RGBA render whose left half is opaque but for one pixel at alpha 0.2: its grey
+  // level is white everywhere, so only the alpha says where the object is.
+  cv::Mat bgra(4, 8, CV_8UC4, cv::Scalar(255, 255, 255, 0));
+  bgra(cv::Rect(0, 0, 4, 4)).setTo(cv::Scalar(255, 255, 255, 255));
+  bgra.at<cv::Vec4b>(0, 0)[3] = 51;
+  cv::imwrite((dir / "r_0.png").string(), bgra);
+  Capture capture;
+  capture.name = "lego";
+  View view;
+  view.name = "r_0";
+  view.camera.width = 4;  // half the file's size: the mask is resized with the area filter
+  view.camera.height = 2;
+  capture.views.push_back(view);
+
+  const MaskSet alpha = mask_folder(capture, dir, ViewSet::All, "lego", MaskChannel::Alpha);
+  REQUIRE(alpha.views.size() == 1);
+  const cv::Mat1b m = alpha.views[0].masks.at(0).pixels;
+  REQUIRE(m.size() == cv::Size(4, 2));
+  // Each output pixel averages a 2x2 block: (51 + 3 x 255) / 4 = 204 at (0, 0), still inside;
+  // the right half is clear.
+  for (int y = 0; y < 2; ++y) {
+    CHECK(m(y, 0) != 0);
+    CHECK(m(y, 1) != 0);
+    CHECK(m(y, 2) == 0);
+    CHECK(m(y, 3) == 0);
+  }
+  CHECK(alpha.views[0].masks[0].label == "lego");
+  const MaskSet grey = mask_folder(capture, dir, ViewSet::All, "lego");
+  CHECK(cv::countNonZero(grey.views.at(0).masks.at(0).pixels) == 8);
+
+  cv::imwrite((dir / "r_0.png").string(), cv::Mat(4, 8, CV_8UC3, cv::Scalar(255, 255, 255)));
+  CHECK_THROWS_WITH(mask_folder(capture, dir, ViewSet::All, "lego", MaskChannel::Alpha),
+                    Catch::Matchers::Contains("r_0.png has no alpha channel"));
 }

@@ -52,14 +52,22 @@ ReconstructResult reconstruct_at_one_and_two_threads(const Capture& capture,
 
 TEST_CASE("a tiny reconstruction reaches a PSNR floor and lowers its loss") {
   const Capture capture = rendered_capture();
-  int calls = 0, last_total = 0;
+  int calls = 0;
+  TrainingStep last;
   const ReconstructResult r =
-      reconstruct(capture, tiny_options(), [&](int, int total, double, size_t) {
+      reconstruct(capture, tiny_options(), [&](const TrainingStep& step, size_t) {
         ++calls;
-        last_total = total;
+        CHECK(step.step == calls);  // steps done, 1-based
+        last = step;
       });
   CHECK(calls == 300);
-  CHECK(last_total == 300);
+  CHECK(last.step == 300);
+  CHECK(last.total == 300);
+  // The progress line's fields: the step's loss (the history's last entry) and the PSNR of the
+  // step's render of one training view, near the mean over all of them at the end.
+  CHECK(last.loss == r.loss_history.back());
+  CHECK(last.train_psnr > r.train_psnr - 3);
+  CHECK(last.train_psnr < r.train_psnr + 3);
   CHECK(r.iterations_run == 300);
   CHECK(r.initial_gaussians > 100);
   CHECK(r.model.size() > 0);

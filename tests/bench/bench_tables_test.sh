@@ -1,0 +1,77 @@
+#!/usr/bin/env bash
+# The benchmark tables (bench/protocol/run.sh's: the dev/test protocol and each method's
+# ablations) check themselves without running anything:
+#   - every line passes `gslift sweep --dry-run` (its graph and --set values validated on one
+#     room), through run.sh itself, so the runner's reading of the table is tested too, and every
+#     capture set the tables name passes it once (each room checked as `gslift validate --input`);
+#   - every line's name and set are unique in its table, and every row of the pairs.tsv beside a
+#     table names two of its lines on that set (protocol_chart would skip a row that does not);
+#   - a table with a misspelt param is refused (the test of this test).
+# Lines on DTU scan 24 (../shared/data/dtu_scan24) are left out when the data is absent.
+#
+# usage: bench_tables_test.sh GSLIFT REPO_ROOT
+set -u
+export GSLIFT
+GSLIFT=$(cd "$(dirname "$1")" && pwd)/$(basename "$1")
+src=$(cd "$2" && pwd)
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+failures=0
+fail() {
+  echo "FAIL $*"
+  failures=$((failures + 1))
+}
+tables=(bench/protocol/protocol.tsv bench/langor/langor.tsv bench/saga/saga.tsv
+  bench/protosaga/protosaga.tsv bench/detector_fusion/detector_fusion.tsv)
+have_dtu=1
+declare -A set_checked
+echo "embedded:or?seed=0" > "$tmp/one_room.txt"
+[ -d "$src/../shared/data/dtu_scan24" ] || have_dtu=""
+for t in "${tables[@]}"; do
+  [ -f "$src/$t" ] || { fail "$t does not exist"; continue; }
+  # Unique names per set; the pairs name lines of the table.
+  dup=$(awk -F'\t' '!/^#/ && NF >= 5 {print $1 "/" $2}' "$src/$t" | sort | uniq -d)
+  [ -z "$dup" ] || fail "$t: lines named twice: $dup"
+  pairs="$(dirname "$src/$t")/pairs.tsv"
+  if [ -f "$pairs" ]; then
+    while IFS=$'\t' read -r first second set; do
+      [[ -z "$first" || "$first" == \#* ]] && continue
+      for name in "$first" "$second"; do
+        awk -F'\t' -v n="$name" -v s="$set" '$1 == n && $2 == s {found = 1} END {exit !found}' \
+          "$src/$t" || fail "$pairs: '$name' on '$set' is no line of $t"
+      done
+    done < "$pairs"
+  fi
+  # The dry run of every line on one room (its graph and --set values; DTU lines only with the
+  # data here), then of each capture set once: every room of a set is checked the same way for
+  # every line, and a gslift start costs about 0.4 s.
+  names=()
+  while IFS=$'\t' read -r name set graph _ inputs _; do
+    [[ -z "$name" || "$name" == \#* ]] && continue
+    if [ -z "$have_dtu" ] && grep -q "dtu" <<< "$graph"; then continue; fi
+    names+=("$name/$set")
+    if [[ "$inputs" != "-" && -z "${set_checked[$inputs]:-}" ]]; then
+      set_checked[$inputs]=1
+      (cd "$src" && "$GSLIFT" sweep "$graph" --inputs "$inputs" --dry-run > "$tmp/set.out" 2>&1) ||
+        { fail "$t: the capture set $inputs does not pass:"; sed 's|^|    |' "$tmp/set.out"; }
+    fi
+  done < "$src/$t"
+  if ! out=$("$src/bench/protocol/run.sh" --table "$t" --inputs "$tmp/one_room.txt" --dry-run \
+    "${names[@]}" 2>&1); then
+    fail "$t: a line does not pass gslift sweep --dry-run:"
+    printf '%s\n' "$out" | sed 's|^|    |'
+  fi
+  runs=$(grep -c "every combination valid" <<< "$out")
+  [ "$runs" -eq "${#names[@]}" ] || fail "$t: ${#names[@]} lines, $runs dry runs passed"
+done
+# A misspelt param in a table is refused.
+printf 'bad\tdev\tgraphs/langor.yaml\teval.mIoU\tbench/sets/or_dev.txt\t--set lift.sigmaa=0.7\n' \
+  > "$tmp/bad.tsv"
+if "$src/bench/protocol/run.sh" --table "$tmp/bad.tsv" --dry-run > "$tmp/bad.out" 2>&1; then
+  fail "a table with a misspelt param passed its dry run"
+elif ! grep -q "sigmaa" "$tmp/bad.out"; then
+  fail "the misspelt table's error does not name the param:"
+  sed 's|^|    |' "$tmp/bad.out"
+fi
+echo "${#tables[@]} tables, $failures problems"
+[ "$failures" -eq 0 ]
