@@ -35,9 +35,9 @@ struct MatrixRow {
 };
 
 // "capture" = the capture cannot be opened (DTU: "image listed in the COLMAP model ... is
-// missing (set skip_missing_images ...)"). saga_dtu*.yaml pass on every capture: their object
-// masks come from masks.folder, whose folder the preflight does not check (a run on a capture
-// without mask/ fails at `truth`, after the reconstruction).
+// missing (set skip_missing_images ...)"). saga_dtu*.yaml and saga_lego.yaml pass on every
+// capture: their object masks come from masks.folder, whose folder the preflight does not check
+// (a run on a capture without it fails at `truth`, after the reconstruction).
 const std::vector<MatrixRow> kMatrix = {
     {"demo.yaml", {}, {"capture", "ok", "ok", "ok", "ok", "ok"}},
     {"detector_fusion.yaml",
@@ -69,6 +69,7 @@ const std::vector<MatrixRow> kMatrix = {
       "render|sam|truth"}},
     {"saga_dtu.yaml", {}, {"ok", "ok", "ok", "ok", "ok", "ok"}},
     {"saga_dtu_test.yaml", {}, {"ok", "ok", "ok", "ok", "ok", "ok"}},
+    {"saga_lego.yaml", {}, {"ok", "ok", "ok", "ok", "ok", "ok"}},
     {"production/detector_fusion.yaml",
      {"classes=[operating table, surgeon]"},
      {"capture", "multiview|smooth|vlm", "multiview|smooth|vlm", "vlm", "vlm", "vlm"}},
