@@ -347,6 +347,7 @@ TEST_CASE("production SAGA and detector fusion validate on a capture without gro
       validate("production/detector_fusion.yaml", " --set 'classes=[operating table, surgeon]'");
   INFO(classes.output);
   CHECK(classes.code == exit_code::kOk);
+}
 
 TEST_CASE("sweep --dry-run validates every combination and capture, runs and writes nothing",
           "[cli]") {
