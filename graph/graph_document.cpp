@@ -56,6 +56,21 @@ void merge_node(DocNode& node, const DocNode& over, Diagnostics& diagnostics) {
     node.type_loc = over.type_loc;
   }
   for (const auto& [port, ref] : over.inputs) {
+    if (ref.value.IsNull()) {
+      // `port: null` unwires the base's input: a production graph's prompt file replaces the
+      // evaluated graph's ground-truth masks this way.
+      if (!node.inputs.count(port)) {
+        std::vector<std::string> wired;
+        for (const auto& [p, r] : node.inputs) wired.push_back(p);
+        diagnostics.error(ref.key_loc, "nothing-to-remove",
+                          "input '" + port + "' of node '" + node.id +
+                              "' is declared null, but the base graph does not wire it",
+                          suggest(port, wired));
+      }
+      node.inputs.erase(port);
+      node.inputs_of_replaced_type.erase(port);
+      continue;
+    }
     node.inputs[port] = ref;
     node.inputs_of_replaced_type.erase(port);
   }

@@ -70,7 +70,18 @@ class Substitution {
   // graph param's YAML value. Reports `unknown-var` when there is none.
   std::optional<YAML::Node> lookup(const std::string& name, const SourceLoc& at) {
     if (auto v = vars_.find(name); v != vars_.end()) return YAML::Node(v->second);
-    if (auto p = doc_.params.find(name); p != doc_.params.end()) return p->second.value;
+    if (auto p = doc_.params.find(name); p != doc_.params.end()) {
+      // A graph param declared null has no default: the user must give it (production SAGA's
+      // prompt file), and is told so before anything runs.
+      if (p->second.value.IsNull()) {
+        diagnostics_.error(at, "unset-param",
+                           "graph param '" + name + "' has no value (declared null at " +
+                               p->second.value_loc.str() + ")",
+                           "give it with --set " + name + "=VALUE");
+        return std::nullopt;
+      }
+      return p->second.value;
+    }
     std::vector<std::string> known;
     for (const auto& [k, v] : vars_) known.push_back(k);
     for (const auto& [k, v] : doc_.params) known.push_back(k);

@@ -328,6 +328,7 @@ std::map<std::string, ParamValue> graph_params(const GraphDocument& doc,
   std::map<std::string, ParamValue> params;
   std::string error;
   for (const auto& [name, given] : doc.params) {
+    if (given.value.IsNull()) continue;  // unset: refused where substituted (substitute.cpp)
     if (auto value = infer_param(given.value, error))
       params[name] = *value;
     else

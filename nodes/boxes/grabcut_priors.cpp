@@ -74,7 +74,7 @@ PriorLabels refine_priors(const cv::Mat& rgb, const cv::Mat& depth,
 DetectorPriorMaps detector_prior_maps(const Capture& capture, const BoxSet& boxes,
                                       const MaskSet& masks, const GrabcutPriorOptions& options) {
   DetectorPriorMaps out;
-  out.priors.classes = semantic_classes(capture);
+  out.priors.classes = semantic_classes(capture, options.classes);
   const int classes = out.priors.class_count();
   std::vector<const ViewBoxes*> view_boxes(capture.views.size(), nullptr);
   std::vector<const ViewMasks*> view_masks(capture.views.size(), nullptr);
@@ -168,6 +168,9 @@ const ParamTable<GrabcutPriorOptions>& grabcut_prior_param_table() {
                10)
           .add("score_threshold", &O::score_threshold,
                "detections scoring below this are dropped (paper: 0.5)", 0, 1)
+          .add("classes", &O::classes,
+               "class vocabulary, ids 1..N (give the same to fusion.render_semantics); empty = "
+               "the capture's ground-truth class names")
           .nest(&O::grabcut, grabcut_param_table());
   return table;
 }

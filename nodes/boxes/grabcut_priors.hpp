@@ -45,6 +45,8 @@ struct GrabcutPriorOptions {
   bool sort_by_size = true;      // paper 002: decreasing size; false keeps the detector's order
   float border_fraction = 0.1f;  // f of the mask prior's band t = f (w + h) / pi (paper: 0.1)
   float score_threshold = 0.5f;  // detections scoring below this are dropped (paper: 0.5)
+  // The class vocabulary (ids 1..N); empty = the capture's ground-truth class names.
+  std::vector<std::string> classes;
   GrabCutOptions grabcut;
 };
 

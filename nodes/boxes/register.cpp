@@ -101,7 +101,11 @@ void add_grabcut_priors(Registry& registry) {
       "boxes.grabcut_priors",
       "detections -> per-pixel class and confidence per view: priors refined by GrabCut on RGB "
       "and depth, painted largest first (paper 002 Algorithm 1)",
-      {{"capture", "Capture", "views with RGB, depth prior and the class vocabulary"},
+      {{"capture",
+        "Capture",
+        "views with RGB, depth prior and the class vocabulary",
+        false,
+        {{CaptureItem::GtClasses, "classes", "[]"}}},
        {"boxes", "BoxSet", "detections per view (boxes.cluster), label and score each"},
        {"masks", "MaskSet",
         "a mask per box linked by box_index (boxes.to_masks); unwired: box priors only", true}},

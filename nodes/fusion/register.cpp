@@ -1,11 +1,13 @@
 #include "nodes/fusion/register.hpp"
 
+#include "base/atomic_file.hpp"
 #include "nodes/fusion/bayesian_fusion.hpp"
 #include "nodes/fusion/cluster_smoothing.hpp"
 #include "nodes/fusion/multiview_fusion.hpp"
 #include "nodes/fusion/render_semantics.hpp"
 #include "nodes/scene/gaussian_model.hpp"
 #include "nodes/scene/instances.hpp"
+#include "nodes/scene/label_maps.hpp"
 
 namespace gslift {
 namespace {
@@ -38,12 +40,34 @@ void run_multiview(NodeContext& ctx, const MultiviewFusionOptions& o) {
   ctx.output("semantics", std::move(out));
 }
 
+// The fused result as files, so that a run without ground truth has something to look at:
+// <view>_labels.png (16-bit class ids, 0 also where no source said anything), <view>_overlay.png
+// and classes.csv (id, name).
+void write_class_map_files(const SemanticMaps& maps, const Capture& capture,
+                           const std::filesystem::path& dir) {
+  LabelMapSet set;
+  set.labels = maps.class_count() - 1;
+  for (const SemanticView& v : maps.views) {
+    cv::Mat1i ids = v.labels.clone();
+    ids.setTo(0, ids < 0);
+    set.views.push_back({v.view, ids});
+  }
+  write_label_map_files(set, &capture, dir);
+  std::string csv = "id,name\n";
+  for (int i = 0; i < maps.class_count(); ++i)
+    csv += std::to_string(i) + "," + maps.classes[i] + "\n";
+  write_file_atomically(dir / "classes.csv", csv);
+}
+
 void run_cluster_smoothing(NodeContext& ctx, const SupervoxelOptions& o) {
   long long clusters = 0, changed = 0;
-  SemanticMaps out = smooth_cluster_maps(*ctx.input<SemanticMaps>("semantics"),
-                                         *ctx.input<Capture>("capture"), o, &clusters, &changed);
+  const auto capture = ctx.input<Capture>("capture");
+  SemanticMaps out =
+      smooth_cluster_maps(*ctx.input<SemanticMaps>("semantics"), *capture, o, &clusters, &changed);
   ctx.record("clusters", static_cast<double>(clusters));
   ctx.record("changed", static_cast<double>(changed));
+  const auto dir = ctx.out_dir();
+  if (!dir.empty()) write_class_map_files(out, *capture, dir);
   ctx.output("semantics", std::move(out));
 }
 
@@ -62,7 +86,7 @@ void register_fusion_nodes(Registry& registry) {
          PortTypeName<Capture>::value,
          "views and the class vocabulary",
          false,
-         {{CaptureItem::GtClasses}}}},
+         {{CaptureItem::GtClasses, "classes", "[]"}}}},
        {{"semantics", kSemantics, "rendered class distributions, every capture view"}}},
       render_semantics_param_table(), run_render_semantics);
   registry.add({"fusion.bayesian",
@@ -92,7 +116,9 @@ void register_fusion_nodes(Registry& registry) {
                   "views with RGB and depth priors",
                   false,
                   {{CaptureItem::Depth}}}},
-                {{"semantics", kSemantics, "smoothed per view"}}},
+                {{"semantics", kSemantics,
+                  "smoothed per view (files: <view>_labels.png 16-bit class ids, "
+                  "<view>_overlay.png, classes.csv)"}}},
                supervoxel_param_table(), run_cluster_smoothing);
 }
 

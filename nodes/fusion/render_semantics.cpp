@@ -70,7 +70,7 @@ SemanticMaps render_semantic_maps(const GaussianModel& model,
                      std::to_string(model.size()) +
                      " Gaussians (segment it first, e.g. association.instance_mask_gaussian)");
   SemanticMaps out;
-  out.classes = semantic_classes(capture);
+  out.classes = semantic_classes(capture, options.classes);
   const int classes = out.class_count();
   std::vector<int> instance_class;
   int unmatched = 0;
@@ -102,7 +102,10 @@ const ParamTable<RenderSemanticsOptions>& render_semantics_param_table() {
                "probability an instance's Gaussians give its label's class", 0, 1)
           .add("background_confidence", &O::background_confidence,
                "probability unassigned Gaussians and the leftover transmittance give background", 0,
-               1);
+               1)
+          .add("classes", &O::classes,
+               "class vocabulary, ids 1..N (give the same to boxes.grabcut_priors); empty = the "
+               "capture's ground-truth class names");
   return table;
 }
 

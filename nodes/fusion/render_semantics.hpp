@@ -25,6 +25,8 @@ struct RenderSemanticsOptions {
   // [decision] Unassigned Gaussians (LangOR leaves the room's walls, floor and ceiling
   // unassigned) and the transmittance left at a pixel say "background" with this confidence.
   float background_confidence = 0.8f;
+  // The class vocabulary (ids 1..N); empty = the capture's ground-truth class names.
+  std::vector<std::string> classes;
 };
 
 const ParamTable<RenderSemanticsOptions>& render_semantics_param_table();

@@ -12,6 +12,8 @@
 #include "base/input_file.hpp"
 #include "base/json_read.hpp"
 #include "base/utf8.hpp"
+#include "nodes/ingest/k4a_calibration.hpp"
+#include "nodes/scene/image_header.hpp"
 
 namespace gslift {
 
@@ -199,14 +201,34 @@ std::map<std::string, std::vector<fs::path>> rig_frames(const fs::path& dir,
 
 }  // namespace
 
+namespace {
+
+json read_rig_json(const fs::path& file, const char* what) {
+  try {
+    return parse_json(read_input_file(file, what));
+  } catch (const json::exception& e) {
+    throw InputError(file.string() + ": " + e.what());
+  }
+}
+
+// The depth camera's camera-to-world of camera_pose (OpenGL axes, metres) in `v`.
+Eigen::Matrix4d depth_camera_to_world(const json& v, const std::string& base) {
+  return transform_of(rig_object(v, "camera_pose", base), base + ".camera_pose");
+}
+
+fs::path or_rig_pose_file(const fs::path& calibration) {
+  return calibration.parent_path() / (calibration.stem().string() + "_pose.json");
+}
+
+bool is_or_rig_k4a_calibration(const fs::path& file) {
+  return is_k4a_calibration(read_rig_json(file, "rig camera calibration"));
+}
+
+}  // namespace
+
 OrRigCamera read_or_rig_camera(const fs::path& file) {
   const std::string where = file.string();
-  json root;
-  try {
-    root = parse_json(read_input_file(file, "rig camera calibration"));
-  } catch (const json::exception& e) {
-    throw InputError(where + ": " + e.what());
-  }
+  const json root = read_rig_json(file, "rig camera calibration");
   const json& v = rig_object(root, "value0", where);
   const std::string base = where + ": value0";
   OrRigCamera c;
@@ -216,13 +238,42 @@ OrRigCamera read_or_rig_camera(const fs::path& file) {
   // camera_pose is the depth camera's camera-to-world and color2depth_transform takes colour-frame
   // points into the depth frame (4D-OR: "Extrinsics were given for the depth camera, convert
   // them to color camera"), both in OpenGL axes.
-  const Eigen::Matrix4d depth_c2w =
-      transform_of(rig_object(v, "camera_pose", base), base + ".camera_pose");
+  const Eigen::Matrix4d depth_c2w = depth_camera_to_world(v, base);
   const Eigen::Matrix4d colour_to_depth =
       transform_of(rig_object(v, "color2depth_transform", base), base + ".color2depth_transform");
   const Eigen::Matrix4d F = gl_flip();
   c.colour_pose = Pose::from_camera_to_world(depth_c2w * colour_to_depth * F);
   c.depth_to_colour = rig_pose_of(F * colour_to_depth.inverse() * F);
+  return c;
+}
+
+OrRigCamera read_or_rig_k4a_camera(const fs::path& file, cv::Size colour,
+                                   std::optional<cv::Size> depth) {
+  const std::string where = file.string();
+  const K4aCalibration k =
+      parse_k4a_calibration(read_rig_json(file, "Azure Kinect calibration"), where);
+  OrRigCamera c;
+  c.colour = k4a_colour_camera(k.colour, colour.width, colour.height,
+                               where + ": colour camera (CALIBRATION_CameraLocationPV0)");
+  if (depth)
+    c.depth = k4a_depth_camera(k.depth, depth->width, depth->height,
+                               where + ": depth camera (CALIBRATION_CameraLocationD0)");
+  c.depth_to_colour = k4a_depth_to_colour(k);
+  // The raw export places the sensors relative to the depth camera only. The rig pose, as
+  // camera0X.json's camera_pose (the depth camera's camera-to-world, OpenGL axes), is read from
+  // camera<N>_pose.json; without it the depth camera (OpenCV axes) is the world, as in the SDK.
+  Eigen::Matrix4d depth_c2w = Eigen::Matrix4d::Identity();
+  const fs::path pose_file = or_rig_pose_file(file);
+  std::error_code ec;
+  if (fs::exists(pose_file, ec)) {
+    const std::string base = pose_file.string() + ": value0";
+    depth_c2w = depth_camera_to_world(rig_object(read_rig_json(pose_file, "rig camera pose"),
+                                                 "value0", pose_file.string()),
+                                      base) *
+                gl_flip();
+  }
+  c.colour_pose =
+      Pose::from_camera_to_world(depth_c2w * rig_matrix_of(c.depth_to_colour).inverse());
   return c;
 }
 
@@ -266,11 +317,8 @@ std::vector<ViewFiles> read_or_rig_views(const fs::path& folder, bool allow_outs
                        rgb[1].filename().string() +
                        ", ...): a capture is one time step; put each time step in a folder of "
                        "its own (docs/or-rig.md)");
-    const OrRigCamera cam = read_or_rig_camera(file);
     ViewFiles v;
     v.name = name;
-    v.camera = cam.colour;
-    v.pose = cam.colour_pose;
     v.rgb = require_inside(folder, rgb[0], allow_outside, "rig colour frame");
     require_regular_file(v.rgb, "rig colour frame");
     const auto d = depth.find(name);
@@ -286,6 +334,30 @@ std::vector<ViewFiles> read_or_rig_views(const fs::path& folder, bool allow_outs
                          d->second.front().filename().string() + ")");
       require_inside(folder, v.depth, allow_outside, "rig depth frame");
       require_regular_file(v.depth, "rig depth frame");
+    }
+    OrRigCamera cam;
+    if (is_or_rig_k4a_calibration(file)) {
+      // Azure Kinect's raw calibration: the frames' sizes name the colour and depth modes.
+      if (cameras.size() > 1 && !fs::exists(or_rig_pose_file(file)))
+        throw InputError(file.string() +
+                         ": an Azure Kinect calibration places the camera only relative to its "
+                         "own depth sensor; a rig of " +
+                         std::to_string(cameras.size()) + " cameras needs its pose in " +
+                         or_rig_pose_file(file).string() + " (docs/or-rig.md)");
+      auto frame_size = [](const fs::path& p, const char* what) {
+        const ImageHeader h = read_image_header(p);
+        check_image_header(h, p.string() + " (" + what + ")");
+        return cv::Size(static_cast<int>(h.width), static_cast<int>(h.height));
+      };
+      std::optional<cv::Size> depth_size;
+      if (!v.depth.empty()) depth_size = frame_size(v.depth, "rig depth frame");
+      cam = read_or_rig_k4a_camera(file, frame_size(v.rgb, "rig colour frame"), depth_size);
+    } else {
+      cam = read_or_rig_camera(file);
+    }
+    v.camera = cam.colour;
+    v.pose = cam.colour_pose;
+    if (!v.depth.empty()) {
       v.depth_scale = 1000;  // 16-bit millimetres, as the Azure Kinect's DEPTH16
       v.depth_sensor = DepthSensor{cam.depth ? *cam.depth : cam.colour, cam.depth_to_colour};
       if (!cam.depth) {

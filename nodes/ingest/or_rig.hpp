@@ -31,6 +31,14 @@ struct OrRigCamera {
 // color2depth_transform}}). Throws InputError naming the file and the field.
 OrRigCamera read_or_rig_camera(const std::filesystem::path& file);
 
+// A camera whose camera<N>.json is Azure Kinect's raw calibration export (k4a_calibration.hpp):
+// the colour mode from the colour frames' size; the depth mode from the depth frames' size, or
+// no depth camera (depth registered to colour already) when no depth mode has that size; the pose
+// in the rig from camera<N>_pose.json beside it ({"value0": {"camera_pose": ...}}, as in
+// camera0X.json), else the depth camera is the world. Throws InputError naming file and field.
+OrRigCamera read_or_rig_k4a_camera(const std::filesystem::path& file, cv::Size colour,
+                                   std::optional<cv::Size> depth);
+
 // The camera0X.json text that read_or_rig_camera reads back as `camera`; std::invalid_argument
 // for a thin-prism distortion (12 coefficients), which the format cannot hold.
 std::string or_rig_camera_json(const OrRigCamera& camera);
@@ -39,8 +47,9 @@ std::string or_rig_camera_json(const OrRigCamera& camera);
 // in its parent.
 bool is_or_rig_step(const std::filesystem::path& folder);
 
-// The views of one time step, one per calibrated camera with a colour frame, named after the
-// camera ("camera01"), in camera order: colorimage/<camera>_colorimage-<index>.{jpg,png} and
+// The views of one time step, one per calibrated camera with a colour frame (its camera<N>.json
+// either 4D-OR's calibration or Azure Kinect's raw one, told apart by the root key), named after
+// the camera ("camera01"), in camera order: colorimage/<camera>_colorimage-<index>.{jpg,png} and
 // depthimage/<camera>_depthimage-<index>.{tiff,tif,png} (16-bit millimetres; optional per
 // view). Each view's depth map carries its DepthSensor and is registered to the colour camera
 // on load. Throws InputError for a frame of an uncalibrated camera, a camera with several frames

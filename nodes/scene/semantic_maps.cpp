@@ -36,6 +36,14 @@ std::vector<std::string> semantic_classes(const Capture& capture) {
   return names;
 }
 
+std::vector<std::string> semantic_classes(const Capture& capture,
+                                          const std::vector<std::string>& given) {
+  if (given.empty()) return semantic_classes(capture);
+  std::vector<std::string> names{"background"};
+  names.insert(names.end(), given.begin(), given.end());
+  return names;
+}
+
 int class_index(const std::vector<std::string>& classes, const std::string& label) {
   const std::string l = lower(label);
   for (size_t i = 0; i < classes.size(); ++i)

@@ -41,6 +41,12 @@ GSLIFT_PORT_TYPE(SemanticMaps, "SemanticMaps");
 // ids have gaps.
 std::vector<std::string> semantic_classes(const Capture& capture);
 
+// `given` class names as that list ("background" first, then the names in order: class ids 1..N)
+// when there are any, else semantic_classes(capture): a capture without ground truth gets its
+// vocabulary from the user, as LangOR's production graph gets its text queries.
+std::vector<std::string> semantic_classes(const Capture& capture,
+                                          const std::vector<std::string>& given);
+
 // Index of `label` in `classes`, compared case-insensitively; -1 when it is none of them.
 int class_index(const std::vector<std::string>& classes, const std::string& label);
 

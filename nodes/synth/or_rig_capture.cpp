@@ -67,7 +67,8 @@ std::string rig_step_name(int step) {
   return name;
 }
 
-void write_or_rig_recording(const OrCaptureSettings& s, const fs::path& out_dir, int time_steps) {
+void write_or_rig_recording(const OrCaptureSettings& s, const fs::path& out_dir, int time_steps,
+                            RigDepth depth_kind) {
   if (time_steps < 1 || time_steps > 1000)
     throw std::invalid_argument("time steps: " + std::to_string(time_steps) +
                                 " is not from 1 to 1000");
@@ -76,7 +77,13 @@ void write_or_rig_recording(const OrCaptureSettings& s, const fs::path& out_dir,
   const Bvh bvh(scene.primitives);
   const int views = static_cast<int>(scene.cameras.size());
   std::vector<OrRigCamera> cameras;
-  for (const OrCamera& c : scene.cameras) cameras.push_back(rig_camera(c.camera, c.pose));
+  for (const OrCamera& c : scene.cameras) {
+    cameras.push_back(rig_camera(c.camera, c.pose));
+    if (depth_kind == RigDepth::registered) {
+      cameras.back().depth.reset();
+      cameras.back().depth_to_colour = Pose();
+    }
+  }
   write_folder_atomically(out_dir, [&](const fs::path& tmp) {
     std::vector<RigFrames> frames(views);
     tbb::parallel_for(0, views, [&](int i) {
@@ -96,12 +103,14 @@ void write_or_rig_recording(const OrCaptureSettings& s, const fs::path& out_dir,
       loaded.cy -= r.y;
       f.loaded = render_view(scene, bvh, loaded, pose, ro);
       // The depth camera: x_colour = R x_depth + t, so world -> depth is R^T (x_colour - t).
+      // Registered depth: the colour camera itself, through its lens, at half its resolution.
       Pose depth_pose;
       depth_pose.R = rc.depth_to_colour.R.transpose() * pose.R;
       depth_pose.t = rc.depth_to_colour.R.transpose() * (pose.t - rc.depth_to_colour.t);
+      const Camera depth_camera = rc.depth ? *rc.depth : rc.colour.scaled(0.5);
       RenderOptions plain;
       plain.shadows = false;  // only depth is kept
-      const cv::Mat exact = render_view(scene, bvh, *rc.depth, depth_pose, plain).depth;
+      const cv::Mat exact = render_view(scene, bvh, depth_camera, depth_pose, plain).depth;
       RandomStream depth_rng(stream_seed(s.scene.seed, kDepthPriorStream, i));
       f.depth = simulate_depth_prior(exact, s.knobs.depth_noise, s.knobs.depth_holes, depth_rng);
     });

@@ -20,6 +20,12 @@ namespace gslift::synth {
 // sits beside and tilted from its colour camera.
 OrRigCamera rig_camera(const Camera& pinhole, const Pose& colour_pose);
 
+// Where a rig writes its depth frames: from the depth camera of rig_camera (4D-OR's raw frames),
+// or registered to the colour camera already, in its captured (distorted) grid at half its
+// resolution and without depth_parameters in the calibration (MM-OR's depthimage/, whose public
+// fusion code upsamples depth by 2 and back-projects it with the colour intrinsics).
+enum class RigDepth { sensor, registered };
+
 // "camera01", ... for camera index 0, ...; "000000", ... for time step 0, ....
 std::string rig_camera_name(int index);
 std::string rig_step_name(int step);
@@ -33,6 +39,6 @@ std::string rig_step_name(int step);
 // written colour poses carry the knobs' pose noise, as gslift's layout does. Atomic as
 // write_or_capture; time_steps from 1 to 1000 (std::invalid_argument otherwise).
 void write_or_rig_recording(const OrCaptureSettings& settings, const std::filesystem::path& out_dir,
-                            int time_steps);
+                            int time_steps, RigDepth depth = RigDepth::sensor);
 
 }  // namespace gslift::synth

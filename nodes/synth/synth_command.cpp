@@ -18,7 +18,8 @@ namespace {
 void print_help(std::ostream& out) {
   out << "usage: gslift synth --out DIR [--seed S] [--phase P] [--views N] [--width W --height H]\n"
          "                    [--preset P] [--set knob=value]... [--layout rig [--time-steps "
-         "T]]\n\n"
+         "T]\n"
+         "                    [--rig-depth D]]\n\n"
          "Generates an embedded operating-room capture (images, depth prior, ground truth,\n"
          "COLMAP model, simulated VLM replies and SAM masks) in gslift's capture layout.\n"
          "The same settings give byte-identical files.\n\n"
@@ -26,6 +27,8 @@ void print_help(std::ostream& out) {
          "  --layout L     gslift (default) | rig: a multi-camera RGB-D rig recording in\n"
          "                 4D-OR's layout, one folder per time step (docs/or-rig.md)\n"
          "  --time-steps T rig: time steps, 1..1000 (default 1; the scene is static)\n"
+         "  --rig-depth D  rig: sensor (default; depth from a depth camera of its own) |\n"
+         "                 registered (MM-OR: depth in the colour camera's grid, half size)\n"
          "  --seed S       layout seed (default 0)\n"
          "  --phase P      preparation | surgery | closing (default surgery)\n"
          "  --views N      cameras, 4..8 (default 5; one in five is held out)\n"
@@ -47,6 +50,7 @@ int synth_main(int argc, char** argv) {
   std::string out_dir, layout = "gslift";
   int time_steps = 1;
   bool time_steps_given = false;
+  std::string rig_depth;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
     if (arg == "--help" || arg == "-h") {
@@ -75,6 +79,12 @@ int synth_main(int argc, char** argv) {
       }
       time_steps = static_cast<int>(t);
       time_steps_given = true;
+    } else if (arg == "--rig-depth") {
+      if (value != "sensor" && value != "registered") {
+        std::cerr << "gslift synth: --rig-depth is sensor or registered, got '" << value << "'\n";
+        return exit_code::kUsage;
+      }
+      rig_depth = value;
     } else if (arg == "--set") {
       const auto eq = value.find('=');
       if (eq == std::string::npos || eq == 0) {
@@ -94,8 +104,9 @@ int synth_main(int argc, char** argv) {
     std::cerr << "gslift synth: --out DIR is required (see gslift synth --help)\n";
     return exit_code::kUsage;
   }
-  if (time_steps_given && layout != "rig") {
-    std::cerr << "gslift synth: --time-steps needs --layout rig\n";
+  if ((time_steps_given || !rig_depth.empty()) && layout != "rig") {
+    std::cerr << "gslift synth: " << (time_steps_given ? "--time-steps" : "--rig-depth")
+              << " needs --layout rig\n";
     return exit_code::kUsage;
   }
   synth::OrCaptureSettings settings;
@@ -108,7 +119,9 @@ int synth_main(int argc, char** argv) {
   try {
     const auto start = std::chrono::steady_clock::now();
     if (layout == "rig")
-      synth::write_or_rig_recording(settings, out_dir, time_steps);
+      synth::write_or_rig_recording(
+          settings, out_dir, time_steps,
+          rig_depth == "registered" ? synth::RigDepth::registered : synth::RigDepth::sensor);
     else
       synth::write_or_capture(settings, out_dir);
     const double seconds =

@@ -226,3 +226,54 @@ TEST_CASE("feature maps: training views only, contribution = blend weights summe
   CHECK(centre[1] > 0.9f);
   CHECK(centre[0] == Approx(0).margin(1e-3));
 }
+
+// The empty-result checks (runtime/empty_result.hpp): an empty lifting or association fails its
+// node as bad input (gslift run's exit 4) with the cause, nothing downstream runs, and
+// allow_empty: true accepts the empty output.
+TEST_CASE("a lifting with no instance fails its node, allow_empty accepts it") {
+  // Four training masks, one sample each: HDBSCAN with min_cluster_size 5 calls all of them noise.
+  const std::string lift =
+      "{type: lifting.mask_level, " + kLiftInputs + ", params: {min_cluster_size: 5";
+  const RunResult empty = run_graph_text(graph(lift + "}}"), registry_with_scene());
+  REQUIRE_FALSE(empty.ok());
+  CHECK(empty.error->kind == RunError::Kind::BadInput);
+  CHECK(empty.error->node == "lift");
+  CHECK_THAT(empty.error->message,
+             Catch::Matchers::Contains("lifting.mask_level: no instance lifted from 4 samples of "
+                                       "2 training views") &&
+                 Catch::Matchers::Contains("allow_empty: true"));
+  CHECK(empty.node("assoc")->status == NodeStatus::Pending);
+
+  // Accepted, the empty lifting reaches the association, which has nothing to associate.
+  const RunResult allowed =
+      run_graph_text(graph(lift + ", allow_empty: true}}"), registry_with_scene());
+  CHECK(allowed.node("lift")->status == NodeStatus::Ok);
+  CHECK(std::get<double>(allowed.node("lift")->records.at("instances")) == 0);
+  REQUIRE_FALSE(allowed.ok());
+  CHECK(allowed.error->node == "assoc");
+  CHECK_THAT(allowed.error->message,
+             Catch::Matchers::Contains("association.instance_mask_gaussian: no instance to "
+                                       "associate (the lifting found none)"));
+}
+
+TEST_CASE(
+    "an association with no Gaussian in any instance fails its node, allow_empty accepts it") {
+  // Every Gaussian's summed blend weight is far below this: none may join an instance.
+  const std::string g = graph("{type: lifting.mask_level, " + kLiftInputs + "}") +
+                        "    params: {min_contribution: 1.0e9";
+  const RunResult empty = run_graph_text(g + "}\n", registry_with_scene());
+  REQUIRE_FALSE(empty.ok());
+  CHECK(empty.error->kind == RunError::Kind::BadInput);
+  CHECK(empty.error->node == "assoc");
+  CHECK_THAT(empty.error->message,
+             Catch::Matchers::Contains("association.instance_mask_gaussian: no Gaussian joined "
+                                       "any of the 2 instances (min_similarity, "
+                                       "min_contribution)") &&
+                 Catch::Matchers::Contains("allow_empty: true"));
+  CHECK_FALSE(empty.values.count("assoc.model"));
+
+  const RunResult allowed = run_graph_text(g + ", allow_empty: true}\n", registry_with_scene());
+  REQUIRE(allowed.ok());
+  const auto model = allowed.values.at("assoc.model").get<GaussianModel>();
+  for (const int32_t k : model->instance_ids) CHECK(k == -1);
+}

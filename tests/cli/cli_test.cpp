@@ -56,6 +56,12 @@ TEST_CASE("synth takes --threads and --log-level like every other command", "[cl
   const auto level = run_command(kBinary + " synth --out x --log-level loud");
   CHECK(level.code == exit_code::kUsage);
   CHECK(level.output.find("unknown --log-level 'loud'") != std::string::npos);
+  const auto depth_kind = run_command(kBinary + " synth --out x --rig-depth raw");
+  CHECK(depth_kind.code == exit_code::kUsage);
+  CHECK(depth_kind.output.find("--rig-depth is sensor or registered") != std::string::npos);
+  const auto depth_layout = run_command(kBinary + " synth --out x --rig-depth registered");
+  CHECK(depth_layout.code == exit_code::kUsage);
+  CHECK(depth_layout.output.find("--rig-depth needs --layout rig") != std::string::npos);
   const auto help = run_command(kBinary + " synth --help");
   CHECK(help.code == exit_code::kOk);
   CHECK(help.output.find("--threads N") != std::string::npos);
@@ -117,8 +123,15 @@ TEST_CASE("every graph shipped in graphs/ validates against the built-in catalog
     // With --input the capture is opened and checked against what every node needs of it: the
     // embedded OR holds everything a shipped graph reads (images, depth, VLM replies, SAM masks,
     // ground truth, held-out views).
+    // Production graphs whose graph params have no default get what a user gives.
+    const std::string name = e.path().filename().string();
+    const bool production = e.path().parent_path().filename() == "production";
+    const std::string sets = !production                      ? ""
+                             : name == "saga.yaml"            ? " --set prompts=clicks.json"
+                             : name == "detector_fusion.yaml" ? " --set 'classes=[patient]'"
+                                                              : "";
     const auto r = run_command(kBinary + " validate '" + e.path().string() +
-                               "' --input embedded:or --log-level warn");
+                               "' --input embedded:or --log-level warn" + sets);
     INFO(e.path().string() << "\n" << r.output);
     CHECK(r.code == exit_code::kOk);
     ++graphs;
@@ -286,6 +299,54 @@ embedded:or?seed=2&views=5&width=64&height=48  # a comment
   CHECK(run_command(kBinary + " sweep " + shell_quoted(graph) + " --inputs " + shell_quoted(set) +
                     " --input x --out " + shell_quoted(dir / "both"))
             .code == exit_code::kUsage);
+}
+
+TEST_CASE("production SAGA and detector fusion validate on a capture without ground truth",
+          "[cli][preflight][production]") {
+  const fs::path dir = test::scratch_dir("cli_production_graphs");
+  const fs::path capture = dir / "capture";
+  REQUIRE(run_command(kBinary + " synth --out '" + capture.string() +
+                      "' --width 96 --height 72 --views 5 --log-level warn")
+              .code == exit_code::kOk);
+  fs::remove_all(capture / "gt");  // a capture of one's own has no ground truth
+  const std::string graphs = std::string(GSLIFT_SOURCE_DIR) + "/graphs/";
+  const auto validate = [&](const std::string& graph, const std::string& sets) {
+    return run_command(kBinary + " validate '" + graphs + graph + "' --input '" + capture.string() +
+                       "'" + sets);
+  };
+  // The evaluated graphs need ground truth: refused, naming it.
+  const auto saga = validate("saga.yaml", "");
+  INFO(saga.output);
+  CHECK(saga.code == exit_code::kBadInput);
+  CHECK(saga.output.find("node 'truth' (masks.ground_truth) needs ground-truth instance") !=
+        std::string::npos);
+  const auto fusion = validate("detector_fusion.yaml", "");
+  INFO(fusion.output);
+  CHECK(fusion.code == exit_code::kBadInput);
+  CHECK(fusion.output.find("node 'source3d' (fusion.render_semantics) needs ground-truth class "
+                           "names") != std::string::npos);
+
+  // Their production forms need what only the user can give: a prompt file, a vocabulary.
+  const auto no_prompts = validate("production/saga.yaml", "");
+  INFO(no_prompts.output);
+  CHECK(no_prompts.code == exit_code::kInvalidGraph);
+  CHECK(no_prompts.output.find("graph param 'prompts' has no value") != std::string::npos);
+  CHECK(no_prompts.output.find("--set prompts=VALUE") != std::string::npos);
+  const fs::path prompts = dir / "clicks.json";
+  std::ofstream(prompts) << R"([{"name": "table", "view": "cam_00", "positive": [[48, 40]]}])";
+  const auto prompted =
+      validate("production/saga.yaml", " --set prompts='" + prompts.string() + "'");
+  INFO(prompted.output);
+  CHECK(prompted.code == exit_code::kOk);
+
+  const auto no_classes = validate("production/detector_fusion.yaml", "");
+  INFO(no_classes.output);
+  CHECK(no_classes.code == exit_code::kInvalidGraph);
+  CHECK(no_classes.output.find("graph param 'classes' has no value") != std::string::npos);
+  const auto classes =
+      validate("production/detector_fusion.yaml", " --set 'classes=[operating table, surgeon]'");
+  INFO(classes.output);
+  CHECK(classes.code == exit_code::kOk);
 }
 
 TEST_CASE("sweep --dry-run validates every combination and capture, runs and writes nothing",

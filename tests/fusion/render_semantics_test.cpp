@@ -36,3 +36,16 @@ TEST_CASE("the transmittance left at a pixel goes to the background distribution
   CHECK(v.probabilities[3] == Approx(0.8));
   CHECK(v.labels(0, 1) == 0);
 }
+
+TEST_CASE("a vocabulary given by the user stands in for the capture's ground-truth classes",
+          "[fusion]") {
+  Capture capture;
+  capture.name = "mine";  // no gt/classes.yaml
+  CHECK_THROWS_AS(semantic_classes(capture), InputError);
+  CHECK(semantic_classes(capture, {"operating table", "surgeon"}) ==
+        std::vector<std::string>{"background", "operating table", "surgeon"});
+  capture.classes = {{1, "patient"}};
+  CHECK(semantic_classes(capture, {}) == std::vector<std::string>{"background", "patient"});
+  // Labels match case-insensitively, as for the capture's classes.
+  CHECK(class_index(semantic_classes(capture, {"Surgeon"}), "surgeon") == 1);
+}

@@ -121,7 +121,7 @@ TEST_CASE("extends errors: a missing base and a cycle of files") {
   CHECK(with_code(absent, "unreadable-file")[0].loc.line == 0);
 }
 
-TEST_CASE("a node declared null removes the base's node; one the base lacks is an error") {
+TEST_CASE("a node declared null removes the base's node, one the base lacks is an error") {
   // A production graph drops the evaluated graph's leaf this way.
   const auto r = load_graph_text("extends: base.yaml\nnodes:\n  show: null\n", "prod.yaml",
                                  catalog(), {}, test_data("graphs"));
@@ -142,4 +142,26 @@ TEST_CASE("a node declared null removes the base's node; one the base lacks is a
   const auto alone = load_graph_text("graph: g\nnodes:\n  one: {type: src.make}\n  two: null\n",
                                      "alone.yaml", catalog());
   REQUIRE(with_code(alone, "nothing-to-remove").size() == 1);
+}
+
+TEST_CASE(
+    "an input declared null unwires the base's input, one the base does not wire is an error") {
+  // Production SAGA replaces its ground-truth reference masks by a prompt file this way.
+  const auto r = load_graph_text(
+      "extends: base.yaml\nnodes:\n  total: {type: math.mul, in: {b: null}}\n"
+      "  show: {in: {value: total.product}}\n",
+      "prod.yaml", catalog(), {}, test_data("graphs"));
+  std::string diagnostics;
+  for (const auto& d : r.diagnostics) diagnostics += d.str() + "\n";
+  INFO(diagnostics);
+  REQUIRE(r.ok());
+  const auto& inputs = r.graph->find("total")->inputs;
+  CHECK(inputs.size() == 1);
+  CHECK(inputs.count("a") == 1);
+  const auto typo = load_graph_text("extends: base.yaml\nnodes:\n  total: {in: {c: null}}\n",
+                                    "prod.yaml", catalog(), {}, test_data("graphs"));
+  const auto nothing = with_code(typo, "nothing-to-remove");
+  REQUIRE(nothing.size() == 1);
+  CHECK(nothing[0].loc.str() == "prod.yaml:3:16");
+  CHECK(nothing[0].message.find("input 'c' of node 'total'") != std::string::npos);
 }

@@ -238,3 +238,22 @@ TEST_CASE(
   CHECK(std::get<int64_t>(r.graph->find("n")->params.at("count")) == 2);
   CHECK(std::get<double>(r.graph->find("n")->params.at("scale")) == 5.0);
 }
+
+TEST_CASE("a graph param declared null must be given with --set before anything runs") {
+  const std::string yaml =
+      "graph: g\n"
+      "params: {n: null}\n"
+      "nodes:\n"
+      "  one: {type: src.make}\n"
+      "  total: {type: math.add, in: {a: one.value, b: one.value}, params: {count: \"${n}\"}}\n";
+  const auto unset = load_test_yaml(yaml);
+  const auto errors = with_code(unset, "unset-param");
+  REQUIRE(errors.size() == 1);
+  CHECK(errors[0].loc.str() == position(yaml, "\"${n}\""));
+  CHECK(errors[0].message.find("graph param 'n' has no value (declared null at") !=
+        std::string::npos);
+  CHECK(errors[0].hint == "give it with --set n=VALUE");
+  LoadOptions options;
+  options.sets = {"n=4"};
+  CHECK(param<int64_t>(load_test_yaml(yaml, options), "total", "count") == 4);
+}
