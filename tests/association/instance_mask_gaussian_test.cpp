@@ -106,7 +106,7 @@ GaussianModel six_gaussians() {
 
 }  // namespace
 
-TEST_CASE("masks take the majority instance of their pixels; sampled pixels keep their cluster") {
+TEST_CASE("masks take the majority instance of their pixels, sampled pixels keep their cluster") {
   const Scene s = scene();
   const auto matched = match_masks(s.maps, s.masks, s.lifted);
   REQUIRE(matched.size() == 2);

@@ -57,7 +57,7 @@ TEST_CASE("boxes.cluster node: params reach the algorithm") {
   }
 }
 
-TEST_CASE("boxes.prompt node: loads the vocabulary; a bad file is bad input") {
+TEST_CASE("boxes.prompt node: loads the vocabulary, a bad file is bad input") {
   Registry reg;
   register_boxes_nodes(reg);
   const std::string good = std::string(GSLIFT_SOURCE_DIR) + "/graphs/vocabulary/or.yaml";

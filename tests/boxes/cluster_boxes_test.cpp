@@ -62,7 +62,7 @@ TEST_CASE("clustering picks the Eq. 2 representative, votes labels, filters by s
   CHECK(all.back().support == 1);
 }
 
-TEST_CASE("label ties go to the higher-scoring member; single round keeps its boxes") {
+TEST_CASE("label ties go to the higher-scoring member, single round keeps its boxes") {
   // Two boxes, two labels, one vote each: the first by score wins; equal scores -> input order.
   const std::vector<Box> c{box(0, 0, 10, 10, "nurse", 0), box(0, 0, 10, 11, "surgeon", 1)};
   const auto out = cluster_boxes(c, 2, BoxClusteringParams{});
@@ -95,7 +95,7 @@ TEST_CASE("greedy seeding does not chain two objects through an in-between box")
   CHECK(out[1].support == 3);
 }
 
-TEST_CASE("an object resting on another keeps its own cluster; a mislabelled box is voted down") {
+TEST_CASE("an object resting on another keeps its own cluster, a mislabelled box is voted down") {
   // Table [0,100]x[0,40], patient on it [0,100]x[0,28]: IoU 28/40 = 0.7, above iou 0.5 but below
   // any_label_iou 0.8, so the two labels stay two objects. A round that calls the table
   // "patient" with a box [0,100]x[0,42] (IoU 40/42 = 0.95 with the table, 28/42 = 0.67 with the

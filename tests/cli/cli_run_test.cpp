@@ -317,7 +317,7 @@ nodes:
 }
 
 TEST_CASE(
-    "sweep over seeds alone runs the graph once per seed; neither grid nor seeds is a usage "
+    "sweep over seeds alone runs the graph once per seed, neither grid nor seeds is a usage "
     "error",
     "[cli]") {
   const fs::path dir = test::scratch_dir("cli_sweep_seeds");
@@ -367,7 +367,7 @@ TEST_CASE("two runs sharing a cache folder at once both finish and leave whole e
     CHECK(e.path().filename().string().find(".tmp-") == std::string::npos);
 }
 
-TEST_CASE("batch takes its shard from Slurm or Kubernetes variables; --shard wins", "[cli]") {
+TEST_CASE("batch takes its shard from Slurm or Kubernetes variables, --shard wins", "[cli]") {
   const fs::path dir = test::scratch_dir("cli_batch_env");
   const fs::path graph = write_text(dir / "write.yaml", "nodes:\n  w: {type: debug.write}\n");
   const fs::path manifest = write_text(dir / "m.txt", "a\nb\nc\nd\n");

@@ -198,7 +198,7 @@ TEST_CASE("nodes come in Kahn order, ties broken by declaration order") {
 }
 
 TEST_CASE(
-    "a preset sets the params the graph leaves unset; a param the graph sets keeps its value") {
+    "a preset sets the params the graph leaves unset, a param the graph sets keeps its value") {
   test::FakeCatalog catalog;
   ParamSpec recipe = string_param("recipe", "none", "a named setting", {"none", "big"});
   recipe.presets = {{"big", {{"scale", 5.0}, {"count", int64_t{4}}}}};

@@ -52,7 +52,7 @@ std::string param(const LoadResult& r, const std::string& node, const std::strin
 
 }  // namespace
 
-TEST_CASE("ParamTable marks path params; only a string can be one") {
+TEST_CASE("ParamTable marks path params, only a string can be one") {
   const auto specs = read_table().specs();
   CHECK(specs[0].path);
   CHECK_FALSE(specs[1].path);

@@ -117,7 +117,7 @@ TEST_CASE("filter_3d: a removed Gaussian becomes unassigned, never another insta
   for (size_t g = 0; g < 50; ++g) CHECK(r.instance_ids[g] == (g < 25 ? 0 : 1));
 }
 
-TEST_CASE("filter_3d: small instances are left alone; bad options and sizes are refused",
+TEST_CASE("filter_3d: small instances are left alone, bad options and sizes are refused",
           "[inference][filter_3d]") {
   Points p;
   p.add(0, 0, 0, 2);

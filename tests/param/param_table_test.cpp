@@ -83,7 +83,7 @@ TEST_CASE("param table: read sets every given field, nested ones too, and keeps 
   CHECK_FALSE(o.verbose);
 }
 
-TEST_CASE("param table: check names every violated field; validate throws with all of them") {
+TEST_CASE("param table: check names every violated field, validate throws with all of them") {
   Options o;
   CHECK(table().check(o).empty());
   o.steps = 0;

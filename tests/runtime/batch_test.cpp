@@ -84,7 +84,7 @@ TEST_CASE("shards split captures by index modulo count", "[batch]") {
   CHECK_THROWS_AS(parse_shard("0/0"), std::invalid_argument);
 }
 
-TEST_CASE("a failing capture is recorded and the others finish; reruns skip done ones", "[batch]") {
+TEST_CASE("a failing capture is recorded and the others finish, reruns skip done ones", "[batch]") {
   const fs::path dir = test::scratch_dir("batch_run");
   const auto manifest = read_manifest(write_manifest(dir, "cap1\nbad_cap\ncap3\n"));
   const fs::path out = dir / "out";

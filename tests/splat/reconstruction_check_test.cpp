@@ -32,7 +32,7 @@ TEST_CASE("an empty reconstruction names the pruning round that emptied it") {
   CHECK_FALSE(reconstruction_failure(r, 0).empty());
 }
 
-TEST_CASE("a train PSNR under the floor fails; at or above it, or with no floor, it is a result") {
+TEST_CASE("a train PSNR under the floor fails, at or above it, or with no floor, it is a result") {
   CHECK_THAT(reconstruction_failure(with_gaussians(10, 4.1), 10),
              Contains("train PSNR is 4.1 dB, under the floor min_train_psnr = 10.0 dB") &&
                  Contains("10 Gaussians after 500 steps"));

@@ -123,7 +123,7 @@ TEST_CASE("line of sight: a Gaussian's weight splits by where each pixel observe
 }
 
 TEST_CASE(
-    "line of sight: weight at pixels without a prior is unobserved; a hidden Gaussian has none") {
+    "line of sight: weight at pixels without a prior is unobserved, a hidden Gaussian has none") {
   // Three large opaque discs at 1.5-1.7 m in the middle of the view hide Gaussian 3 (4 m, right
   // behind them: the transmittance past them is under 3DGS's early-stop 1e-4); Gaussian 4 lies on
   // the wall at the left edge, where the prior has no depth; Gaussian 5 is outside the view.

@@ -23,7 +23,7 @@ Registry registry_with_tiny_capture() {
 
 }  // namespace
 
-TEST_CASE("splat.reconstruct writes model.ply and records its numbers; splat.render writes PNGs") {
+TEST_CASE("splat.reconstruct writes model.ply and records its numbers, splat.render writes PNGs") {
   const Registry registry = registry_with_tiny_capture();
   RunOptions options;
   options.out_dir = test::scratch_dir("train_nodes");

@@ -52,7 +52,7 @@ TEST_CASE("covered pixels: seen by a training view, inside it and not occluded t
   }
 }
 
-TEST_CASE("view geometry: an empty model is all holes; a front plane is all floaters",
+TEST_CASE("view geometry: an empty model is all holes, a front plane is all floaters",
           "[splat][geometry]") {
   Capture capture;
   capture.views = {plane_view("test", 0), plane_view("train", 0)};

@@ -13,7 +13,7 @@ using namespace gslift;
 using namespace gslift::synth;
 namespace fs = std::filesystem;
 
-TEST_CASE("embedded specs parse into settings; bad specs name the problem") {
+TEST_CASE("embedded specs parse into settings, bad specs name the problem") {
   const OrCaptureSettings s = parse_embedded_spec("or?seed=3&phase=closing&preset=hard");
   CHECK(s.scene.seed == 3);
   CHECK(s.scene.phase == OrPhase::Closing);

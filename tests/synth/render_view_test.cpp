@@ -121,7 +121,7 @@ TEST_CASE("depth is the analytic z-distance to a sphere and to the floor") {
   CHECK(floor_px > 200);
 }
 
-TEST_CASE("normals are unit and face the camera; semantic ids follow the instance classes") {
+TEST_CASE("normals are unit and face the camera, semantic ids follow the instance classes") {
   const OrScene scene = small_scene(3, OrPhase::Closing);
   const Bvh bvh(scene.primitives);
   for (const OrCamera& c : scene.cameras) {
@@ -176,7 +176,7 @@ Eigen::Vector2f floor_position(const OrScene& scene, int class_id) {
 
 }  // namespace
 
-TEST_CASE("the phase moves the surgeons and the C-arm; the seed changes the layout") {
+TEST_CASE("the phase moves the surgeons and the C-arm, the seed changes the layout") {
   for (uint64_t seed = 0; seed < 6; ++seed) {
     const OrScene prep = small_scene(seed, OrPhase::Preparation);
     const OrScene surgery = small_scene(seed, OrPhase::Surgery);

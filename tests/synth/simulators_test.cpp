@@ -141,7 +141,7 @@ TEST_CASE("SAM box simulation: best-covered instance, leak rate, wrong blob for 
   CHECK(cv::countNonZero(blob.mask(cv::Rect(0, 0, 100, 100))) == 0);  // stays near its box
 }
 
-TEST_CASE("SAM automatic masks: split, merge and fragment rates; parts at granularity 1") {
+TEST_CASE("SAM automatic masks: split, merge and fragment rates, parts at granularity 1") {
   // Instance 1 has two parts (rows 20..49 part 1, 50..79 part 2); 2 and 3 one part each.
   const cv::Mat ids = toy_instances();
   cv::Mat parts(ids.size(), CV_32SC1, cv::Scalar(0));

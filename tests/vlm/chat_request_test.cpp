@@ -45,7 +45,7 @@ TEST_CASE("the request shows the image first, then the prompt, with the sampling
   CHECK_FALSE(nlohmann::json::parse(build_chat_request(r)).contains("seed"));
 }
 
-TEST_CASE("the reply text comes out of choices[0].message.content; anything else is named") {
+TEST_CASE("the reply text comes out of choices[0].message.content, anything else is named") {
   CHECK(chat_reply_content(R"({"choices": [{"message": {"role": "assistant", "content": "hi"}}]})",
                            "s") == "hi");
   CHECK_THROWS_WITH(chat_reply_content("{\"choices\": [", "srv"),
