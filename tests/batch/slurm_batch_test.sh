@@ -176,7 +176,7 @@ done_at=$(stat -c %y "$W/pre/or_0/_DONE")
 job=$(submit 0-1 "$W/pre" "good.txt $GRAPH --out pre --set iterations=3000")
 # Mid-capture: the capture's own log (its gslift run child's, in the unfinished folder) shows
 # its reconstruction optimising.
-running() { grep -q "recon 0% optimising" "$W/pre/.$1.partial/gslift.log" 2>/dev/null; }
+running() { grep -qE "recon +[0-9]+% step [0-9]+/" "$W/pre/.$1.partial/gslift.log" 2>/dev/null; }
 wait_for 60 "or_2 to reach recon (shard 0)" running or_2 0
 wait_for 60 "or_1 to reach recon (shard 1)" running or_1 1
 scancel "${job}_0"                      # SIGCONT + SIGTERM to the task: gslift stops cleanly
