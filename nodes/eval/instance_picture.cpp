@@ -14,12 +14,12 @@ cv::Mat3b instance_comparison_picture(const cv::Mat1i& truth, const cv::Mat3b& r
                                       const std::string& title) {
   if (truth.size() != render.size() || predicted.size() != render.size()) return {};
   const cv::Vec3b unmatched(128, 128, 128);
-  cv::Mat3b gt(truth.size(), cv::Vec3b(0, 0, 0)), pred(truth.size(), cv::Vec3b(0, 0, 0));
+  const cv::Mat3b gt = label_image(truth);
+  cv::Mat3b pred(truth.size(), cv::Vec3b(0, 0, 0));
   std::set<int> matched_shown;
   bool any_unmatched = false;
   for (int y = 0; y < truth.rows; ++y)
     for (int x = 0; x < truth.cols; ++x) {
-      if (truth(y, x) > 0) gt(y, x) = label_colour(truth(y, x));
       const int p = predicted(y, x);
       if (p <= 0) continue;
       const auto it = pred_to_gt.find(p);

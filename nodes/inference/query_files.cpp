@@ -69,14 +69,11 @@ cv::Mat3b gt_render_instances(const TextQueryResults& results,
   if (truth.size() != render.size()) return {};
   std::map<std::string, int> class_id;
   for (const auto& [id, name] : classes) class_id[name] = id;
+  const cv::Mat3b gt = label_image(truth);
   std::set<int> shown;
-  cv::Mat3b gt(truth.size(), cv::Vec3b(0, 0, 0));
   for (int y = 0; y < truth.rows; ++y)
     for (int x = 0; x < truth.cols; ++x)
-      if (truth(y, x) > 0) {
-        gt(y, x) = label_colour(truth(y, x));
-        shown.insert(truth(y, x));
-      }
+      if (truth(y, x) > 0) shown.insert(truth(y, x));
   cv::Mat3b instances = render.clone();
   for (size_t q = 0; q < answers.masks.size() && q < results.query_classes.size(); ++q) {
     auto it = class_id.find(results.query_classes[q]);

@@ -18,6 +18,14 @@ cv::Vec3b label_colour(int id) {
           static_cast<uchar>(64 + ((h >> 16) & 0xff) * 191 / 255)};
 }
 
+cv::Mat3b label_image(const cv::Mat1i& ids) {
+  cv::Mat3b image(ids.size(), cv::Vec3b(0, 0, 0));
+  for (int y = 0; y < ids.rows; ++y)
+    for (int x = 0; x < ids.cols; ++x)
+      if (ids(y, x) > 0) image(y, x) = label_colour(ids(y, x));
+  return image;
+}
+
 void write_label_map_files(const LabelMapSet& maps, const Capture* rgb,
                            const std::filesystem::path& dir) {
   for (const LabelMap& m : maps.views) {

@@ -38,6 +38,9 @@ void write_label_map_files(const LabelMapSet& maps, const Capture* rgb,
 // every view and run.
 cv::Vec3b label_colour(int id);
 
+// An id map (CV_32SC1, 0 = none) painted with label_colour, black where 0.
+cv::Mat3b label_image(const cv::Mat1i& ids);
+
 // Proto-SaGa Eq. 6: one cosine classifier per training view over that view's raw SAM ids
 // (class 0 = pixels no mask covers, classes 1..L_k = the view's masks): logits tau cos(w_c, F).
 struct ViewClassifier {
