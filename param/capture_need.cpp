@@ -20,8 +20,17 @@ const char* capture_item_text(CaptureItem item) {
       return "ground-truth class names";
     case CaptureItem::HeldOutViews:
       return "held-out (test) views";
+    case CaptureItem::NamedFolder:
+      return "a folder";
   }
   return "?";
+}
+
+std::filesystem::path resolve_in_capture(const std::filesystem::path& root,
+                                         const std::filesystem::path& path) {
+  if (path.is_relative() && !root.empty() && std::filesystem::exists(root / path))
+    return root / path;
+  return path;
 }
 
 }  // namespace gslift

@@ -3,6 +3,7 @@
 // capture lacks it (runtime/preflight.hpp), instead of failing or returning nothing hours later.
 #pragma once
 
+#include <filesystem>
 #include <map>
 #include <string>
 #include <vector>
@@ -19,6 +20,7 @@ enum class CaptureItem {
   GtSemantics,   // ground-truth class maps
   GtClasses,     // the ground-truth class names (classes.yaml)
   HeldOutViews,  // test views, for held-out answers and metrics
+  NamedFolder,   // a folder one of the node's params names (masks.folder's `folder`)
 };
 
 // "VLM grounding replies": what the item is, for messages.
@@ -30,6 +32,10 @@ struct CaptureNeed {
   // text: "box", "test"); an empty `when_param` = always.
   std::string when_param{};
   std::string when_value{};
+  // NamedFolder: the param that names the folder (relative: to the capture's folder first,
+  // resolve_in_capture) and what writes it, for the message.
+  std::string folder_param{};
+  std::string produced_by{};
 };
 
 // What a capture holds of one item, as the node that opens it finds it before the run.
@@ -39,6 +45,16 @@ struct CaptureItemState {
   std::string produced_by;  // what writes it: a node, a graph, or an outside tool and its layout
 };
 
-using CaptureInventory = std::map<CaptureItem, CaptureItemState>;
+struct CaptureInventory {
+  std::filesystem::path root;  // the capture's folder; empty for one built in memory
+  std::map<CaptureItem, CaptureItemState> items;
+
+  CaptureItemState& operator[](CaptureItem item) { return items[item]; }
+};
+
+// A path a graph gives relative to its capture: `root / path` when that exists, else `path`
+// as given (relative to the working directory). Absolute paths are kept.
+std::filesystem::path resolve_in_capture(const std::filesystem::path& root,
+                                         const std::filesystem::path& path);
 
 }  // namespace gslift

@@ -1,5 +1,6 @@
 #include "runtime/preflight.hpp"
 
+#include <filesystem>
 #include <map>
 #include <optional>
 
@@ -59,6 +60,26 @@ class Inventories {
   std::map<std::string, std::optional<CaptureInventory>> probed_;
 };
 
+// The problem with a NamedFolder need, or "" when the folder the node's param names is there
+// with a file in it. A param given by a variable still unset is left to the loader.
+std::string named_folder_problem(const CaptureNeed& need, const GraphNode& node,
+                                 const CaptureInventory& inventory) {
+  auto it = node.params.find(need.folder_param);
+  const auto* text = it == node.params.end() ? nullptr : std::get_if<std::string>(&it->second);
+  if (!text || text->empty()) return "";
+  const std::filesystem::path folder = resolve_in_capture(inventory.root, *text);
+  std::error_code ec;
+  if (std::filesystem::is_directory(folder, ec) &&
+      std::filesystem::directory_iterator(folder, ec) != std::filesystem::directory_iterator())
+    return "";
+  std::string looked = (folder / "").string();
+  if (std::filesystem::path(*text).is_relative() && !inventory.root.empty() &&
+      folder != inventory.root / *text)
+    looked = ((inventory.root / *text) / "").string() + " and " + looked;
+  return "the folder its param '" + need.folder_param + "' names (" + *text + "): looked for " +
+         looked + " (none, or empty); " + need.produced_by;
+}
+
 }  // namespace
 
 std::vector<std::string> preflight_problems(const Graph& graph, const Registry& registry) {
@@ -78,8 +99,14 @@ std::vector<std::string> preflight_problems(const Graph& graph, const Registry& 
       if (!inventory) continue;
       for (const auto& need : port.needs) {
         if (!need_holds(need, node)) continue;
-        auto state = inventory->find(need.item);
-        if (state == inventory->end() || state->second.present) continue;
+        if (need.item == CaptureItem::NamedFolder) {
+          const std::string problem = named_folder_problem(need, node, *inventory);
+          if (!problem.empty())
+            problems.push_back(where(node) + describe(node) + " needs " + problem);
+          continue;
+        }
+        auto state = inventory->items.find(need.item);
+        if (state == inventory->items.end() || state->second.present) continue;
         problems.push_back(where(node) + describe(node) + " needs " + capture_item_text(need.item) +
                            " of capture '" + source->id + "': looked for " +
                            state->second.looked_for + "; " + state->second.produced_by);

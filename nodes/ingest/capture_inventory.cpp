@@ -42,6 +42,7 @@ std::string folder_text(const fs::path& folder) {
 CaptureInventory capture_inventory(const Capture& capture) {
   CaptureInventory inv;
   const fs::path root = capture.root;
+  inv.root = root;
   // A capture built in memory (no folder) holds what it was built with; it has no files beside
   // it to look for.
   const CaptureManifest m =

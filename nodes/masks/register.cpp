@@ -78,9 +78,7 @@ const ParamTable<MaskFolderOptions>& mask_folder_table() {
 
 void run_mask_folder(NodeContext& ctx, const MaskFolderOptions& o) {
   const auto capture = ctx.input<Capture>("capture");
-  std::filesystem::path folder = o.folder;
-  if (folder.is_relative() && !capture->root.empty() && !std::filesystem::exists(folder))
-    folder = capture->root / folder;
+  const std::filesystem::path folder = resolve_in_capture(capture->root, o.folder);
   MaskSet set = mask_folder(*capture, folder, o.views, o.label, o.channel);
   if (set.views.empty())
     throw InputError("masks.folder: no file of " + folder.string() + " matches a view of '" +
@@ -118,7 +116,14 @@ void register_masks_nodes(Registry& registry) {
   registry.add(
       NodeSpec{"masks.folder",
                "binary object masks from image files, one per view (e.g. DTU's mask/)",
-               {{"capture", PortTypeName<Capture>::value, "the views the masks belong to"}},
+               {{"capture",
+                 PortTypeName<Capture>::value,
+                 "the views the masks belong to",
+                 false,
+                 {{CaptureItem::NamedFolder, "", "", "folder",
+                   "object masks, one image per view named as the view (DTU's mask/; a "
+                   "NeRF-synthetic split's RGBA images with channel: alpha), drawn by hand or "
+                   "by a segmentation tool"}}}},
                {{"masks", PortTypeName<MaskSet>::value, "per view one mask, labelled `label`"}}},
       mask_folder_table(), run_mask_folder);
 }

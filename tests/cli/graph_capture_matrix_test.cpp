@@ -35,9 +35,8 @@ struct MatrixRow {
 };
 
 // "capture" = the capture cannot be opened (DTU: "image listed in the COLMAP model ... is
-// missing (set skip_missing_images ...)"). saga_dtu*.yaml and saga_lego.yaml pass on every
-// capture: their object masks come from masks.folder, whose folder the preflight does not check
-// (a run on a capture without it fails at `truth`, after the reconstruction).
+// missing (set skip_missing_images ...)"). saga_dtu*.yaml and saga_lego.yaml read their object
+// masks with masks.folder (`truth`): DTU's mask/, the lego split's train/ RGBA images.
 const std::vector<MatrixRow> kMatrix = {
     {"demo.yaml", {}, {"capture", "ok", "ok", "ok", "ok", "ok"}},
     {"detector_fusion.yaml",
@@ -67,9 +66,9 @@ const std::vector<MatrixRow> kMatrix = {
      {},
      {"capture", "render|sam|truth", "render|sam|truth", "render|sam|truth", "render|sam|truth",
       "render|sam|truth"}},
-    {"saga_dtu.yaml", {}, {"ok", "ok", "ok", "ok", "ok", "ok"}},
-    {"saga_dtu_test.yaml", {}, {"ok", "ok", "ok", "ok", "ok", "ok"}},
-    {"saga_lego.yaml", {}, {"ok", "ok", "ok", "ok", "ok", "ok"}},
+    {"saga_dtu.yaml", {}, {"ok", "truth", "truth", "truth", "truth", "truth"}},
+    {"saga_dtu_test.yaml", {}, {"ok", "truth", "truth", "truth", "truth", "truth"}},
+    {"saga_lego.yaml", {}, {"truth", "ok", "truth", "truth", "truth", "truth"}},
     {"production/detector_fusion.yaml",
      {"classes=[operating table, surgeon]"},
      {"capture", "multiview|smooth|vlm", "multiview|smooth|vlm", "vlm", "vlm", "vlm"}},

@@ -1,6 +1,7 @@
 // The preflight (runtime/preflight.hpp) over node types made for the test: a capture node whose
 // probe says what its capture holds, and consumers that declare needs on their capture port.
 #include <atomic>
+#include <fstream>
 
 #include "base/errors.hpp"
 #include "graph/loader.hpp"
@@ -144,4 +145,54 @@ TEST_CASE("a run that fails its preflight runs no node and fails as bad input",
       r, {});
   CHECK(plain.ok());
   CHECK(bodies == 2);
+}
+
+TEST_CASE("a folder a node's param names is looked for in the capture's folder, then as given",
+          "[runtime][preflight]") {
+  const fs::path root = test::scratch_dir("preflight_named_folder");
+  fs::create_directories(root / "mask");
+  std::ofstream(root / "mask" / "000.png") << "x";
+  fs::create_directories(root / "empty");
+  struct PathOptions {
+    std::string path;
+  };
+  Registry r;
+  r.add(NodeSpec{"test.capture", "opens a capture", {}, {{"capture", "Capture", "a capture"}}},
+        ParamTable<PathOptions>().add("path", &PathOptions::path, "where"),
+        [](NodeContext&, const PathOptions&) {});
+  r.add_capture_probe("test.capture", [root](const std::map<std::string, ParamValue>&) {
+    CaptureInventory inv;
+    inv.root = root;
+    return inv;
+  });
+  r.add(NodeSpec{"test.folder",
+                 "reads masks from a folder",
+                 {{"capture",
+                   "Capture",
+                   "the capture",
+                   false,
+                   {{CaptureItem::NamedFolder, "", "", "path", "drawn by hand"}}}},
+                 {}},
+        ParamTable<PathOptions>().add("path", &PathOptions::path, "the folder"),
+        [](NodeContext&, const PathOptions&) {});
+  const auto problems_with = [&](const std::string& folder) {
+    return preflight_problems(
+        load("graph: g\nnodes:\n  capture: {type: test.capture, params: {path: here}}\n"
+             "  truth: {type: test.folder, in: {capture: capture.capture}, params: {path: " +
+                 folder + "}}\n",
+             r),
+        r);
+  };
+  CHECK(problems_with("mask").empty());
+  CHECK(problems_with((root / "mask").string()).empty());
+  const auto missing = problems_with("masks");
+  REQUIRE(missing.size() == 1);
+  CHECK(missing[0] ==
+        "preflight.yaml:4:3: node 'truth' (test.folder) needs the folder its param "
+        "'path' names (masks): looked for " +
+            (root / "masks" / "").string() + " and masks/ (none, or empty); drawn by hand");
+  const auto empty = problems_with("empty");
+  REQUIRE(empty.size() == 1);
+  CHECK(empty[0].find("looked for " + (root / "empty" / "").string() + " (none, or empty)") !=
+        std::string::npos);
 }
