@@ -98,7 +98,7 @@ void write_view(const OrCaptureSettings& s, const OrScene& scene, const std::set
   const std::string stem = cam.name;
 
   write_rgb_png(dir / "images" / (stem + ".png"), r.rgb);
-  write_ground_truth(r, stem, dir);
+  write_ground_truth(r, stem, dir, k.world_scale);
   RandomStream depth_rng(stream_seed(seed, kDepthPriorStream, index));
   write_depth_png_mm(dir / "depth" / (stem + ".png"),
                      simulate_depth_prior(r.depth, k.depth_noise, k.depth_holes, depth_rng));
@@ -119,17 +119,19 @@ void write_view(const OrCaptureSettings& s, const OrScene& scene, const std::set
                                   (v + 0.5 - cam.camera.cy) / cam.camera.fy, 1.0);
     const Eigen::Vector3d x = centre + cam.pose.R.transpose() * ray_cam * (d * (1 + noise));
     const cv::Vec3b c = r.rgb.at<cv::Vec3b>(v, u);
-    out.points.xyz.push_back(x.cast<float>());
+    out.points.xyz.push_back((x * k.world_scale).cast<float>());
     out.points.rgb.emplace_back(c[0], c[1], c[2]);
   }
 }
 
 }  // namespace
 
-void write_ground_truth(const RenderedView& r, const std::string& stem, const fs::path& dir) {
+void write_ground_truth(const RenderedView& r, const std::string& stem, const fs::path& dir,
+                        double world_scale) {
   write_label_png16(dir / "gt" / "instance" / (stem + ".png"), r.instance);
   write_label_png16(dir / "gt" / "semantic" / (stem + ".png"), r.semantic);
-  write_depth_tiff(dir / "gt" / "depth" / (stem + ".tiff"), r.depth);
+  write_depth_tiff(dir / "gt" / "depth" / (stem + ".tiff"),
+                   world_scale == 1 ? r.depth : cv::Mat(r.depth * world_scale));
   write_float_tiff(dir / "gt" / "normal" / (stem + ".tiff"), r.normal);
 }
 
@@ -285,18 +287,23 @@ void write_or_capture(const OrCaptureSettings& s, const fs::path& out_dir) {
     for (int i = 0; i < views; ++i) {
       const OrCamera& c = scene.cameras[i];
       RandomStream pose_rng(stream_seed(s.scene.seed, kPoseNoiseStream, i));
-      model.images.push_back(
-          {i + 1, 1, c.name + ".png",
-           perturb_pose(c.pose, s.knobs.pose_noise_deg, s.knobs.pose_noise_m, pose_rng)});
+      Pose pose = perturb_pose(c.pose, s.knobs.pose_noise_deg, s.knobs.pose_noise_m, pose_rng);
+      pose.t *= s.knobs.world_scale;
+      model.images.push_back({i + 1, 1, c.name + ".png", pose});
       // Views are concatenated in view order, whatever order the threads finished in.
       const SparsePoints& p = outputs[i].points;
       model.points.xyz.insert(model.points.xyz.end(), p.xyz.begin(), p.xyz.end());
       model.points.rgb.insert(model.points.rgb.end(), p.rgb.begin(), p.rgb.end());
     }
     write_colmap_text(tmp / "sparse" / "0", model);
+    // The depth PNGs hold millimetres of the room whatever the units: their scale per unit
+    // says what a unit is (a 10 m room x 10 would overflow 16-bit millimetres).
+    std::ostringstream layout = classic_stream();
+    layout.precision(12);
+    layout << "model: sparse/0\nimages: images\ndepth: {folder: depth, scale: "
+           << 1000 / s.knobs.world_scale << "}\n";
     write_capture_files(
-        s, scene, "model: sparse/0\nimages: images\ndepth: {folder: depth, scale: 1000}\n",
-        [&](int i) { return scene.cameras[i].name; }, tmp);
+        s, scene, layout.str(), [&](int i) { return scene.cameras[i].name; }, tmp);
   });
 }
 

@@ -40,9 +40,10 @@ std::string capture_name(const OrCaptureSettings& s);
 void write_or_capture(const OrCaptureSettings& settings, const std::filesystem::path& out_dir);
 
 // The parts both layouts write (or_rig_capture.hpp writes the OR rig's).
-// gt/instance/<stem>.png and gt/semantic (16-bit), gt/depth/<stem>.tiff and gt/normal (float).
+// gt/instance/<stem>.png and gt/semantic (16-bit), gt/depth/<stem>.tiff (in the room's metres
+// x `world_scale`) and gt/normal (float).
 void write_ground_truth(const RenderedView& r, const std::string& stem,
-                        const std::filesystem::path& dir);
+                        const std::filesystem::path& dir, double world_scale = 1);
 // The simulated upstream models on view `index` as rendered in `r` (the grid of the images as
 // gslift loads them): vlm/<stem>/round_<k>.txt, sam_box/<stem>/round_<k>.json,
 // sam_auto/<stem>.json.

@@ -72,6 +72,10 @@ void write_or_rig_recording(const OrCaptureSettings& s, const fs::path& out_dir,
   if (time_steps < 1 || time_steps > 1000)
     throw std::invalid_argument("time steps: " + std::to_string(time_steps) +
                                 " is not from 1 to 1000");
+  // A rig writes millimetre depth TIFFs and metre calibrations, as the Azure Kinect does.
+  if (s.knobs.world_scale != 1)
+    throw std::invalid_argument(
+        "world_scale: the rig layout is written in metres (world_scale 1 only)");
   OrScene scene = make_or_scene(s.scene);
   drape_equipment(scene, s.knobs.drapes, s.scene.seed);
   const Bvh bvh(scene.primitives);

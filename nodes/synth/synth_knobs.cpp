@@ -92,7 +92,11 @@ const ParamTable<SynthKnobs>& synth_knob_table() {
           .add("shadows", &K::shadows, "render hard shadows from every light")
           .add("sparse_points", &K::sparse_points,
                "coloured sparse points sampled from the training views (SfM/MVS initialisation)", 0,
-               1000000);
+               1000000)
+          .add("world_scale", &K::world_scale,
+               "lengths written (poses, depth, points) = the room's metres x this (the capture's "
+               "units; images unchanged)",
+               1e-3, 1e3);
   return table;
 }
 

@@ -38,6 +38,10 @@ struct SynthKnobs {
   // Rendering and initialisation.
   bool shadows = true;        // hard shadows from every light
   int sparse_points = 20000;  // SfM/MVS-like coloured points sampled from the training views
+  // Units: the written capture's lengths (poses, depth, points) are the room's metres times this,
+  // as a capture in centimetres (100) or of a model-sized room (0.01) has them. The images are
+  // the same; what reads the capture must not depend on its units (issue 29's scale test).
+  double world_scale = 1;
 };
 
 // The failure rates of the simulated models, as a whole.
