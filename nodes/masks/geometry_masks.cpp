@@ -180,7 +180,7 @@ Plane fit_plane(const cv::Mat3f& points, const cv::Mat1b& mask) {
 }
 
 // Sequential RANSAC for the dominant planes among the pixels with a normal. Hypotheses from three
-// random pixels, scored on every 4th pixel of every 4th row; the best is refitted on its inliers,
+// random pixels, scored on every 8th pixel of every 8th row; the best is refitted on its inliers,
 // and each 8-connected piece of its inliers of at least min_pixels becomes a plane segment (a
 // floor another object cuts in two is two segments: each piece alone is what a mask can be).
 cv::Mat1i dominant_planes(const cv::Mat3f& points, const cv::Mat3f& normals,
@@ -200,7 +200,7 @@ cv::Mat1i dominant_planes(const cv::Mat3f& points, const cv::Mat3f& normals,
     if (static_cast<int>(free.size()) < std::max(min_pixels, 3)) break;
     std::vector<int> probe;
     for (int i : free)
-      if ((i / points.cols) % 4 == 0 && (i % points.cols) % 4 == 0) probe.push_back(i);
+      if ((i / points.cols) % 8 == 0 && (i % points.cols) % 8 == 0) probe.push_back(i);
     Plane best;
     int best_score = -1;
     for (int it = 0; it < o.ransac_iterations; ++it) {
@@ -316,10 +316,12 @@ GeometrySegments geometry_segments(const cv::Mat& depth_in, const Camera& camera
       turn(y - s, x, y + s, x);
     }
 
+  // A plane's piece is one connected surface by construction: its neighbours are joined even
+  // where a floor seen at a grazing angle steps by more than depth_jump from row to row.
   auto joined = [&](int a, int b) {
     const float za = depth(a), zb = depth(b);
     return za > 0 && zb > 0 && out.planes(a) == out.planes(b) &&
-           std::abs(za - zb) <= o.depth_jump * std::min(za, zb);
+           (out.planes(a) > 0 || std::abs(za - zb) <= o.depth_jump * std::min(za, zb));
   };
   const cv::Mat1b valid = depth > 0;
   const cv::Mat1i whole = refined_segments(cv::Mat1i(depth.size(), 0),

@@ -33,9 +33,9 @@ struct GeometryMaskOptions {
   int median = 5;
   // Normals are the cross product of point differences across 2 * normal_step pixels of the
   // box-filtered points: longer baselines average the noise, shorter ones keep thin parts.
-  int normal_step = 3;
+  int normal_step = 2;
   // Neighbours more than this fraction of their depth apart are a depth discontinuity.
-  double depth_jump = 0.04;
+  double depth_jump = 0.02;
   // A pixel whose normals normal_step to either side differ by more than this (degrees) lies on a
   // crease: objects (granularity 1) are cut at concave creases, parts (2) at every crease.
   double crease_angle = 30;
