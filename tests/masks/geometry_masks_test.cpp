@@ -72,7 +72,8 @@ RayCastScene ray_cast_scene() {
   return s;
 }
 
-double best_iou(const std::vector<Mask>& masks, const cv::Mat1b& target, int granularity) {
+double granularity_best_iou(const std::vector<Mask>& masks, const cv::Mat1b& target,
+                            int granularity) {
   double best = 0;
   for (const Mask& m : masks)
     if (m.granularity == granularity) best = std::max(best, mask_iou(m.pixels, target));
@@ -81,7 +82,7 @@ double best_iou(const std::vector<Mask>& masks, const cv::Mat1b& target, int gra
 
 // The options for the test scene's view: its floor covers 93% of it, above the 90% beyond which
 // the defaults drop a segment as saying nothing about its parts.
-GeometryMaskOptions small_image_options() {
+GeometryMaskOptions scene_options() {
   GeometryMaskOptions o;
   o.max_area_fraction = 0.95;
   return o;
@@ -98,7 +99,7 @@ TEST_CASE(
   REQUIRE(cv::countNonZero(box) > 2400);  // the scene shows what the test is about
   REQUIRE(cv::countNonZero(sphere) > 1600);
   REQUIRE(cv::countNonZero(top) > 600);
-  const GeometryMaskOptions o = small_image_options();
+  const GeometryMaskOptions o = scene_options();
   const GeometrySegments seg = geometry_segments(s.depth, s.camera, o);
   REQUIRE(seg.labels.size() == 3);
 
@@ -111,15 +112,15 @@ TEST_CASE(
   // (a depth discontinuity), the box stands on the floor (a concave crease, and the plane).
   for (int g : {0, 1}) {
     INFO("granularity " << g);
-    CHECK(best_iou(masks, floor, g) > 0.95);
-    CHECK(best_iou(masks, box, g) > 0.9);
-    CHECK(best_iou(masks, sphere, g) > 0.9);
+    CHECK(granularity_best_iou(masks, floor, g) > 0.95);
+    CHECK(granularity_best_iou(masks, box, g) > 0.9);
+    CHECK(granularity_best_iou(masks, sphere, g) > 0.9);
   }
   // Parts (2): the box's convex edges cut it into faces (its top alone), the smooth sphere stays
   // whole.
-  CHECK(best_iou(masks, box, 2) < 0.7);
-  CHECK(best_iou(masks, top, 2) > 0.8);
-  CHECK(best_iou(masks, sphere, 2) > 0.9);
+  CHECK(granularity_best_iou(masks, box, 2) < 0.7);
+  CHECK(granularity_best_iou(masks, top, 2) > 0.8);
+  CHECK(granularity_best_iou(masks, sphere, 2) > 0.9);
 
   // Discontinuity edges separate the surfaces at every granularity: no segment that becomes a
   // mask holds pixels of two of them (a few pixels along an edge may go either way).
@@ -159,7 +160,7 @@ TEST_CASE(
 
 TEST_CASE("geometry masks: empty, invalid and malformed depth") {
   const RayCastScene s = ray_cast_scene();
-  const GeometryMaskOptions o = small_image_options();
+  const GeometryMaskOptions o = scene_options();
   // All invalid: nothing to segment, no masks.
   CHECK(geometry_masks(cv::Mat1f(240, 320, 0.f), s.camera, o).empty());
   CHECK_THROWS_WITH(geometry_masks(cv::Mat(), s.camera, o, "view 'a'"),
