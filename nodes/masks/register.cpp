@@ -121,7 +121,7 @@ void register_masks_nodes(Registry& registry) {
                auto_mask_param_table(), run_auto);
   registry.add(NodeSpec{"masks.geometry",
                         "class-agnostic automatic masks from the depth prior: dominant planes, "
-                        "depth and normal discontinuities; whole objects and parts",
+                        "depth and normal discontinuities; groups, objects and parts",
                         {{"capture",
                           PortTypeName<Capture>::value,
                           "views with a depth prior (RGB-D sensor, MVS)",
