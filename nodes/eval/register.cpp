@@ -12,6 +12,7 @@
 #include "nodes/eval/instance_hungarian.hpp"
 #include "nodes/eval/instance_picture.hpp"
 #include "nodes/eval/langor_eval.hpp"
+#include "nodes/eval/mask_coverage.hpp"
 #include "nodes/eval/semantic_eval.hpp"
 #include "nodes/scene/caption_strip.hpp"
 #include "nodes/scene/image_io.hpp"
@@ -50,6 +51,20 @@ void run_langor_eval(NodeContext& ctx, const LangorEvalOptions& o) {
     write_file_atomically(dir / "metrics.md", markdown);
     // The metrics table, printed at the end of the main job.
     std::fputs(("\n" + markdown).c_str(), stdout);
+  }
+}
+
+struct MaskCoverageOptions {};
+
+// Records best_iou (every granularity) and best_iou/g<k>, masks_per_view and masks_per_view/g<k>.
+void run_mask_coverage(NodeContext& ctx, const MaskCoverageOptions&) {
+  const std::vector<MaskCoverage> rows =
+      mask_coverage(*ctx.input<MaskSet>("masks"), *ctx.input<MaskSet>("truth"));
+  ctx.record("instances", static_cast<double>(rows.front().instances));
+  for (const MaskCoverage& r : rows) {
+    const std::string suffix = r.granularity < 0 ? "" : "/g" + std::to_string(r.granularity);
+    ctx.record("best_iou" + suffix, r.mean_best_iou);
+    ctx.record("masks_per_view" + suffix, r.masks_per_view);
   }
 }
 
@@ -167,6 +182,17 @@ void register_eval_nodes(Registry& registry) {
                           "ground-truth masks with the prompts' labels (masks.ground_truth)"}},
                         {}},
                binary_segmentation_param_table(), run_binary_segmentation);
+  registry.add(NodeSpec{"eval.mask_coverage",
+                        "how well automatic masks cover the ground-truth instances: per instance "
+                        "the best IoU of any mask of its view, averaged, per granularity and over "
+                        "all; masks per view",
+                        {{"masks", PortTypeName<MaskSet>::value,
+                          "automatic masks (ingest.sam_masks kind auto, masks.auto, "
+                          "masks.geometry)"},
+                         {"truth", PortTypeName<MaskSet>::value,
+                          "ground-truth instance masks (masks.ground_truth)"}},
+                        {}},
+               ParamTable<MaskCoverageOptions>(), run_mask_coverage);
   registry.add(
       NodeSpec{"eval.instance_hungarian",
                "Gaga eval.py: label maps against ground-truth instances, one-to-one Hungarian "

@@ -1,10 +1,13 @@
 #include "nodes/masks/register.hpp"
 
+#include <map>
+
 #include <nlohmann/json.hpp>
 
 #include "base/atomic_file.hpp"
 #include "nodes/ingest/sam_masks.hpp"
 #include "nodes/masks/auto_masks.hpp"
+#include "nodes/masks/geometry_masks.hpp"
 
 namespace gslift {
 namespace {
@@ -23,15 +26,29 @@ void write_sam_auto_files(const MaskSet& set, const std::filesystem::path& dir) 
   }
 }
 
-void run_auto(NodeContext& ctx, const AutoMaskOptions& o) {
-  MaskSet set = auto_mask_set(*ctx.input<Capture>("capture"), o);
+// The automatic-mask nodes' output: counts (per granularity too), the SAM-form files, the port.
+void output_automatic_masks(NodeContext& ctx, MaskSet set) {
   size_t n = 0;
-  for (const ViewMasks& vm : set.views) n += vm.masks.size();
+  std::map<int, size_t> per_granularity;
+  for (const ViewMasks& vm : set.views) {
+    n += vm.masks.size();
+    for (const Mask& m : vm.masks) ++per_granularity[m.granularity];
+  }
   ctx.record("views", static_cast<double>(set.views.size()));
   ctx.record("masks", static_cast<double>(n));
+  for (const auto& [g, count] : per_granularity)
+    ctx.record("masks/g" + std::to_string(g), static_cast<double>(count));
   const auto dir = ctx.out_dir();
   if (!dir.empty()) write_sam_auto_files(set, dir);
   ctx.output("masks", std::move(set));
+}
+
+void run_auto(NodeContext& ctx, const AutoMaskOptions& o) {
+  output_automatic_masks(ctx, auto_mask_set(*ctx.input<Capture>("capture"), o));
+}
+
+void run_geometry(NodeContext& ctx, const GeometryMaskOptions& o) {
+  output_automatic_masks(ctx, geometry_mask_set(*ctx.input<Capture>("capture"), o));
 }
 
 struct GroundTruthOptions {
@@ -102,6 +119,19 @@ void register_masks_nodes(Registry& registry) {
                           "per view the segments of every scale, with granularity (files: "
                           "sam_auto/<view>.json as SAM writes them)"}}},
                auto_mask_param_table(), run_auto);
+  registry.add(NodeSpec{"masks.geometry",
+                        "class-agnostic automatic masks from the depth prior: dominant planes, "
+                        "depth and normal discontinuities; groups, objects and parts",
+                        {{"capture",
+                          PortTypeName<Capture>::value,
+                          "views with a depth prior (RGB-D sensor, MVS)",
+                          false,
+                          {{CaptureItem::Depth}}}},
+                        {{"masks", PortTypeName<MaskSet>::value,
+                          "per view the segments of granularity 0 (planes, groups apart in "
+                          "depth), 1 (objects: cut at concave creases) and 2 (parts: cut at every "
+                          "crease) (files: sam_auto/<view>.json as SAM writes them)"}}},
+               geometry_mask_param_table(), run_geometry);
   registry.add(
       NodeSpec{"masks.ground_truth",
                "the capture's ground-truth instance masks (labels = instance ids), for prompts "
