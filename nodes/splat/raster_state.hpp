@@ -228,13 +228,15 @@ inline void blend_tile(const RasterState& s, int t, TileBlend& out, OnRow&& on_r
     if (cut && !(depth.nearest_at_centre_depth(s.projections[e.id].depth) < tile_cut)) break;
     if (cut && !(z < tile_cut)) continue;
     const PixelRect r = clip(e, tile);
+    // Pixels that stop at this entry, per lane: summed once per entry (the only place `active`
+    // is read), not once per row, where the horizontal sum cost 1/8 of the forward pass.
+    alignas(64) int32_t stopped[kLanes] = {};
     for (int y = r.y0; y < r.y1; ++y) {
       if (cut && !(z < row_cut[y - tile.y0])) continue;
       alignas(64) float gaussian[kLanes], alpha[kLanes], w[kLanes], entry_depth[kLanes];
       if (cut) depth.row(e.id, y, tile.x0, entry_depth);
       blend_row(e, y, tile.x0, tile.x0 + kLanes, s.min_alpha, gaussian, alpha);
       const int at = (y - tile.y0) * kTileSize;
-      int stopped = 0;
 #pragma GCC unroll 1  // one vector loop, not kLanes scalar copies
       for (int x = 0; x < kLanes; ++x) {
         const int px = tile.x0 + x;
@@ -245,15 +247,15 @@ inline void blend_tile(const RasterState& s, int t, TileBlend& out, OnRow&& on_r
         const float next_T = T * (1.f - alpha[x]);
         const bool stop = live & (next_T < kMinTransmittance);
         const bool blend = live & !stop;
-        stopped += stop;
+        stopped[x] += stop;
         done[at + x] = stop ? 1.f : done[at + x];
         w[x] = blend ? alpha[x] * T : 0.f;
         out.T[at + x] = blend ? next_T : T;
         out.last[at + x] = blend ? j + 1 : out.last[at + x];
       }
-      active -= stopped;
       on_row(j, at, static_cast<const float*>(w));
     }
+    for (int x = 0; x < kLanes; ++x) active -= stopped[x];
   }
 }
 

@@ -102,6 +102,18 @@ class PixelGrads {
   const RenderGrads& grads_;
 };
 
+// kLanes floats as one GCC/clang vector value, which the compiler keeps in a register (one
+// AVX-512 register, or several narrower ones) where it would store and reload an array.
+using LaneVector = float __attribute__((vector_size(kLanes * sizeof(float))));
+inline LaneVector load_lanes(const float* p) {
+  LaneVector v;
+  std::memcpy(&v, p, sizeof v);
+  return v;
+}
+inline void store_lanes(float* p, const LaneVector& v) {
+  std::memcpy(p, &v, sizeof v);
+}
+
 // Per (Gaussian, tile) slot: dL/d mean2d (2), conic (3), opacity (1), then the channel values.
 constexpr int kSlotGeometry = GeometryMoments::kOutputs;
 
@@ -204,18 +216,19 @@ void backward_tile(const RasterState& s, int t, const PixelGrads& pixel_grads, f
         w[x] = a[x] * Tj[x];
         gv[x] = 0.f;
       }
+      // gv as one vector value: as an array, GCC stores and reloads it for every channel, a
+      // store-to-load chain that took 1/6 of the backward pass; the same operations per lane.
       const int row_c = row_channels[y - tile.y0];
-#pragma GCC unroll 16  // gv stays in a register across the channels
+      LaneVector gv_lanes = load_lanes(gv);
+      const LaneVector w_lanes = load_lanes(w);
+#pragma GCC unroll 16
       for (int c = 0; c < row_c; ++c) {
-        const float* __restrict gc = g + c * kTilePixels + at;
-        float* __restrict dc = d + c * kLanes;
-        const float vc = v[c];
-#pragma GCC unroll 1  // one vector loop, not kLanes scalar copies
-        for (int x = 0; x < kLanes; ++x) {
-          gv[x] += gc[x] * vc;
-          dc[x] += w[x] * gc[x];
-        }
+        const LaneVector gc = load_lanes(g + c * kTilePixels + at);
+        float* dc = d + c * kLanes;
+        gv_lanes += gc * v[c];
+        store_lanes(dc, load_lanes(dc) + w_lanes * gc);
       }
+      store_lanes(gv, gv_lanes);
       // alpha = o exp(power), power = -0.5 (A dx^2 + C dy^2) - B dx dy: the power's gradients
       // are linear in the moments (applied per entry below). A clamped alpha is constant, and a
       // masked lane has a = 0, so it adds nothing.
