@@ -25,6 +25,7 @@
 #include "base/random.hpp"
 #include "base/svg.hpp"
 #include "nodes/builtin.hpp"
+#include "nodes/eval/mask_coverage.hpp"
 #include "nodes/features/correspondence_loss.hpp"
 #include "nodes/features/scale_gated_loss.hpp"
 #include "nodes/inference/prompt_segmentation.hpp"
@@ -156,33 +157,21 @@ nlohmann::json loss_step_ms() {
           {"scale_gated_scales", scales}};
 }
 
-// How well a set of automatic masks covers the ground-truth instances of the training views: per
-// instance the best IoU of any mask (any granularity), averaged; and the masks per view.
-nlohmann::json mask_coverage(const Capture& capture, const MaskSet& masks) {
-  const MaskSet truth = ground_truth_masks(capture, ViewSet::Train);
-  double sum = 0;
-  int instances = 0, count = 0;
-  for (const ViewMasks& tv : truth.views)
-    for (const ViewMasks& mv : masks.views) {
-      if (mv.view != tv.view) continue;
-      count += static_cast<int>(mv.masks.size());
-      for (const Mask& t : tv.masks) {
-        double best = 0;
-        for (const Mask& m : mv.masks) best = std::max(best, mask_iou(m.pixels, t.pixels));
-        sum += best;
-        ++instances;
-      }
-    }
-  return {{"instances", instances},
-          {"mean_best_iou", instances ? 100.0 * sum / instances : NAN},
-          {"masks_per_view", truth.views.empty() ? 0.0 : double(count) / truth.views.size()}};
+// How well a set of automatic masks covers the ground-truth instances of the training views
+// (eval.mask_coverage's mean best IoU, every granularity together) and the masks per view.
+nlohmann::json coverage_json(const Capture& capture, const MaskSet& masks) {
+  const MaskCoverage all =
+      mask_coverage(masks, ground_truth_masks(capture, ViewSet::Train)).front();
+  return {{"instances", all.instances},
+          {"mean_best_iou", all.mean_best_iou},
+          {"masks_per_view", all.masks_per_view}};
 }
 
 // masks.auto (defaults) against the capture's simulated SAM automatic masks on the embedded OR.
 nlohmann::json auto_vs_sam() {
   const Capture capture = load_capture(resolve_capture_path("embedded:or"), {});
-  return {{"sam_simulated", mask_coverage(capture, load_sam_auto_masks(capture))},
-          {"masks_auto", mask_coverage(capture, auto_mask_set(capture, {}))}};
+  return {{"sam_simulated", coverage_json(capture, load_sam_auto_masks(capture))},
+          {"masks_auto", coverage_json(capture, auto_mask_set(capture, {}))}};
 }
 
 // Median, p90 and max of a prompt, per mask path.

@@ -9,6 +9,7 @@
 
 #include "base/errors.hpp"
 #include "nodes/ingest/sam_masks.hpp"
+#include "nodes/masks/label_segments.hpp"
 #include "nodes/scene/image_io.hpp"
 
 namespace gslift {
@@ -23,17 +24,7 @@ std::vector<Mask> auto_masks(const cv::Mat& rgb, const AutoMaskOptions& o) {
         o.sigma, static_cast<float>(o.scales[g] * scale_factor), o.min_area);
     cv::Mat labels;
     seg->processImage(rgb, labels);
-    double max_label = 0;
-    cv::minMaxLoc(labels, nullptr, &max_label);
-    std::vector<int> area(static_cast<size_t>(max_label) + 1, 0);
-    for (auto it = labels.begin<int32_t>(); it != labels.end<int32_t>(); ++it) ++area[*it];
-    for (size_t id = 0; id < area.size(); ++id) {
-      if (area[id] < o.min_area || area[id] > max_area) continue;
-      Mask m;
-      m.pixels = labels == static_cast<int>(id);
-      m.granularity = static_cast<int>(g);
-      out.push_back(std::move(m));
-    }
+    append_label_segments(labels, static_cast<int>(g), o.min_area, max_area, out);
   }
   return out;
 }

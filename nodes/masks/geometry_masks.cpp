@@ -1,4 +1,5 @@
 #include "nodes/masks/geometry_masks.hpp"
+#include "nodes/masks/label_segments.hpp"
 
 #include <spdlog/spdlog.h>
 #include <tbb/parallel_for.h>
@@ -336,21 +337,8 @@ std::vector<Mask> geometry_masks(const cv::Mat& depth, const Camera& camera,
   const GeometrySegments seg = geometry_segments(depth, camera, o, where);
   const int max_area = static_cast<int>(o.max_area_fraction * depth.total());
   std::vector<Mask> out;
-  for (size_t g = 0; g < seg.labels.size(); ++g) {
-    const cv::Mat1i& labels = seg.labels[g];
-    double top = -1;
-    cv::minMaxLoc(labels, nullptr, &top);
-    std::vector<int> area(static_cast<size_t>(top + 1), 0);
-    for (auto it = labels.begin(); it != labels.end(); ++it)
-      if (*it >= 0) ++area[*it];
-    for (size_t id = 0; id < area.size(); ++id) {
-      if (area[id] < o.min_area || area[id] > max_area) continue;
-      Mask m;
-      m.pixels = labels == static_cast<int>(id);
-      m.granularity = static_cast<int>(g);
-      out.push_back(std::move(m));
-    }
-  }
+  for (size_t g = 0; g < seg.labels.size(); ++g)
+    append_label_segments(seg.labels[g], static_cast<int>(g), o.min_area, max_area, out);
   return out;
 }
 
