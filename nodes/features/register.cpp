@@ -99,7 +99,8 @@ void run_view_classifiers(NodeContext& ctx, ViewClassifierOptions o) {
     ctx.record("gaussians", static_cast<double>(r.model.size()));
     ctx.record("train_psnr", r.recon->train_psnr);
     if (!std::isnan(r.recon->test_psnr)) ctx.record("test_psnr", r.recon->test_psnr);
-    ctx.record("loss_photometric", r.recon->final_loss.term("photometric"));
+    // Each term's final loss, as splat.reconstruct records them (which terms a recipe turned on).
+    for (const auto& [term, value] : r.recon->final_loss.terms) ctx.record("loss_" + term, value);
   }
   ctx.record("views", static_cast<double>(r.classifiers.views.size()));
   ctx.record("loss_start", r.loss_start);

@@ -234,6 +234,19 @@ ViewClassifierResult train_view_classifiers_jointly(const Capture& capture,
   return r;
 }
 
+namespace {
+
+// splat.reconstruct's params joint training exposes: the main ones, then those a recipe sets.
+std::vector<std::string> joint_recon_params() {
+  std::vector<std::string> names = {"iterations",    "background",      "sh_degree", "depth_weight",
+                                    "normal_weight", "coarse_fraction", "densify"};
+  for (const auto& name : recipe_param_names())
+    if (std::find(names.begin(), names.end(), name) == names.end()) names.push_back(name);
+  return names;
+}
+
+}  // namespace
+
 const ParamTable<ViewClassifierOptions>& view_classifier_param_table() {
   using O = ViewClassifierOptions;
   static const ParamTable<O> table =
@@ -256,11 +269,14 @@ const ParamTable<ViewClassifierOptions>& view_classifier_param_table() {
                "one class-0 (no SAM mask) row shared by every view's classifier")
           .add("lambda_ce", &O::lambda_ce, "joint: weight of L_CE against L_rec (Eq. 8: 0.05)", 0)
           // The reconstruction params joint training exposes: splat.reconstruct's declarations
-          // and defaults, named recon_<its name>; the rest keep those defaults.
-          .nest(&O::recon, reconstruct_param_table(),
-                {"iterations", "background", "sh_degree", "depth_weight", "normal_weight",
-                 "coarse_fraction", "densify"},
-                "recon_", " (joint; splat.reconstruct's param of that name)");
+          // and defaults, named recon_<its name>, its recipes and the params they set; the rest
+          // keep those defaults.
+          .add("recon_recipe", &O::recon_recipe, recipe_names(),
+               "joint: splat.reconstruct's recipe, setting the recon_* params it names where the "
+               "graph leaves them unset")
+          .presets(recipe_presets("recon_"))
+          .nest(&O::recon, reconstruct_param_table(), joint_recon_params(), "recon_",
+                " (joint; splat.reconstruct's param of that name)");
   return table;
 }
 

@@ -52,6 +52,7 @@ struct ViewClassifierOptions {
   // inside (params recon_<name> for the main ones of splat.reconstruct, its defaults otherwise);
   // `iterations` is unused there (the reconstruction's steps are the training steps).
   double lambda_ce = 0.05;
+  Recipe recon_recipe = Recipe::None;  // resolved by the graph (ParamSpec::presets), not read here
   ReconstructOptions recon;
   uint64_t seed = 0;  // not a param: the node's seed
 };

@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <functional>
 #include <limits>
+#include <map>
 #include <optional>
 #include <string>
 #include <utility>
@@ -125,6 +126,11 @@ const EnumNames<Recipe>& recipe_names();  // none, depth_prior
 const std::vector<std::pair<std::string, ParamValue>>& recipe_params(Recipe recipe);
 // Sets the recipe's params in `o` (a C++ caller's `recipe:`).
 void apply_recipe(ReconstructOptions& o, Recipe recipe);
+// The recipes as a mode param's presets (ParamTable::presets): each recipe but none, with the
+// names of the params it sets prefixed by `prefix` (a node that exposes them as recon_<name>).
+std::map<std::string, ParamPreset> recipe_presets(const std::string& prefix = {});
+// The names of the params some recipe sets, in recipe order.
+std::vector<std::string> recipe_param_names();
 
 // Mean of each loss term over the last 10% of the steps (at least one step).
 struct LossSummary {

@@ -2,6 +2,8 @@
 // benchmarks sweep, and the named recipes.
 #include "nodes/splat/reconstruct.hpp"
 
+#include <algorithm>
+
 namespace gslift {
 
 const EnumNames<Background>& background_names() {
@@ -41,6 +43,25 @@ void apply_recipe(ReconstructOptions& o, Recipe recipe) {
   for (const auto& [name, value] : recipe_params(recipe))
     if (!reconstruct_param_table().set(o, name, value))
       throw std::logic_error("recipe sets an unknown param '" + name + "'");
+}
+
+std::map<std::string, ParamPreset> recipe_presets(const std::string& prefix) {
+  std::map<std::string, ParamPreset> presets;
+  for (const auto& [recipe, name] : recipe_names()) {
+    ParamPreset preset;
+    for (const auto& [param, value] : recipe_params(recipe))
+      preset.emplace_back(prefix + param, value);
+    if (!preset.empty()) presets[name] = std::move(preset);
+  }
+  return presets;
+}
+
+std::vector<std::string> recipe_param_names() {
+  std::vector<std::string> names;
+  for (const auto& [recipe, name] : recipe_names())
+    for (const auto& [param, value] : recipe_params(recipe))
+      if (std::find(names.begin(), names.end(), param) == names.end()) names.push_back(param);
+  return names;
 }
 
 namespace {

@@ -34,13 +34,6 @@ struct ReconstructNodeParams {
   double min_train_psnr = kDefaultMinTrainPsnr;
 };
 
-std::map<std::string, ParamPreset> recipe_presets() {
-  std::map<std::string, ParamPreset> presets;
-  for (const auto& [recipe, name] : recipe_names())
-    if (!recipe_params(recipe).empty()) presets[name] = recipe_params(recipe);
-  return presets;
-}
-
 const ParamTable<ReconstructNodeParams>& reconstruct_node_param_table() {
   using P = ReconstructNodeParams;
   static const ParamTable<P> table =

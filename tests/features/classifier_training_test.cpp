@@ -100,6 +100,29 @@ TEST_CASE("view classifiers trained jointly with the reconstruction") {
   CHECK(r.recon->train_psnr > 25);
 }
 
+TEST_CASE("joint training's recon_recipe sets the fields splat.reconstruct's recipe sets") {
+  // The graph applies a preset by setting its params by name: each recon_<name> the preset names
+  // must be a param of the node and land on the field the recipe sets in splat.reconstruct.
+  const auto presets = recipe_presets("recon_");
+  REQUIRE(presets.count("depth_prior") == 1);
+  REQUIRE(presets.count("none") == 0);  // none sets nothing: no preset
+  ViewClassifierOptions joint;
+  for (const auto& [name, value] : presets.at("depth_prior")) {
+    INFO(name);
+    CHECK(name.rfind("recon_", 0) == 0);
+    CHECK(view_classifier_param_table().set(joint, name, value));
+  }
+  ReconstructOptions expected;
+  apply_recipe(expected, Recipe::DepthPrior);
+  const auto& table = reconstruct_param_table();
+  for (const auto& name : recipe_param_names()) {
+    INFO(name);
+    CHECK(table.field(name).get(joint.recon) == table.field(name).get(expected));
+  }
+  CHECK(joint.recon.line_of_sight_weight == 0.6);
+  CHECK(joint.recon.background == Background::Mean);
+}
+
 TEST_CASE("Gaga's lift with the KL neighbour regulariser: the term joins every 5th step") {
   const Capture capture = test::rendered_capture();
   const GaussianModel model = test::ground_truth_scene();
