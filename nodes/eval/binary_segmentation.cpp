@@ -36,6 +36,14 @@ double binary_accuracy(const BinaryCounts& c) {
   return all == 0 ? 1.0 : double(c.tp + c.tn) / double(all);
 }
 
+double binary_precision(const BinaryCounts& c) {
+  return c.tp + c.fp == 0 ? 1.0 : double(c.tp) / double(c.tp + c.fp);
+}
+
+double binary_recall(const BinaryCounts& c) {
+  return c.tp + c.fn == 0 ? 1.0 : double(c.tp) / double(c.tp + c.fn);
+}
+
 BinarySegmentationSummary score_binary_segmentation(const MaskSet& predictions,
                                                     const MaskSet& truth,
                                                     const BinarySegmentationOptions& o) {
@@ -62,33 +70,45 @@ BinarySegmentationSummary score_binary_segmentation(const MaskSet& predictions,
       BinaryViewScore v{pm.label, pv.view, binary_counts(pm.pixels, gt->pixels)};
       v.iou = binary_iou(v.counts);
       v.accuracy = binary_accuracy(v.counts);
+      v.precision = binary_precision(v.counts);
+      v.recall = binary_recall(v.counts);
       auto [it, added] = label_index.emplace(pm.label, s.labels.size());
       if (added) s.labels.push_back({pm.label});
       BinaryLabelScore& l = s.labels[it->second];
       ++l.views;
       l.iou += v.iou;
       l.accuracy += v.accuracy;
+      l.precision += v.precision;
+      l.recall += v.recall;
       s.views.push_back(std::move(v));
     }
   }
   for (BinaryLabelScore& l : s.labels) {
     l.iou *= 100.0 / l.views;
     l.accuracy *= 100.0 / l.views;
+    l.precision *= 100.0 / l.views;
+    l.recall *= 100.0 / l.views;
     s.miou += l.iou / s.labels.size();
     s.macc += l.accuracy / s.labels.size();
+    s.mprecision += l.precision / s.labels.size();
+    s.mrecall += l.recall / s.labels.size();
   }
   return s;
 }
 
 std::string binary_segmentation_markdown(const BinarySegmentationSummary& s) {
-  std::string out = "| prompt | views | IoU | Acc |\n| --- | ---: | ---: | ---: |\n";
+  std::string out =
+      "| prompt | views | IoU | Acc | precision | recall |\n| --- | ---: | ---: | ---: | ---: | "
+      "---: "
+      "|\n";
   char line[256];
   for (const BinaryLabelScore& l : s.labels) {
-    std::snprintf(line, sizeof line, "| %s | %d | %.1f | %.1f |\n", l.label.c_str(), l.views, l.iou,
-                  l.accuracy);
+    std::snprintf(line, sizeof line, "| %s | %d | %.1f | %.1f | %.1f | %.1f |\n", l.label.c_str(),
+                  l.views, l.iou, l.accuracy, l.precision, l.recall);
     out += line;
   }
-  std::snprintf(line, sizeof line, "| **mean** | | **%.1f** | **%.1f** |\n", s.miou, s.macc);
+  std::snprintf(line, sizeof line, "| **mean** | | **%.1f** | **%.1f** | %.1f | %.1f |\n", s.miou,
+                s.macc, s.mprecision, s.mrecall);
   return out + line;
 }
 

@@ -28,6 +28,12 @@ BinaryCounts binary_counts(const cv::Mat1b& pred, const cv::Mat1b& truth);
 double binary_iou(const BinaryCounts& c);
 // (TP + TN) / all pixels; 1 for an empty image.
 double binary_accuracy(const BinaryCounts& c);
+// How much of a selection is the object, TP / (TP + FP), and how much of the object it holds,
+// TP / (TP + FN): what IoU mixes, apart (over- against under-selection). Precision is 1 for an
+// empty prediction (nothing wrong selected: its recall says what it missed), recall 1 when there
+// is nothing to find.
+double binary_precision(const BinaryCounts& c);
+double binary_recall(const BinaryCounts& c);
 
 struct BinarySegmentationOptions {
   // Views never scored (e.g. the view the prompt was given in, where the prompt itself is the
@@ -40,19 +46,19 @@ struct BinaryViewScore {
   std::string label;  // the prompt (mask label)
   std::string view;
   BinaryCounts counts;
-  double iou = 0, accuracy = 0;
+  double iou = 0, accuracy = 0, precision = 0, recall = 0;
 };
 
 struct BinaryLabelScore {
   std::string label;
-  int views = 0;                 // target views scored
-  double iou = 0, accuracy = 0;  // means over those views, percent
+  int views = 0;                                            // target views scored
+  double iou = 0, accuracy = 0, precision = 0, recall = 0;  // means over those views, percent
 };
 
 struct BinarySegmentationSummary {
   std::vector<BinaryViewScore> views;    // every scored (label, view)
   std::vector<BinaryLabelScore> labels;  // in order of first appearance among the predictions
-  double miou = 0, macc = 0;             // means over labels, percent
+  double miou = 0, macc = 0, mprecision = 0, mrecall = 0;  // means over labels, percent
 };
 
 // Scores every predicted mask of a view that `truth` also has (truth views without a

@@ -75,7 +75,13 @@ void run_binary_segmentation(NodeContext& ctx, const BinarySegmentationOptions& 
   ctx.record("target_views", static_cast<double>(s.views.size()));
   ctx.record("mIoU", s.miou);
   ctx.record("mAcc", s.macc);
-  for (const auto& l : s.labels) ctx.record("IoU/" + l.label, l.iou);
+  ctx.record("mPrecision", s.mprecision);
+  ctx.record("mRecall", s.mrecall);
+  for (const auto& l : s.labels) {
+    ctx.record("IoU/" + l.label, l.iou);
+    ctx.record("precision/" + l.label, l.precision);
+    ctx.record("recall/" + l.label, l.recall);
+  }
   const std::string markdown = binary_segmentation_markdown(s);
   const auto dir = ctx.out_dir();
   if (!dir.empty()) {

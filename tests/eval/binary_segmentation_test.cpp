@@ -27,6 +27,12 @@ TEST_CASE("binary IoU and accuracy of a hand-counted mask pair") {
   CHECK(c.tn == 8);
   CHECK(binary_iou(c) == Approx(2.0 / 8.0));
   CHECK(binary_accuracy(c) == Approx(10.0 / 16.0));
+  CHECK(binary_precision(c) == Approx(2.0 / 4.0));
+  CHECK(binary_recall(c) == Approx(2.0 / 6.0));
+  // Nothing selected: no wrong pixel (precision 1), the whole object missed (recall 0).
+  const BinaryCounts none = binary_counts(cv::Mat1b::zeros(4, 4), block(4, 4, {1, 0, 3, 2}));
+  CHECK(binary_precision(none) == 1.0);
+  CHECK(binary_recall(none) == 0.0);
   CHECK(binary_iou(binary_counts(cv::Mat1b::zeros(2, 2), cv::Mat1b::zeros(2, 2))) == 1.0);
   CHECK_THROWS_AS(binary_counts(cv::Mat1b::zeros(2, 2), cv::Mat1b::zeros(3, 2)), InputError);
 }
@@ -53,6 +59,11 @@ TEST_CASE("scores average over target views per prompt, then over prompts") {
   CHECK(s.labels[1].iou == Approx(100.0));
   CHECK(s.labels[1].accuracy == Approx(100.0));
   CHECK(s.miou == Approx((62.5 + 100.0) / 2));
+  // Precision of "a": 1 in v1, 2 / 4 in v2; recall 1 and 2 / 6.
+  CHECK(s.labels[0].precision == Approx(100 * (1.0 + 0.5) / 2));
+  CHECK(s.labels[0].recall == Approx(100 * (1.0 + 2.0 / 6) / 2));
+  CHECK(s.mprecision == Approx((75.0 + 100.0) / 2));
+  CHECK(s.mrecall == Approx((100 * (1.0 + 2.0 / 6) / 2 + 100.0) / 2));
   // Excluding v1 (say, the prompt's view) leaves v2 alone.
   s = score_binary_segmentation(pred, truth, {{"v1"}});
   REQUIRE(s.views.size() == 1);
