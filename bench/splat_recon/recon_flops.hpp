@@ -23,4 +23,16 @@ struct StepFlops {
 // Estimate for a step on `view` of `capture` with `model` (rendered once to count the pairs).
 StepFlops estimate_step_flops(const GaussianModel& model, const View& view);
 
+// The machine's single-precision peak, measured rather than taken from a data sheet: `threads`
+// threads (0 = every hardware thread) each run independent chains of fused multiply-adds at the
+// widest vector width this build targets (AVX-512, AVX2 + FMA, or scalar), enough chains to hide
+// the FMA latency on two pipes; the best of five timings. The ceiling the blending loops, which
+// run at that width, are held against.
+struct FmaPeak {
+  double gflops = 0;  // 2 flops per lane and FMA
+  int lanes = 1;      // single-precision lanes per vector
+  int threads = 1;
+};
+FmaPeak measure_fma_peak(int threads);
+
 }  // namespace gslift::bench
