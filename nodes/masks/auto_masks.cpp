@@ -18,20 +18,19 @@ std::vector<Mask> auto_masks(const cv::Mat& rgb, const AutoMaskOptions& o) {
   auto_mask_param_table().validate(o, "masks.auto");
   std::vector<Mask> out;
   const double scale_factor = rgb.cols / 640.0;
-  const int max_area = static_cast<int>(o.max_area_fraction * rgb.total());
   for (size_t g = 0; g < o.scales.size(); ++g) {
     auto seg = cv::ximgproc::segmentation::createGraphSegmentation(
-        o.sigma, static_cast<float>(o.scales[g] * scale_factor), o.min_area);
+        o.sigma, static_cast<float>(o.scales[g] * scale_factor), o.keep.min_area);
     cv::Mat labels;
     seg->processImage(rgb, labels);
-    append_label_segments(labels, static_cast<int>(g), o.min_area, max_area, out);
+    append_label_segments(labels, static_cast<int>(g), o.keep, out);
   }
   return out;
 }
 
 MaskSet auto_mask_set(const Capture& capture, const AutoMaskOptions& o) {
   std::vector<int> views;
-  for (int v : capture.views_named(o.views))
+  for (int v : capture.views_named(o.keep.views))
     if (capture.views[v].rgb.present()) views.push_back(v);
   MaskSet set;
   set.views.resize(views.size());
@@ -115,10 +114,7 @@ const ParamTable<AutoMaskOptions>& auto_mask_param_table() {
                "graph-segmentation scale k per granularity, coarse to fine (640-px-wide image)",
                1e-3, 1e7)
           .add("sigma", &O::sigma, "Gaussian smoothing before segmenting", 0, 100)
-          .add("min_area", &O::min_area, "smallest segment kept as a mask, pixels", 1, 1e8)
-          .add("max_area_fraction", &O::max_area_fraction,
-               "segments covering more of the view are dropped", 0, 1)
-          .add("views", &O::views, view_set_names(), "views to segment");
+          .nest(&O::keep, segment_keep_param_table());
   return table;
 }
 

@@ -14,6 +14,7 @@
 
 #include <opencv2/core.hpp>
 
+#include "nodes/masks/label_segments.hpp"
 #include "nodes/scene/capture.hpp"
 #include "nodes/scene/masks.hpp"
 #include "param/param_table.hpp"
@@ -26,11 +27,7 @@ struct AutoMaskOptions {
   // the image width [decision, measured in docs/saga.md].
   std::vector<double> scales = {2000, 500};
   double sigma = 0.8;  // Gaussian smoothing before segmenting (Felzenszwalb: 0.8)
-  int min_area = 100;  // SAM's min_mask_region_area in SAGA's extraction script
-  // Segments covering more than this fraction of the view are dropped (SAGA drops masks with a
-  // single value; a segment of almost the whole image says nothing about its parts).
-  double max_area_fraction = 0.9;
-  ViewSet views = ViewSet::Train;  // test views never need masks: training reads train views
+  SegmentKeep keep;    // min_area, max_area_fraction, views (label_segments.hpp)
 };
 
 const ParamTable<AutoMaskOptions>& auto_mask_param_table();

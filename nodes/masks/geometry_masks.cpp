@@ -335,15 +335,14 @@ GeometrySegments geometry_segments(const cv::Mat& depth_in, const Camera& camera
 std::vector<Mask> geometry_masks(const cv::Mat& depth, const Camera& camera,
                                  const GeometryMaskOptions& o, const std::string& where) {
   const GeometrySegments seg = geometry_segments(depth, camera, o, where);
-  const int max_area = static_cast<int>(o.max_area_fraction * depth.total());
   std::vector<Mask> out;
   for (size_t g = 0; g < seg.labels.size(); ++g)
-    append_label_segments(seg.labels[g], static_cast<int>(g), o.min_area, max_area, out);
+    append_label_segments(seg.labels[g], static_cast<int>(g), o.keep, out);
   return out;
 }
 
 MaskSet geometry_mask_set(const Capture& capture, const GeometryMaskOptions& o) {
-  const std::vector<int> views = capture.views_named(o.views);
+  const std::vector<int> views = capture.views_named(o.keep.views);
   for (int v : views)
     if (!capture.views[v].depth.present())
       throw InputError("masks.geometry: view '" + capture.views[v].name + "' of '" + capture.name +
@@ -397,10 +396,7 @@ const ParamTable<GeometryMaskOptions>& geometry_mask_param_table() {
                "plane inlier distance as a fraction of the depth", 0, 1)
           .add("plane_angle", &O::plane_angle, "plane inlier normal angle, degrees", 0, 90)
           .add("ransac_iterations", &O::ransac_iterations, "plane hypotheses per plane", 1, 100000)
-          .add("min_area", &O::min_area, "smallest segment kept as a mask, pixels", 1, 1e8)
-          .add("max_area_fraction", &O::max_area_fraction,
-               "segments covering more of the view are dropped", 0, 1)
-          .add("views", &O::views, view_set_names(), "views to segment");
+          .nest(&O::keep, segment_keep_param_table());
   return table;
 }
 

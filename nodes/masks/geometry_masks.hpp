@@ -20,6 +20,7 @@
 
 #include <opencv2/core.hpp>
 
+#include "nodes/masks/label_segments.hpp"
 #include "nodes/scene/camera.hpp"
 #include "nodes/scene/capture.hpp"
 #include "nodes/scene/masks.hpp"
@@ -47,10 +48,7 @@ struct GeometryMaskOptions {
   double plane_distance = 0.03;
   double plane_angle = 20;
   int ransac_iterations = 300;
-  int min_area = 100;  // SAM's min_mask_region_area in SAGA's extraction script
-  // Segments covering more than this fraction of the view are dropped (as masks.auto).
-  double max_area_fraction = 0.9;
-  ViewSet views = ViewSet::Train;  // test views never need masks: training reads train views
+  SegmentKeep keep;  // min_area, max_area_fraction, views (label_segments.hpp)
 };
 
 const ParamTable<GeometryMaskOptions>& geometry_mask_param_table();

@@ -42,7 +42,7 @@ TEST_CASE("graph segmentation at two scales: whole objects coarse, parts fine") 
   // 1000). Segments under min_area merge into a neighbour: the one-pixel rings that the smoothing
   // leaves along each edge (sigma 0.8) are absorbed.
   o.scales = {120000, 4000};
-  o.min_area = 400;
+  o.keep.min_area = 400;
   const std::vector<Mask> masks = auto_masks(rgb, o);
   // Fine: the disc, and each half of the box on its own (IoU > 0.9: the one-pixel ring that the
   // smoothing blurs along each edge goes to one side or the other).
@@ -69,7 +69,7 @@ TEST_CASE("automatic masks round-trip through the SAM automatic-mask JSON") {
   const cv::Mat rgb = drawn_scene(box, disc);
   AutoMaskOptions o;
   o.scales = {120000, 4000};
-  o.min_area = 400;
+  o.keep.min_area = 400;
   const std::vector<Mask> masks = auto_masks(rgb, o);
   nlohmann::json list = nlohmann::json::array();
   for (const Mask& m : masks) {

@@ -84,7 +84,7 @@ double granularity_best_iou(const std::vector<Mask>& masks, const cv::Mat1b& tar
 // the defaults drop a segment as saying nothing about its parts.
 GeometryMaskOptions scene_options() {
   GeometryMaskOptions o;
-  o.max_area_fraction = 0.95;
+  o.keep.max_area_fraction = 0.95;
   return o;
 }
 
@@ -130,7 +130,7 @@ TEST_CASE(
     for (int id = 0; id <= top_id; ++id) {
       const cv::Mat1b segment = labels == id;
       const int area = cv::countNonZero(segment);
-      if (area < o.min_area) continue;
+      if (area < o.keep.min_area) continue;
       int most = 0;
       for (const cv::Mat1b& truth : {floor, box, sphere})
         most = std::max(most, cv::countNonZero(segment & truth));
@@ -179,7 +179,7 @@ TEST_CASE("geometry masks: empty, invalid and malformed depth") {
   view.camera = s.camera;
   capture.views.push_back(view);
   GeometryMaskOptions all = o;
-  all.views = ViewSet::All;
+  all.keep.views = ViewSet::All;
   CHECK_THROWS_WITH(geometry_mask_set(capture, all),
                     Catch::Contains("'v0'") && Catch::Contains("no depth prior"));
   capture.views[0].depth = ImageSource::in_memory(cv::Mat1f(240, 320, 0.f));
@@ -199,9 +199,9 @@ TEST_CASE("geometry masks on a real RGB-D capture (Replica room0)") {
   load.downscale = 4;
   const Capture c = load_capture(test::shared_data("replica_nice_slam_rgbd/room0"), load);
   GeometryMaskOptions o;
-  o.views = ViewSet::All;
+  o.keep.views = ViewSet::All;
   o.normal_step = 2;
-  o.min_area = 30;
+  o.keep.min_area = 30;
   const MaskSet set = geometry_mask_set(c, o);
   REQUIRE(set.views.size() == c.views.size());
   // Every frame of the room shows floor or walls and furniture: groups, objects and parts in
