@@ -119,7 +119,7 @@ int cmd_sweep(int argc, char** argv, const Registry& registry) {
   };
   const auto combination_options = [&](const SweepPoint& p) {
     LoadOptions lopt = load_options(args);
-    for (const auto& [param, value] : p.params) lopt.sets.push_back(param + "=" + value);
+    for (auto& set : sweep_point_sets(p)) lopt.sets.push_back(std::move(set));
     for (auto& set : lopt.sets) set = with_seed(set, p.seed);
     if (args.has("input") || !p.input.empty()) lopt.vars["input"] = input_of(p);
     return lopt;

@@ -138,6 +138,19 @@ std::vector<SweepPoint> sweep_points(const std::vector<GridAxis>& axes,
   return points;
 }
 
+std::vector<std::string> sweep_point_sets(const SweepPoint& point) {
+  const auto is_type = [](const std::string& param) {
+    const std::string suffix = ".type";
+    return param.size() > suffix.size() &&
+           param.compare(param.size() - suffix.size(), suffix.size(), suffix) == 0;
+  };
+  std::vector<std::string> swaps, params;
+  for (const auto& [param, value] : point.params)
+    (is_type(param) ? swaps : params).push_back(param + "=" + value);
+  swaps.insert(swaps.end(), params.begin(), params.end());
+  return swaps;
+}
+
 SweepRun sweep_run_from_record(const json& run_json, SweepRun run) {
   const json& r = run_json.at("run");
   run.status = r.at("status").get<std::string>();

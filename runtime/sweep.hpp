@@ -44,6 +44,11 @@ std::vector<SweepPoint> sweep_points(const std::vector<GridAxis>& axes,
                                      const std::vector<uint64_t>& seeds,
                                      const std::vector<std::string>& inputs = {""});
 
+// A point's params as the --set texts of its run, every stage swap ("NODE.type=...") before the
+// params: a later type replaces the node's earlier params, so a grid over `prompt.type` and
+// `prompt.tau` runs each type at each tau instead of dropping tau (params sort by name).
+std::vector<std::string> sweep_point_sets(const SweepPoint& point);
+
 struct SweepRun {
   std::string dir;  // relative to the sweep folder: "runs/0003"
   SweepPoint point;

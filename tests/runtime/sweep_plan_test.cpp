@@ -62,6 +62,20 @@ TEST_CASE("a capture set multiplies the plan: each combination on every capture 
                     Contains("more than 10000 runs"));
 }
 
+TEST_CASE("a grid's stage swap is set before its params, whatever their names", "[sweep]") {
+  // Params sort by name: "prompt.tau" before "prompt.type". Set in that order the swap would
+  // drop the tau just set, and every cell would run the new stage at its default tau.
+  SweepPoint point;
+  point.params = {{"prompt.tau", "0.9"},
+                  {"prompt.type", "prompt.flashsplat"},
+                  {"a.b", "1"},
+                  {"recon.type", "splat.reconstruct"},
+                  {"subtype", "x"}};
+  CHECK(sweep_point_sets(point) == Values{"prompt.type=prompt.flashsplat",
+                                          "recon.type=splat.reconstruct", "a.b=1", "prompt.tau=0.9",
+                                          "subtype=x"});
+}
+
 TEST_CASE("paired differences against the first combination, with a 95% t interval by hand",
           "[sweep]") {
   const GridAxis a{"a.value", {"1", "2"}};
