@@ -1,4 +1,9 @@
 // splat.reconstruct and splat.render through the executor, on an inline graph.
+#include <sstream>
+
+#include <spdlog/sinks/ostream_sink.h>
+#include <spdlog/spdlog.h>
+
 #include "nodes/splat/ply_io.hpp"
 #include "nodes/splat/register.hpp"
 #include "runtime/executor.hpp"
@@ -18,6 +23,16 @@ Registry registry_with_tiny_capture() {
                  {{"capture", "Capture", "the capture"}},
                  {}},
         [](NodeContext& ctx) { ctx.output("capture", test::rendered_capture()); });
+  r.add(NodeSpec{"test.tiny_photos",
+                 "the same capture without its depth prior (plain photos)",
+                 {},
+                 {{"capture", "Capture", "the capture"}},
+                 {}},
+        [](NodeContext& ctx) {
+          Capture c = test::rendered_capture();
+          for (View& v : c.views) v.depth = ImageSource();
+          ctx.output("capture", std::move(c));
+        });
   return r;
 }
 
@@ -65,6 +80,34 @@ nodes:
     for (int v = 0; v < 5; ++v)
       CHECK(std::filesystem::exists(options.out_dir / "render" /
                                     ("cam_" + std::to_string(v) + "_" + c + ".png")));
+}
+
+TEST_CASE("the depth_prior recipe on plain photos says its depth levers do nothing there") {
+  const Registry registry = registry_with_tiny_capture();
+  std::ostringstream log;
+  auto sink = std::make_shared<spdlog::sinks::ostream_sink_mt>(log);
+  const auto previous = spdlog::default_logger();
+  spdlog::set_default_logger(std::make_shared<spdlog::logger>("capture", sink));
+  const auto run_on = [&](const std::string& source) {
+    return run_graph_text("graph: tiny\nnodes:\n  capture: {type: " + source +
+                              "}\n  recon: {type: splat.reconstruct, in: {capture: "
+                              "capture.capture}, params: {iterations: 20, recipe: depth_prior, "
+                              "min_train_psnr: 0}}\n",
+                          registry, RunOptions{});
+  };
+  const RunResult photos = run_on("test.tiny_photos");
+  const std::string photos_log = log.str();
+  log.str("");
+  const RunResult rgbd = run_on("test.tiny_capture");
+  spdlog::set_default_logger(previous);
+  REQUIRE(photos.ok());
+  REQUIRE(rgbd.ok());
+  CHECK(std::get<double>(photos.node("recon")->records.at("depth_prior_views")) == 0);
+  CHECK(std::get<double>(rgbd.node("recon")->records.at("depth_prior_views")) == 4);
+  CHECK_THAT(photos_log, Catch::Matchers::Contains("recon (splat.reconstruct): no training view "
+                                                   "has a depth prior, so line_of_sight_weight, "
+                                                   "edge_extent_weight, prune_line_of_sight"));
+  CHECK(log.str().find("no training view has a depth prior") == std::string::npos);
 }
 
 TEST_CASE("splat.load reads a model written by splat.reconstruct, and names a missing file") {
