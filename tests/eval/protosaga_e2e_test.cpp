@@ -1,8 +1,8 @@
 // graphs/protosaga.yaml and graphs/gaga.yaml end to end on a small embedded operating room
 // (320x240, shortened training), through the library as `gslift run` does, and every Proto-SaGa
-// / Gaga ablation validated against the node catalogue. Measured at seed 0 (2026-11-25, Proto-SaGa
-// with its default joint training, 200 reconstruction steps): Proto-SaGa association mIoU 68.3,
-// held-out mIoU 44.7; Gaga 65.4 / 34.0; about 15 s of CPU.
+// / Gaga ablation validated against the node catalogue. Measured at seed 0 (2026-11-29, Proto-SaGa
+// with its default joint training, both with the depth_prior recipe, 200 reconstruction steps):
+// Proto-SaGa association mIoU 65.6, held-out mIoU 44.4; Gaga 68.4 / 38.1; about 28 s of CPU.
 // The floors keep a wide margin below them: they catch a broken stage, not a small regression.
 #include <filesystem>
 
