@@ -98,6 +98,7 @@ void run_view_classifiers(NodeContext& ctx, ViewClassifierOptions o) {
   if (r.recon) {
     ctx.record("gaussians", static_cast<double>(r.model.size()));
     ctx.record("train_psnr", r.recon->train_psnr);
+    ctx.record("depth_prior_views", static_cast<double>(r.recon->depth_prior_views));
     if (!std::isnan(r.recon->test_psnr)) ctx.record("test_psnr", r.recon->test_psnr);
     // Each term's final loss, as splat.reconstruct records them (which terms a recipe turned on).
     for (const auto& [term, value] : r.recon->final_loss.terms) ctx.record("loss_" + term, value);

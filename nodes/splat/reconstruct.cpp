@@ -5,6 +5,10 @@
 #include <cmath>
 #include <limits>
 #include <numeric>
+#include <string>
+#include <utility>
+
+#include <spdlog/spdlog.h>
 
 #include "base/errors.hpp"
 #include "base/random.hpp"
@@ -293,6 +297,27 @@ void evaluate_model(const GaussianModel& model, const Capture& capture,
   }
 }
 
+// The depth-prior levers (the depth_prior recipe's) do nothing on a capture whose training views
+// have no depth prior: a run on plain photos says so instead of implying that they ran. Returns
+// the number of training views with a depth prior.
+size_t warn_inert_depth_levers(const Capture& capture, const ReconstructOptions& o) {
+  size_t with_depth = 0;
+  for (int v : capture.train_views()) with_depth += capture.views[v].depth.present();
+  std::string inert;
+  const std::pair<bool, const char*> levers[] = {
+      {o.line_of_sight_weight > 0, "line_of_sight_weight"},
+      {o.edge_extent_weight > 0, "edge_extent_weight"},
+      {o.floaters.active(), "prune_line_of_sight / prune_behind / prune_hidden"}};
+  for (const auto& [on, name] : levers)
+    if (on) inert += (inert.empty() ? "" : ", ") + std::string(name);
+  if (with_depth == 0 && !inert.empty())
+    spdlog::warn(
+        "reconstruction of capture '{}': no training view has a depth prior, so {} do nothing "
+        "here (the depth_prior recipe adds only its mean-colour background)",
+        capture.name, inert);
+  return with_depth;
+}
+
 cv::Mat rgb_image(std::vector<float>& data, int rows, int cols, int type) {
   return cv::Mat(rows, cols, type, data.data());
 }
@@ -339,6 +364,7 @@ ReconstructResult reconstruct(const Capture& capture, const ReconstructOptions& 
   if (capture.train_views().empty())
     throw InputError("capture '" + capture.name + "' has no training view");
   ReconstructResult result;
+  result.depth_prior_views = warn_inert_depth_levers(capture, options);
   Training training(capture, options, objective, result);
   std::vector<LossSummary> history;
   for (int step = 0; step < options.iterations; ++step) {

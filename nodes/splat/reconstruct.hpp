@@ -163,6 +163,9 @@ struct ReconstructResult {
   int iterations_run = 0;
   bool stopped_early = false;
   size_t growth_refused = 0;  // densification candidates the Gaussian budget left out, all rounds
+  // Training views with a depth prior. Without any, the depth-prior levers (line of sight, edge
+  // extent, free-space pruning) do nothing, and reconstruct() warns when one is set.
+  size_t depth_prior_views = 0;
   double seconds = 0;         // wall time of initialisation and optimisation
   PhaseSeconds phases;
   // The extent position rates and density thresholds were scaled by (reconstruction_extent).

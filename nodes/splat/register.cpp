@@ -5,8 +5,6 @@
 #include <string>
 #include <utility>
 
-#include <spdlog/spdlog.h>
-
 #include "nodes/scene/caption_strip.hpp"
 #include "nodes/scene/capture.hpp"
 #include "nodes/scene/gaussian_model.hpp"
@@ -82,31 +80,9 @@ void record_losses_and_geometry(NodeContext& ctx, const ReconstructResult& r) {
     if (std::isfinite(value)) ctx.record(key, value);
 }
 
-// The depth-prior levers (the depth_prior recipe's) do nothing on a capture whose training
-// views have no depth prior: a run on plain photos says so instead of implying that they ran.
-void warn_inert_depth_levers(NodeContext& ctx, const Capture& capture,
-                             const ReconstructOptions& o) {
-  size_t with_depth = 0;
-  for (int v : capture.train_views()) with_depth += capture.views[v].depth.present();
-  ctx.record("depth_prior_views", static_cast<double>(with_depth));
-  std::string inert;
-  const std::pair<bool, const char*> levers[] = {
-      {o.line_of_sight_weight > 0, "line_of_sight_weight"},
-      {o.edge_extent_weight > 0, "edge_extent_weight"},
-      {o.floaters.active(), "prune_line_of_sight / prune_behind / prune_hidden"}};
-  for (const auto& [on, name] : levers)
-    if (on) inert += (inert.empty() ? "" : ", ") + std::string(name);
-  if (with_depth == 0 && !inert.empty())
-    spdlog::warn(
-        "{} (splat.reconstruct): no training view has a depth prior, so {} do nothing "
-        "here (the depth_prior recipe adds only its mean-colour background)",
-        ctx.node().id, inert);
-}
-
 void run_reconstruct(NodeContext& ctx, ReconstructNodeParams p) {
   ReconstructOptions& o = p.recon;
   o.seed = ctx.seed();
-  warn_inert_depth_levers(ctx, *ctx.input<Capture>("capture"), o);
   ReconstructResult r =
       reconstruct(*ctx.input<Capture>("capture"), o, [&](const TrainingStep& step, size_t) {
         ctx.check_cancelled();
@@ -125,6 +101,7 @@ void run_reconstruct(NodeContext& ctx, ReconstructNodeParams p) {
   ctx.record("stopped_early", r.stopped_early ? "true" : "false");
   ctx.record("size_reason", model_size_reason(r));
   ctx.record("growth_refused", static_cast<double>(r.growth_refused));
+  ctx.record("depth_prior_views", static_cast<double>(r.depth_prior_views));
   ctx.record("seconds", r.seconds);
   // Where the time went (wall seconds per phase): what a user trading a lever's gain against its
   // cost reads first.
