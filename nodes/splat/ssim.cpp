@@ -95,6 +95,7 @@ double ssim(const cv::Mat& x, const SsimTarget& target, cv::Mat* grad_x) {
   // Row sums are reduced in a fixed row order (deterministic at any thread count).
   std::vector<double> row_sum(x.rows, 0.0);
   tbb::parallel_for(tbb::blocked_range<int>(0, x.rows, 16), [&](const tbb::blocked_range<int>& rr) {
+    std::vector<float> row_ssim(width);
     for (int r = rr.begin(); r < rr.end(); ++r) {
       const float* mx = mu_x.ptr<float>(r);
       const float* my = target.mean.ptr<float>(r);
@@ -105,8 +106,7 @@ double ssim(const cv::Mat& x, const SsimTarget& target, cv::Mat* grad_x) {
       float* dxx = grad_x ? d_exx.ptr<float>(r) : nullptr;
       float* dxy = grad_x ? d_exy.ptr<float>(r) : nullptr;
       // Float arithmetic (as the 3DGS reference in torch float32) so the loop vectorises; the
-      // row's sum is accumulated in double.
-      double sum = 0;
+      // row's sum is accumulated in double afterwards (a double sum inside kept it scalar).
       for (int i = 0; i < width; ++i) {
         // S = A B / (C D), A = 2 mx my + C1, B = 2 sxy + C2, C = mx^2 + my^2 + C1,
         // D = sxx + syy + C2.
@@ -117,7 +117,7 @@ double ssim(const cv::Mat& x, const SsimTarget& target, cv::Mat* grad_x) {
         const float C = a_mx * a_mx + a_my * a_my + c1, D = sxx + syy + c2;
         const float inv_cd = 1.f / (C * D);
         const float s = A * B * inv_cd;
-        sum += s;
+        row_ssim[i] = s;
         if (!dmu) continue;
         const float ds_dsxx = -s / D;
         const float ds_dsxy = 2 * A * inv_cd;
@@ -128,6 +128,8 @@ double ssim(const cv::Mat& x, const SsimTarget& target, cv::Mat* grad_x) {
         dxx[i] = g * ds_dsxx;
         dxy[i] = g * ds_dsxy;
       }
+      double sum = 0;
+      for (int i = 0; i < width; ++i) sum += row_ssim[i];
       row_sum[r] = sum;
     }
   });
@@ -137,12 +139,14 @@ double ssim(const cv::Mat& x, const SsimTarget& target, cv::Mat* grad_x) {
     const cv::Mat w_xx = ssim_window(d_exx);
     const cv::Mat w_xy = ssim_window(d_exy);
     grad_x->create(x.size(), x.type());
-    for (int r = 0; r < x.rows; ++r) {
-      const float *a = w_mu.ptr<float>(r), *b = w_xx.ptr<float>(r), *c = w_xy.ptr<float>(r);
-      const float *px = x.ptr<float>(r), *py = y.ptr<float>(r);
-      float* out = grad_x->ptr<float>(r);
-      for (int i = 0; i < width; ++i) out[i] = a[i] + 2 * px[i] * b[i] + py[i] * c[i];
-    }
+    tbb::parallel_for(tbb::blocked_range<int>(0, x.rows, 16), [&](const auto& rows) {
+      for (int r = rows.begin(); r < rows.end(); ++r) {
+        const float *a = w_mu.ptr<float>(r), *b = w_xx.ptr<float>(r), *c = w_xy.ptr<float>(r);
+        const float *px = x.ptr<float>(r), *py = y.ptr<float>(r);
+        float* out = grad_x->ptr<float>(r);
+        for (int i = 0; i < width; ++i) out[i] = a[i] + 2 * px[i] * b[i] + py[i] * c[i];
+      }
+    });
   }
   double sum = 0;
   for (double s : row_sum) sum += s;
