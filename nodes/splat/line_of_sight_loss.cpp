@@ -72,10 +72,16 @@ double opacity_before_prior(const GaussianModel& model, const Camera& camera, co
         for (int p = 0; p < kTilePixels; ++p) loss += 1.0 - front.T[p];  // 0 where none in front
         tile_loss[t] = loss;
         if (!grads) continue;
+        // A row where the entry's nearest depth lies behind every cut has no lane in front of
+        // its cut, as in blend_tile: skipped before its alphas are computed.
+        float row_cut[kTileSize];
+        for (int row = 0; row < kTileSize; ++row)
+          row_cut[row] = *std::max_element(cut + row * kTileSize, cut + (row + 1) * kTileSize);
         // F = 1 - prod (1 - a_k): dF/da_k = T / (1 - a_k); a = o G, G = exp(power); a clamped
         // alpha is constant.
         walk_contributions(
             s, t, front, slots.data(),
+            [&](const TileGaussian& e, int row) { return !(depth.nearest(e.id) < row_cut[row]); },
             [&](uint32_t j, const TileGaussian& e, const PixelRect& rect, int y, int at,
                 const float* gaussian, const float* alpha, GeometryMoments& moments) {
               const float dy = e.my - (float(y) + 0.5f);

@@ -23,10 +23,11 @@ uint32_t rows_reached(const TileBlend& blend, uint32_t row_last[kTileSize]);
 // from the tile's left edge. on_row(j, e, rect, y, at, gaussian, alpha, moments) adds that row's
 // lanes to the entry's moments (at: the row's first tile pixel); the moments are reduced into
 // slots[e.slot * GeometryMoments::kOutputs ...], zero for an entry that contributed nowhere; then
-// on_entry(j, e) runs, for every entry.
-template <class OnRow, class OnEntry>
+// on_entry(j, e) runs, for every entry. Rows where skip_row(e, row) (row: the tile row) is true
+// are left out: the caller knows that none of their lanes would add anything.
+template <class SkipRow, class OnRow, class OnEntry>
 void walk_contributions(const RasterState& s, int t, const TileBlend& front, float* slots,
-                        OnRow&& on_row, OnEntry&& on_entry) {
+                        SkipRow&& skip_row, OnRow&& on_row, OnEntry&& on_entry) {
   const TileGaussian* list = s.tile_gaussians.data() + s.tile_offsets[t];
   const uint32_t count = s.tile_offsets[t + 1] - s.tile_offsets[t];
   const PixelRect tile = tile_pixels(s, t);
@@ -42,7 +43,7 @@ void walk_contributions(const RasterState& s, int t, const TileBlend& front, flo
       const PixelRect rect = clip(e, tile);
       GeometryMoments moments;
       for (int y = rect.y0; y < rect.y1; ++y) {
-        if (j >= row_last[y - tile.y0]) continue;
+        if (j >= row_last[y - tile.y0] || skip_row(e, y - tile.y0)) continue;
         blend_row(e, y, tile.x0, tile.x0 + kLanes, s.min_alpha, gaussian, alpha);
         on_row(j, e, rect, y, (y - tile.y0) * kTileSize, gaussian, alpha, moments);
       }
