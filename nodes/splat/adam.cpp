@@ -2,9 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/partitioner.h>
 
 namespace gslift {
 
@@ -29,24 +31,30 @@ void AdamGroup::step(float* params, const float* grads, size_t rows, const float
   const float inv_bias1 = static_cast<float>(1 / (1 - std::pow(settings_.beta1, steps_)));
   const float inv_sqrt_bias2 =
       static_cast<float>(1 / std::sqrt(1 - std::pow(settings_.beta2, steps_)));
-  const int width = width_;
+  // One flat loop over the elements of a range of rows, with each element's rate from a pattern
+  // of the column rates repeated over a task's rows: a loop over the few columns of a row (1 to
+  // 48) kept the update scalar.
+  constexpr size_t kRowsPerTask = 4096;  // simple_partitioner: ranges of at most this
+  const size_t width = static_cast<size_t>(width_);
+  std::vector<float> lr_pattern(std::min(rows, kRowsPerTask) * width);
+  for (size_t j = 0; j < lr_pattern.size(); ++j) lr_pattern[j] = column_lr[j % width];
   float* m_all = m_.data();
   float* v_all = v_.data();
   tbb::parallel_for(
-      tbb::blocked_range<size_t>(0, rows, 4096), [&](const tbb::blocked_range<size_t>& r) {
-        for (size_t row = r.begin(); row < r.end(); ++row) {
-          const size_t base = row * width;
-          for (int k = 0; k < width; ++k) {
-            const size_t i = base + k;
-            const float g = grads[i];
-            const float m = b1 * m_all[i] + a1 * g;
-            const float v = b2 * v_all[i] + a2 * g * g;
-            m_all[i] = m;
-            v_all[i] = v;
-            params[i] -= column_lr[k] * inv_bias1 * m / (std::sqrt(v) * inv_sqrt_bias2 + eps);
-          }
+      tbb::blocked_range<size_t>(0, rows, kRowsPerTask),
+      [&](const tbb::blocked_range<size_t>& r) {
+        const size_t begin = r.begin() * width, end = r.end() * width;
+        const float* lr = lr_pattern.data();
+        for (size_t i = begin; i < end; ++i) {
+          const float g = grads[i];
+          const float m = b1 * m_all[i] + a1 * g;
+          const float v = b2 * v_all[i] + a2 * g * g;
+          m_all[i] = m;
+          v_all[i] = v;
+          params[i] -= lr[i - begin] * inv_bias1 * m / (std::sqrt(v) * inv_sqrt_bias2 + eps);
         }
-      });
+      },
+      tbb::simple_partitioner());
 }
 
 void AdamGroup::step(float* params, const float* grads, size_t rows, float lr) {
