@@ -27,7 +27,9 @@ double depth_edge_extent_loss(const GaussianModel& model,
   std::vector<double> per(n, 0.0);
   tbb::parallel_for(size_t(0), n, [&](size_t i) {
     const Eigen::Vector3d mean(model.means[i * 3], model.means[i * 3 + 1], model.means[i * 3 + 2]);
-    const Eigen::Matrix3d R = model.rotation(i);
+    // The rotation only where a view's edge test passes: most Gaussians lie on no edge.
+    Eigen::Matrix3d R;
+    bool rotated = false;
     const float* s = &model.log_scales[i * 3];
     for (size_t k = 0; k < views.size(); ++k) {
       const DepthObservation& v = views[k];
@@ -45,6 +47,10 @@ double depth_edge_extent_loss(const GaussianModel& model,
           if (d > 0 && std::isfinite(d) && (nearest == 0 || d < nearest)) nearest = d;
         }
       if (!(nearest > 0) || std::abs(p.z() - nearest) > tolerance * nearest) continue;
+      if (!rotated) {
+        R = model.rotation(i);
+        rotated = true;
+      }
       const Eigen::Vector3d ray = (mean - v.pose->centre()).normalized();
       double part[3], var = 0;
       for (int a = 0; a < 3; ++a) {
