@@ -166,7 +166,7 @@ struct ReconstructResult {
   // Training views with a depth prior. Without any, the depth-prior levers (line of sight, edge
   // extent, free-space pruning) do nothing, and reconstruct() warns when one is set.
   size_t depth_prior_views = 0;
-  double seconds = 0;         // wall time of initialisation and optimisation
+  double seconds = 0;  // wall time of initialisation and optimisation
   PhaseSeconds phases;
   // The extent position rates and density thresholds were scaled by (reconstruction_extent).
   double scene_extent = 0;
