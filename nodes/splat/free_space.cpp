@@ -78,7 +78,7 @@ void line_of_sight_tile(const RasterState& s, int t, const TilePrior& prior,
     alignas(64) float z[kLanes];
     entry_depth.row(list[j].id, tile.y0 + at / kTileSize, tile.x0, z);
     // Per part, the row's lanes summed pairwise (lane_sum): a vector loop, where a running
-    // scalar sum per part compiled to 16 scalar iterations with branches (4% of the main job).
+    // scalar sum per part compiled to 16 scalar iterations with branches per entry row.
     alignas(64) float part[kWeightParts][kLanes];
 #pragma GCC unroll 1  // one vector loop, not kLanes scalar copies
     for (int x = 0; x < kLanes; ++x) {
