@@ -7,6 +7,7 @@
 #include <tbb/global_control.h>
 
 #include "nodes/splat/projection.hpp"
+#include "nodes/splat/raster_state.hpp"
 #include "nodes/splat/rasterizer.hpp"
 #include "runtime/node.hpp"
 #include "tests/splat/raster_scene.hpp"
@@ -326,6 +327,46 @@ TEST_CASE("raster: the tightened pixel boxes give the 3DGS image", "[splat][rast
   CHECK(c.drawn > 500);
   // Float against double, and contributions within rounding of the 1/255 threshold.
   CHECK(c.max_diff < 1e-5);
+}
+
+TEST_CASE("raster: a slanted Gaussian's tile entries keep the rows it can blend in, no others",
+          "[splat][raster]") {
+  // A thin Gaussian along the image diagonal (rotated 45 degrees about the optical axis), long
+  // enough that its pixel box is the whole 64 x 64 view: 16 tiles. Its line y = x passes 34 px
+  // from the centre of the tiles (3, 0) and (0, 3), so their entries get no rows; in every tile,
+  // every pixel where blend_row lets it blend lies in its entry's rows.
+  Camera camera;
+  camera.width = camera.height = 64;
+  camera.fx = camera.fy = 64;
+  camera.cx = camera.cy = 32;
+  const float half = 0.3926991f;  // 22.5 degrees: a rotation of 45 degrees about z
+  const GaussianModel m = one_gaussian({0.f, 0.f, 2.f}, {0.6f, 0.01f, 0.01f},
+                                       {std::cos(half), 0.f, 0.f, std::sin(half)});
+  const RenderOutput out = render(m, camera, Pose{}, RenderSettings{});
+  const RasterState& s = *out.state;
+  REQUIRE(s.tile_count() == 16);
+  REQUIRE(s.tile_gaussians.size() == 16);  // in every tile's list
+  int rows_kept = 0, pixels_blended = 0;
+  for (int t = 0; t < 16; ++t) {
+    const TileGaussian& e = s.tile_gaussians[s.tile_offsets[t]];
+    const PixelRect tile = tile_pixels(s, t), rows = clip(e, tile);
+    rows_kept += std::max(0, rows.y1 - rows.y0);
+    if (t == 3 || t == 12) CHECK(rows.y1 <= rows.y0);
+    for (int y = tile.y0; y < tile.y1; ++y) {
+      float gaussian[kLanes], alpha[kLanes];
+      blend_row(e, y, tile.x0, tile.x0 + kLanes, s.min_alpha, gaussian, alpha);
+      for (int x = std::max<int>(e.x0, tile.x0); x < std::min<int>(e.x1, tile.x1); ++x)
+        if (alpha[x - tile.x0] >= 0.f) {
+          ++pixels_blended;
+          CHECK(y >= rows.y0);
+          CHECK(y < rows.y1);
+        }
+    }
+  }
+  CHECK(pixels_blended > 200);
+  // The diagonal tiles keep their 16 rows, their neighbours some: far fewer than 16 x 16.
+  CHECK(rows_kept >= 64);
+  CHECK(rows_kept < 160);
 }
 
 TEST_CASE("raster: tiles where every pixel reaches T < 1e-4 stop early with the 3DGS image",
