@@ -244,6 +244,7 @@ inline void blend_tile(const RasterState& s, int t, TileBlend& out, OnRow&& on_r
     if (cut && !(depth.nearest_at_centre_depth(s.projections[e.id].depth) < tile_cut)) break;
     if (cut && !(z < tile_cut)) continue;
     const PixelRect r = clip(e, tile);
+    if (r.y1 <= r.y0) continue;  // no row of this tile it can blend in
     // Pixels that stop at this entry, per lane: summed once per entry (the only place `active`
     // is read), not once per row, where the horizontal sum cost 1/8 of the forward pass.
     alignas(64) int32_t stopped[kLanes] = {};

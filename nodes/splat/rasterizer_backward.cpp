@@ -179,6 +179,11 @@ void backward_tile(const RasterState& s, int t, const PixelGrads& pixel_grads, f
   for (uint32_t j = std::min(count, tile_last); j-- > 0;) {
     const TileGaussian& e = list[j];
     const PixelRect rect = clip(e, tile);
+    float* slot = &slot_grads[size_t(e.slot) * stride];
+    if (rect.y1 <= rect.y0) {  // no row of this tile it can blend in (narrow_rows): sums of 0
+      std::fill_n(slot, stride, 0.f);
+      continue;
+    }
     const float* v = &scratch.values[size_t(j) * C];
     const float jf = float(j);
     // Zeroed as one vector store per channel: a std::fill or a value-initialised struct of this
@@ -232,7 +237,6 @@ void backward_tile(const RasterState& s, int t, const PixelGrads& pixel_grads, f
         moments.add(x, dx, dy, d_power, free & (a[x] > 0.f) ? d_alpha * gaussian[x] : 0.f);
       }
     }
-    float* slot = &slot_grads[size_t(e.slot) * stride];
     moments.reduce(e, slot);
     for (int c = 0; c < C; ++c) slot[kSlotGeometry + c] = lane_sum(d + c * kLanes);
   }

@@ -13,7 +13,8 @@ RayDepths::RayDepths(const GaussianModel& model, const Camera& camera, const Pos
       fy_(static_cast<float>(camera.fy)),
       cx_(static_cast<float>(camera.cx)),
       cy_(static_cast<float>(camera.cy)),
-      coeffs_(model.size() * kCoeffs, 0.f) {
+      coeffs_(model.size() * kCoeffs, 0.f),
+      nearest_(model.size(), 0.f) {
   tbb::parallel_for(size_t(0), model.size(), [&](size_t i) {
     if (projections[i].radius == 0) return;
     const Eigen::Matrix3d R = pose.R * model.rotation(i);
@@ -33,6 +34,7 @@ RayDepths::RayDepths(const GaussianModel& model, const Camera& camera, const Pos
                                2 * P(0, 1), P(1, 1),      2 * P(0, 2), 2 * P(1, 2),
                                P(2, 2),     m[2] - reach, m[2] + reach};
     for (int k = 0; k < kCoeffs; ++k) coeffs_[i * kCoeffs + k] = static_cast<float>(c[k]);
+    nearest_[i] = coeffs_[i * kCoeffs + 9];
   });
 }
 

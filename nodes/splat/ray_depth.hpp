@@ -29,7 +29,7 @@ class RayDepths {
             const std::vector<ProjectedGaussian>& projections);
   static constexpr float kMaxRelative = 0.1f;
   // The nearest depth the Gaussian takes at any pixel.
-  float nearest(uint32_t id) const { return coeffs_[size_t(id) * kCoeffs + 9]; }
+  float nearest(uint32_t id) const { return nearest_[id]; }
   static float nearest_at_centre_depth(float z) { return (1 - kMaxRelative) * z; }
   // z[x] = the ray depth of Gaussian id at pixel (x0 + x, y), x < kLanes.
   void row(uint32_t id, int y, int x0, float* z) const {
@@ -48,6 +48,9 @@ class RayDepths {
   static constexpr int kCoeffs = 11;  // P m (3), r . P r's six coefficients, the clamp (2)
   float fx_, fy_, cx_, cy_;
   std::vector<float> coeffs_;
+  // coeffs_[9] of each Gaussian again, contiguous: the passes with a cut test it for every list
+  // entry they meet, most of which they skip, and a 44-byte stride made that a cache miss each.
+  std::vector<float> nearest_;
 };
 
 // Calls f(depth) with the depths of the entries of render state s (of `model` in this view) that

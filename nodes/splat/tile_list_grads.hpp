@@ -37,10 +37,10 @@ void walk_contributions(const RasterState& s, int t, const TileBlend& front, flo
   for (uint32_t j = 0; j < count; ++j) {
     const TileGaussian& e = list[j];
     float* slot = &slots[size_t(e.slot) * GeometryMoments::kOutputs];
-    if (j >= reached) {
+    const PixelRect rect = clip(e, tile);
+    if (j >= reached || rect.y1 <= rect.y0) {
       std::fill_n(slot, GeometryMoments::kOutputs, 0.f);
     } else {
-      const PixelRect rect = clip(e, tile);
       GeometryMoments moments;
       for (int y = rect.y0; y < rect.y1; ++y) {
         if (j >= row_last[y - tile.y0] || skip_row(e, y - tile.y0)) continue;
