@@ -36,8 +36,14 @@ void AdamGroup::step(float* params, const float* grads, size_t rows, const float
   // 48) kept the update scalar.
   constexpr size_t kRowsPerTask = 4096;  // simple_partitioner: ranges of at most this
   const size_t width = static_cast<size_t>(width_);
-  std::vector<float> lr_pattern(std::min(rows, kRowsPerTask) * width);
-  for (size_t j = 0; j < lr_pattern.size(); ++j) lr_pattern[j] = column_lr[j % width];
+  // Rebuilt each step (the means' rate decays), in the group's buffer, by doubling copies of the
+  // first row.
+  std::vector<float>& lr_pattern = lr_pattern_;
+  lr_pattern.resize(std::min(rows, kRowsPerTask) * width);
+  if (!lr_pattern.empty()) std::copy_n(column_lr, width, lr_pattern.begin());
+  for (size_t filled = width; filled < lr_pattern.size(); filled *= 2)
+    std::copy_n(lr_pattern.begin(), std::min(filled, lr_pattern.size() - filled),
+                lr_pattern.begin() + filled);
   float* m_all = m_.data();
   float* v_all = v_.data();
   tbb::parallel_for(

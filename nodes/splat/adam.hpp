@@ -41,6 +41,7 @@ class AdamGroup {
   AdamSettings settings_;
   int steps_ = 0;
   std::vector<float> m_, v_;
+  std::vector<float> lr_pattern_;  // step's column rates repeated over a task's rows
 };
 
 // 3DGS's get_expon_lr_func without delay: the rate interpolates log-linearly from lr_init at
