@@ -74,9 +74,7 @@ double opacity_before_prior(const GaussianModel& model, const Camera& camera, co
         if (!grads) continue;
         // A row where the entry's nearest depth lies behind every cut has no lane in front of
         // its cut, as in blend_tile: skipped before its alphas are computed.
-        float row_cut[kTileSize];
-        for (int row = 0; row < kTileSize; ++row)
-          row_cut[row] = *std::max_element(cut + row * kTileSize, cut + (row + 1) * kTileSize);
+        const float* row_cut = front.row_cut;
         // F = 1 - prod (1 - a_k): dF/da_k = T / (1 - a_k); a = o G, G = exp(power); a clamped
         // alpha is constant.
         walk_contributions(

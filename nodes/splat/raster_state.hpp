@@ -200,10 +200,12 @@ struct GeometryMoments {
   }
 };
 
-// Per-pixel result of blending one tile: final transmittance and last contributing index + 1.
+// Per-pixel result of blending one tile: final transmittance and last contributing index + 1;
+// with a cut, each tile row's furthest cut.
 struct TileBlend {
   alignas(64) float T[kTilePixels];
   alignas(64) uint32_t last[kTilePixels];
+  float row_cut[kTileSize];
 };
 
 // The depth of list entries for blend_tile's cut: each entry's centre depth at every pixel, the
@@ -238,7 +240,9 @@ inline void blend_tile(const RasterState& s, int t, TileBlend& out, OnRow&& on_r
   std::fill(std::begin(out.last), std::end(out.last), 0u);
   alignas(64) float done[kTilePixels] = {};  // 1 once the pixel's T would fall below 1e-4
   int active = (tile.x1 - tile.x0) * (tile.y1 - tile.y0);
-  float row_cut[kTileSize] = {}, tile_cut = 0;  // the furthest cut of each row, of the tile
+  float* row_cut = out.row_cut;  // the furthest cut of each row
+  float tile_cut = 0;            // of the tile
+  std::fill_n(row_cut, kTileSize, 0.f);
   if (cut)
     for (int row = 0; row < kTileSize; ++row) {
       row_cut[row] = *std::max_element(cut + row * kTileSize, cut + (row + 1) * kTileSize);
