@@ -8,6 +8,7 @@
 //    capture and seed), with the mean's 95% t interval;
 //  - <table>.svg: per line a dev bar and a test bar (mean, whiskers one std), each room a dot;
 //  - a markdown table on stdout, as the READMEs show it.
+// A line with no sweep folder under SWEEPS_DIR keeps the set <table>.json already holds for it.
 //   protocol_chart SWEEPS_DIR TABLE.tsv RESULTS_DIR   (TABLE a folder: its protocol.tsv)
 #include <algorithm>
 #include <cmath>
@@ -77,6 +78,30 @@ SetResult read_set(const fs::path& dir, const std::vector<std::string>& row) {
   return r;
 }
 
+// A line whose sweep folder is absent here keeps what the table's results file already holds for
+// it (a refresh of some lines on a machine without the others' sweeps): its rooms, the means of
+// its records and its medians, each a one-value list so that the means and medians stand.
+SetResult stored_set(const json& stored, const std::vector<std::string>& row) {
+  SetResult r{row[0], row[1], row[2], row[3], {}, {}, {}, {}, {}, {}, 0, {}};
+  if (!stored.is_object() || !stored.contains("sets")) return r;
+  for (const auto& s : stored["sets"]) {
+    if (s.value("method", "") != r.method || s.value("set", "") != r.set ||
+        s.value("graph", "") != r.graph || s.value("headline", "") != r.headline)
+      continue;
+    for (const auto& room : s["rooms"])
+      r.rooms[{room["input"].get<std::string>(), room["seed"].get<uint64_t>()}] =
+          room["value"].get<double>();
+    for (const auto& [k, v] : s["others"].items()) r.others[k] = {v.get<double>()};
+    for (const auto& [k, v] : s["records"].items()) r.records[k] = {v.get<double>()};
+    for (const auto& [k, v] : s["median_node_s"].items()) r.node_s[k] = {v.get<double>()};
+    if (s["median_time_s"].is_number()) r.times = {s["median_time_s"].get<double>()};
+    if (s["median_peak_mb"].is_number()) r.peak_mb = {s["median_peak_mb"].get<double>()};
+    r.failed = s.value("failed", 0);
+    r.errors = s.value("errors", std::vector<std::string>{});
+  }
+  return r;
+}
+
 std::vector<double> values(const SetResult& r) {
   std::vector<double> v;
   for (const auto& [room, x] : r.rooms) v.push_back(x);
@@ -100,10 +125,12 @@ int main(int argc, char** argv) {
   // A folder is the protocol's (its protocol.tsv): how run.sh called this before tables.
   const fs::path table = fs::is_directory(argv[2]) ? fs::path(argv[2]) / "protocol.tsv" : argv[2];
   const std::string stem = table.stem().string();
+  const json stored = read_json_or_discarded(results / (stem + ".json"));
   std::vector<SetResult> sets;
   for (const auto& row : read_tsv(table)) {
     if (row.size() < 5) continue;
-    SetResult r = read_set(dir / (row[0] + "_" + row[1]), row);
+    const fs::path sweep = dir / (row[0] + "_" + row[1]);
+    SetResult r = fs::exists(sweep / "sweep.json") ? read_set(sweep, row) : stored_set(stored, row);
     if (!r.rooms.empty() || r.failed > 0) sets.push_back(std::move(r));
   }
   if (sets.empty()) {

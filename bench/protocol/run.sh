@@ -15,7 +15,9 @@
 #     --extra '--set recon.iterations=20' --results /tmp/smoke
 # $GSLIFT is the gslift executable (default ./build/gslift).
 # Sweep folders go to $PROTOCOL_DIR (default build/<table name>), one per line; a finished one
-# (its .done) is not redone: delete the folder to redo it. Each sweep runs without the stage
+# (its .done) is not redone: delete the folder to redo it. A line with no sweep folder here keeps
+# the result the results file already holds for it, so some lines can be refreshed on a machine
+# that does not have the others' sweeps. Each sweep runs without the stage
 # cache, so every run's time is a cold run's. About 1-2 minutes per room on 2 cores: the 20 test
 # rooms of one method take 20-40 minutes.
 set -euo pipefail

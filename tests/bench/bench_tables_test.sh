@@ -73,5 +73,37 @@ elif ! grep -q "sigmaa" "$tmp/bad.out"; then
   fail "the misspelt table's error does not name the param:"
   sed 's|^|    |' "$tmp/bad.out"
 fi
+# protocol_chart reads a line's sweep where it is here, and keeps the stored result of a line
+# whose sweep is not (a refresh of some lines on a machine without the others' sweeps).
+chart="$(dirname "$GSLIFT")/bench/protocol/protocol_chart"
+if [ -x "$chart" ]; then
+  c="$tmp/chart"
+  mkdir -p "$c/sweeps/a_dev" "$c/results"
+  printf 'a\tdev\tg.yaml\teval.mIoU\ts.txt\nb\tdev\tg.yaml\teval.mIoU\ts.txt\n' > "$c/t.tsv"
+  cat > "$c/sweeps/a_dev/sweep.json" << 'EOF'
+{"runs": [
+  {"status": "ok", "input": "r1", "seed": 0, "metrics": {"eval.mIoU": 40}, "total_s": 10,
+   "peak_rss_mb": 100},
+  {"status": "ok", "input": "r2", "seed": 0, "metrics": {"eval.mIoU": 60}, "total_s": 12,
+   "peak_rss_mb": 100}]}
+EOF
+  cat > "$c/results/t.json" << 'EOF'
+{"sets": [
+  {"method": "a", "set": "dev", "graph": "g.yaml", "headline": "eval.mIoU", "failed": 0,
+   "errors": [], "rooms": [{"input": "r1", "seed": 0, "value": 1}], "others": {}, "records": {},
+   "median_node_s": {}, "median_time_s": 5, "median_peak_mb": 50},
+  {"method": "b", "set": "dev", "graph": "g.yaml", "headline": "eval.mIoU", "failed": 0,
+   "errors": [], "rooms": [{"input": "r1", "seed": 0, "value": 30},
+   {"input": "r2", "seed": 0, "value": 36}], "others": {}, "records": {"eval.mIoU": 33},
+   "median_node_s": {"recon": 7}, "median_time_s": 8, "median_peak_mb": 50}]}
+EOF
+  "$chart" "$c/sweeps" "$c/t.tsv" "$c/results" > "$c/out.txt" 2>&1 || fail "protocol_chart failed"
+  grep -q '^| a | dev | 2 | eval.mIoU | 50.0 ' "$c/out.txt" ||
+    fail "protocol_chart did not read line a from its sweep: $(cat "$c/out.txt")"
+  grep -q '^| b | dev | 2 | eval.mIoU | 33.0 .* | 8 s |$' "$c/out.txt" ||
+    fail "protocol_chart did not keep line b's stored result: $(cat "$c/out.txt")"
+else
+  fail "no protocol_chart next to $GSLIFT"
+fi
 echo "${#tables[@]} tables, $failures problems"
 [ "$failures" -eq 0 ]
