@@ -11,6 +11,7 @@
 #include "base/atomic_file.hpp"
 #include "nodes/inference/filter_3d.hpp"
 #include "nodes/inference/label_inference.hpp"
+#include "nodes/inference/mask_carry.hpp"
 #include "nodes/inference/mask_vote_lifting.hpp"
 #include "nodes/inference/prompt_io.hpp"
 #include "nodes/inference/prompt_segmentation.hpp"
@@ -230,11 +231,20 @@ const EnumNames<VotingViews>& voting_view_names() {
   return names;
 }
 
+enum class CarriedBy { Features, Masks };
+const EnumNames<CarriedBy>& carried_by_names() {
+  static const EnumNames<CarriedBy> names = {{CarriedBy::Features, "features"},
+                                             {CarriedBy::Masks, "masks"}};
+  return names;
+}
+
 // inference.prompt_lift: the prompt node's params, and how the masks are lifted.
 struct PromptLiftNodeOptions {
   PromptNodeOptions prompt;
   VotingViews views = VotingViews::Training;
   double background_bias = 0;  // FlashSplat's slackness; their code's default
+  CarriedBy carry = CarriedBy::Features;
+  double coverage = 0.5;  // carry: masks [decision: a mask is the object's when mostly covered]
 };
 
 const ParamTable<PromptLiftNodeOptions>& prompt_lift_node_table() {
@@ -248,7 +258,12 @@ const ParamTable<PromptLiftNodeOptions>& prompt_lift_node_table() {
           .add("background_bias", &O::background_bias,
                "added to the normalised background vote (FlashSplat's slackness; > 0 selects "
                "less)",
-               -1, 1);
+               -1, 1)
+          .add("carry", &O::carry, carried_by_names(),
+               "the prompt's mask in the other views: the features' per-pixel answer, or the "
+               "automatic masks (port 'automatic') that the prompt view's lifted mask covers")
+          .add("coverage", &O::coverage,
+               "carry masks: share of an automatic mask the lifted selection must cover", 0, 1);
   return table;
 }
 
@@ -272,19 +287,51 @@ void run_prompt_lift(NodeContext& ctx, PromptLiftNodeOptions o) {
   if (o.views == VotingViews::Prompt) views.assign(prompt_view.begin(), prompt_view.end());
   std::sort(views.begin(), views.end());
   views.erase(std::unique(views.begin(), views.end()), views.end());
-  MaskVotes votes(model->size(), prompts.prompts.size());
+  const size_t count = prompts.prompts.size();
+  // The prompt's mask in its own view: a mask prompt's mask; a click's, the features' answer, or
+  // (carry: masks) the automatic mask holding the click that agrees best with that answer.
+  std::vector<std::vector<cv::Mat1b>> automatic(capture->views.size());
+  if (o.carry == CarriedBy::Masks) {
+    if (!ctx.has_input("automatic"))
+      throw InputError(
+          "inference.prompt_lift: carry: masks needs port 'automatic' wired (automatic masks, "
+          "e.g. ingest.sam_masks with kind auto)");
+    automatic = masks_by_training_view(*capture, *ctx.input<MaskSet>("automatic"));
+  }
+  std::vector<cv::Mat1b> own(count);
+  for (size_t k = 0; k < count; ++k) {
+    const Prompt& p = prompts.prompts[k];
+    if (p.kind == PromptKind::Mask || p.kind == PromptKind::Sam)
+      own[k] = p.mask;
+    else if (o.carry == CarriedBy::Masks)
+      own[k] = clicked_mask(automatic[prompt_view[k]], p.positive,
+                            segmenter.view_mask(selections[k], prompt_view[k]));
+    else
+      own[k] = segmenter.view_mask(selections[k], prompt_view[k]);
+  }
+  // carry: masks: the set the other views' automatic masks are matched against.
+  const std::vector<std::vector<uint8_t>> lifted =
+      o.carry == CarriedBy::Masks
+          ? lift_in_own_views(*model, *capture, prompt_view, own, o.background_bias)
+          : std::vector<std::vector<uint8_t>>(count);
+  MaskVotes votes(model->size(), count);
   for (const int v : views) {
-    std::vector<cv::Mat1b> masks(prompts.prompts.size());
-    for (size_t k = 0; k < masks.size(); ++k) {
-      const Prompt& p = prompts.prompts[k];
-      const bool dense = p.kind == PromptKind::Mask || p.kind == PromptKind::Sam;
-      if (v == prompt_view[k] && dense)
-        masks[k] = p.mask;
-      else if (v == prompt_view[k] || o.views == VotingViews::Training)
-        masks[k] = segmenter.view_mask(selections[k], v);
-    }
     const View& view = capture->views[v];
     const RenderCache weights = render_weights(*model, view.camera, view.pose);
+    std::vector<cv::Mat1b> masks(count);
+    for (size_t k = 0; k < count; ++k) {
+      if (v == prompt_view[k])
+        masks[k] = own[k];
+      else if (o.views == VotingViews::Prompt)
+        continue;
+      else if (o.carry == CarriedBy::Masks)
+        masks[k] = covered_masks(automatic[v],
+                                 rendered_selection(weights.pixel_rows(), view.camera.width,
+                                                    view.camera.height, lifted[k]),
+                                 o.coverage);
+      else
+        masks[k] = segmenter.view_mask(selections[k], v);
+    }
     votes.add_view(weights.pixel_rows(), view.camera.width, view.camera.height, masks);
   }
   for (size_t k = 0; k < selections.size(); ++k) {
@@ -316,10 +363,13 @@ void add_prompt(Registry& registry) {
                "point / scribble / mask / SAM-style prompts -> per-Gaussian selections (SAGA 4.4)",
                inputs, outputs},
       prompt_node_table(), run_prompt);
+  std::vector<PortSpec> lift_inputs = inputs;
+  lift_inputs.push_back({"automatic", PortTypeName<MaskSet>::value,
+                         "automatic masks of the training views (carry: masks)", true});
   registry.add(NodeSpec{"inference.prompt_lift",
                         "the same prompts -> per-Gaussian selections by FlashSplat's closed-form "
                         "vote of the prompt's 2D masks over the views (alpha x transmittance)",
-                        inputs, outputs},
+                        lift_inputs, outputs},
                prompt_lift_node_table(), run_prompt_lift);
 }
 

@@ -1,0 +1,87 @@
+#include "nodes/inference/mask_carry.hpp"
+
+#include <set>
+
+#include <opencv2/imgproc.hpp>
+
+#include "nodes/inference/mask_vote_lifting.hpp"
+#include "nodes/inference/selection_mask.hpp"
+
+namespace gslift {
+
+cv::Mat1b clicked_mask(const std::vector<cv::Mat1b>& candidates,
+                       const std::vector<cv::Point>& clicks, const cv::Mat1b& answer) {
+  const cv::Mat1b* best = nullptr;
+  double best_iou = -1;
+  for (const cv::Mat1b& m : candidates) {
+    bool holds = !clicks.empty();
+    for (const cv::Point& c : clicks) holds = holds && m(c) != 0;
+    if (!holds) continue;
+    const double iou = mask_iou(m, answer);
+    if (iou > best_iou) best_iou = iou, best = &m;
+  }
+  if (best) return best->clone();
+  cv::Mat1b out = cv::Mat1b::zeros(answer.size());
+  if (clicks.empty() || !answer(clicks[0])) return out;
+  cv::Mat1i labels;
+  cv::connectedComponents(answer, labels, 8, CV_32S);
+  const int id = labels(clicks[0]);
+  for (int y = 0; y < out.rows; ++y)
+    for (int x = 0; x < out.cols; ++x) out(y, x) = labels(y, x) == id ? 255 : 0;
+  return out;
+}
+
+cv::Mat1b rendered_selection(const PixelRowsView& rows, int width, int height,
+                             const std::vector<uint8_t>& selected, float threshold) {
+  cv::Mat1b out(height, width);
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x) {
+      const size_t p = size_t(y) * width + x;
+      float a = 0;
+      for (uint32_t e = rows.offsets[p]; e < rows.offsets[p + 1]; ++e)
+        if (selected[rows.ids[e]]) a += rows.weights[e];
+      out(y, x) = a >= threshold ? 255 : 0;
+    }
+  return out;
+}
+
+cv::Mat1b covered_masks(const std::vector<cv::Mat1b>& candidates, const cv::Mat1b& covered,
+                        double coverage) {
+  cv::Mat1b out;
+  for (const cv::Mat1b& m : candidates) {
+    const int area = cv::countNonZero(m);
+    if (area == 0 || cv::countNonZero(m & covered) < coverage * area) continue;
+    if (out.empty()) out = cv::Mat1b::zeros(m.size());
+    out |= m;
+  }
+  return out;
+}
+
+std::vector<std::vector<cv::Mat1b>> masks_by_training_view(const Capture& capture,
+                                                           const MaskSet& masks) {
+  std::vector<std::vector<cv::Mat1b>> out(capture.views.size());
+  for (const MaskView& mv : training_mask_views(capture, masks))
+    for (const Mask& m : masks.views[mv.mask_view].masks) out[mv.capture_view].push_back(m.pixels);
+  return out;
+}
+
+std::vector<std::vector<uint8_t>> lift_in_own_views(const GaussianModel& model,
+                                                    const Capture& capture,
+                                                    const std::vector<int>& view,
+                                                    const std::vector<cv::Mat1b>& own,
+                                                    double bias) {
+  MaskVotes votes(model.size(), own.size());
+  for (const int v : std::set<int>(view.begin(), view.end())) {
+    std::vector<cv::Mat1b> masks(own.size());
+    for (size_t k = 0; k < own.size(); ++k)
+      if (view[k] == v) masks[k] = own[k];
+    const View& at = capture.views[v];
+    const RenderCache weights = render_weights(model, at.camera, at.pose);
+    votes.add_view(weights.pixel_rows(), at.camera.width, at.camera.height, masks);
+  }
+  std::vector<std::vector<uint8_t>> out(own.size());
+  for (size_t k = 0; k < own.size(); ++k) out[k] = votes.object(k, bias);
+  return out;
+}
+
+}  // namespace gslift

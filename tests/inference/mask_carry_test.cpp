@@ -1,0 +1,114 @@
+// The click's mask carried by automatic masks (mask_carry.hpp): which mask of the prompt's view a
+// click takes, the rendered selection on hand-built blend weights, which masks of another view
+// the selection covers, and the lifting in the prompt's own view on the two-blob scene.
+#include "nodes/inference/mask_carry.hpp"
+
+#include "base/errors.hpp"
+#include "nodes/inference/selection_mask.hpp"
+#include "tests/inference/query_scene.hpp"
+#include "tests/test_support.hpp"
+
+using namespace gslift;
+
+namespace {
+
+cv::Mat1b box(cv::Size size, cv::Rect r) {
+  cv::Mat1b m = cv::Mat1b::zeros(size);
+  m(r) = 255;
+  return m;
+}
+
+}  // namespace
+
+TEST_CASE("clicked mask: the mask holding the click that agrees best with the features' answer",
+          "[inference][mask_carry]") {
+  const cv::Size size(20, 10);
+  // A table (columns 0-9) with a patient on it (columns 10-19): the coarse mask merges both, the
+  // fine one is the table alone; a third mask (the patient) does not hold the click.
+  const cv::Mat1b merged = box(size, {0, 0, 20, 10}), table = box(size, {0, 0, 10, 10}),
+                  patient = box(size, {10, 0, 10, 10});
+  // The features' answer: the table and two columns of the patient. IoU with the table 100/120,
+  // with the merged mask 120/200.
+  const cv::Mat1b answer = box(size, {0, 0, 12, 10});
+  const cv::Mat1b got = clicked_mask({merged, table, patient}, {{3, 4}}, answer);
+  CHECK(cv::countNonZero(got != table) == 0);
+  // Every click must lie in the mask: clicks on both halves take the merged mask.
+  CHECK(cv::countNonZero(clicked_mask({merged, table, patient}, {{3, 4}, {15, 4}}, answer) !=
+                         merged) == 0);
+  // No mask holds the click: the answer's 8-connected piece under it (two pieces here).
+  cv::Mat1b two = box(size, {0, 0, 4, 4}) | box(size, {10, 5, 4, 4});
+  const cv::Mat1b piece = clicked_mask({patient}, {{1, 1}}, two);
+  CHECK(cv::countNonZero(piece) == 16);
+  CHECK(piece(1, 1) == 255);
+  CHECK(piece(6, 11) == 0);
+  // Neither a mask nor the answer holds it: an empty mask of the view's size.
+  const cv::Mat1b none = clicked_mask({patient}, {{5, 5}}, two);
+  CHECK(none.size() == size);
+  CHECK(cv::countNonZero(none) == 0);
+}
+
+TEST_CASE("rendered selection: a pixel is in where the selected weights reach the threshold",
+          "[inference][mask_carry]") {
+  // 3 x 1 pixels: pixel 0 = (g0 0.3, g1 0.4), pixel 1 = (g1 0.6), pixel 2 = (g2 0.5).
+  const std::vector<uint32_t> offsets{0, 2, 3, 4}, ids{0, 1, 1, 2};
+  const std::vector<float> weights{0.3f, 0.4f, 0.6f, 0.5f};
+  const PixelRowsView rows{offsets.data(), ids.data(), weights.data()};
+  const cv::Mat1b a = rendered_selection(rows, 3, 1, {1, 1, 0});
+  CHECK(a(0, 0) == 255);  // 0.7
+  CHECK(a(0, 1) == 255);  // 0.6
+  CHECK(a(0, 2) == 0);    // g2 not selected
+  const cv::Mat1b b = rendered_selection(rows, 3, 1, {1, 0, 1});
+  CHECK(b(0, 0) == 0);    // 0.3
+  CHECK(b(0, 1) == 0);    // 0
+  CHECK(b(0, 2) == 255);  // 0.5: at the threshold counts
+}
+
+TEST_CASE("covered masks: the union of the masks the selection covers mostly",
+          "[inference][mask_carry]") {
+  const cv::Size size(10, 10);
+  const cv::Mat1b left = box(size, {0, 0, 5, 10}), right = box(size, {5, 0, 5, 10});
+  // Covered: 30 of left's 50 pixels (0.6), 20 of right's 50 (0.4).
+  const cv::Mat1b covered = box(size, {2, 0, 5, 10});
+  CHECK(cv::countNonZero(covered_masks({left, right}, covered, 0.5) != left) == 0);
+  CHECK(cv::countNonZero(covered_masks({left, right}, covered, 0.4) != (left | right)) == 0);
+  CHECK(covered_masks({left, right}, covered, 0.7).empty());
+  CHECK(covered_masks({}, covered, 0.5).empty());
+}
+
+TEST_CASE("masks carried: the prompt view's mask lifted there alone; masks by training view",
+          "[inference][mask_carry]") {
+  const GaussianModel model = test::two_blobs();
+  Capture capture;
+  for (const char* name : {"train", "test"}) {
+    View v;
+    v.name = name;
+    v.camera = test::query_camera();
+    v.held_out = std::string(name) == "test";
+    capture.views.push_back(v);
+  }
+  const cv::Size size(capture.views[0].camera.width, capture.views[0].camera.height);
+  // Prompt 0 = the left half of the training view, prompt 1 = the right half of it.
+  const cv::Mat1b left = box(size, {0, 0, size.width / 2, size.height});
+  const std::vector<std::vector<uint8_t>> lifted =
+      lift_in_own_views(model, capture, {0, 0}, {left, ~left}, 0.0);
+  CHECK(lifted[0] == std::vector<uint8_t>{1, 0});
+  CHECK(lifted[1] == std::vector<uint8_t>{0, 1});
+  // The left blob, rendered (alpha >= 0.5 within about 5 px of its centre), covers a few percent
+  // of the left mask and none of the right one.
+  const RenderCache w = render_weights(model, capture.views[0].camera, Pose{});
+  const cv::Mat1b drawn = rendered_selection(w.pixel_rows(), size.width, size.height, lifted[0]);
+  CHECK(cv::countNonZero(drawn & left) > 0.02 * cv::countNonZero(left));
+  CHECK(cv::countNonZero(drawn & ~left) == 0);
+  CHECK(cv::countNonZero(covered_masks({left, ~left}, drawn, 0.02) != left) == 0);
+  MaskSet masks;
+  masks.views.push_back({"train", {{left, "a"}, {~left, "b"}}});
+  const auto by_view = masks_by_training_view(capture, masks);
+  REQUIRE(by_view.size() == 2);
+  CHECK(by_view[0].size() == 2);
+  CHECK(by_view[1].empty());
+  // Masks of a held-out view never become candidates: training_mask_views' rule.
+  masks.views.push_back({"test", {{left, "a"}}});
+  CHECK(masks_by_training_view(capture, masks)[1].empty());
+  masks.views.push_back({"nowhere", {{left, "a"}}});
+  CHECK_THROWS_AS(masks_by_training_view(capture, masks), InputError);
+}
