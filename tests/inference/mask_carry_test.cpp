@@ -75,7 +75,7 @@ TEST_CASE("covered masks: the union of the masks the selection covers mostly",
   CHECK(covered_masks({}, covered, 0.5).empty());
 }
 
-TEST_CASE("masks carried: the prompt view's mask lifted there alone; masks by training view",
+TEST_CASE("masks carried: the prompt view's mask lifted there alone, masks by training view",
           "[inference][mask_carry]") {
   const GaussianModel model = test::two_blobs();
   Capture capture;
