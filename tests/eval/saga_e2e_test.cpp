@@ -10,6 +10,7 @@
 #include "tests/test_support.hpp"
 
 using namespace gslift;
+using Catch::Matchers::Contains;
 
 namespace {
 
@@ -99,4 +100,18 @@ TEST_CASE("saga on DTU scan 24 at 1/16 scale reaches its accuracy floor") {
   WARN("saga DTU 1/16: mIoU " << miou << " mAcc " << std::get<double>(records.at("mAcc")));
   CHECK(std::get<double>(records.at("target_views")) == 24);
   CHECK(miou >= 50);
+}
+
+TEST_CASE("saga: carrying a click by the automatic masks needs them wired") {
+  // ablations/saga_prompt_lift.yaml unwires `automatic` (it carries by the features); asking it
+  // to carry by masks is an error that names the node's port, not an empty selection.
+  Registry registry;
+  register_builtin_nodes(registry);
+  const RunResult run = run_graph(
+      "ablations/saga_prompt_lift.yaml", {{"input", "embedded:or?seed=0&width=160&height=120"}},
+      {"recon.iterations=60", "affinity.iterations=20", "prompt.carry=masks"},
+      test::scratch_dir("saga_carry_unwired"), registry);
+  REQUIRE_FALSE(run.ok());
+  CHECK_THAT(run.error->message,
+             Contains("inference.prompt_lift") && Contains("carry: masks needs port 'automatic'"));
 }
