@@ -10,12 +10,14 @@
 namespace gslift {
 
 cv::Mat1b clicked_mask(const std::vector<cv::Mat1b>& candidates,
-                       const std::vector<cv::Point>& clicks, const cv::Mat1b& answer) {
+                       const std::vector<cv::Point>& clicks, const cv::Mat1b& answer,
+                       const std::vector<cv::Point>& others) {
   const cv::Mat1b* best = nullptr;
   double best_iou = -1;
   for (const cv::Mat1b& m : candidates) {
     bool holds = !clicks.empty();
     for (const cv::Point& c : clicks) holds = holds && m(c) != 0;
+    for (const cv::Point& c : others) holds = holds && m(c) == 0;
     if (!holds) continue;
     const double iou = mask_iou(m, answer);
     if (iou > best_iou) best_iou = iou, best = &m;

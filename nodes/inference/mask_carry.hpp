@@ -26,10 +26,13 @@
 namespace gslift {
 
 // Of `candidates` (one view's automatic masks), the one holding a click (every pixel of
-// `clicks`) with the highest IoU with `answer`; when none holds them all, the 8-connected
-// component of `answer` holding the first click (empty when the answer misses the click too).
+// `clicks`) and none of `others` (the clicks of the other prompts given with it, in the same
+// view: they name other objects, so a mask merging two of them is neither's) with the highest
+// IoU with `answer`; when there is none, the 8-connected component of `answer` holding the first
+// click (empty when the answer misses the click too).
 cv::Mat1b clicked_mask(const std::vector<cv::Mat1b>& candidates,
-                       const std::vector<cv::Point>& clicks, const cv::Mat1b& answer);
+                       const std::vector<cv::Point>& clicks, const cv::Mat1b& answer,
+                       const std::vector<cv::Point>& others = {});
 
 // The pixels (255) where the Gaussians marked in `selected` blend to an accumulated weight of at
 // least `threshold` (SAGA's rendered 0/1 mask at 0.5).

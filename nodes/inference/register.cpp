@@ -231,6 +231,17 @@ const EnumNames<VotingViews>& voting_view_names() {
   return names;
 }
 
+// The positive pixels of the prompts other than k given in k's view: prompts given together name
+// different objects, so a mask holding another's click is not k's (mask_carry.hpp).
+std::vector<cv::Point> other_clicks(const PromptSet& prompts, const std::vector<int>& view,
+                                    size_t k) {
+  std::vector<cv::Point> out;
+  for (size_t j = 0; j < prompts.prompts.size(); ++j)
+    if (j != k && view[j] == view[k])
+      out.insert(out.end(), prompts.prompts[j].positive.begin(), prompts.prompts[j].positive.end());
+  return out;
+}
+
 enum class CarriedBy { Features, Masks };
 const EnumNames<CarriedBy>& carried_by_names() {
   static const EnumNames<CarriedBy> names = {{CarriedBy::Features, "features"},
@@ -305,7 +316,8 @@ void run_prompt_lift(NodeContext& ctx, PromptLiftNodeOptions o) {
       own[k] = p.mask;
     else if (o.carry == CarriedBy::Masks)
       own[k] = clicked_mask(automatic[prompt_view[k]], p.positive,
-                            segmenter.view_mask(selections[k], prompt_view[k]));
+                            segmenter.view_mask(selections[k], prompt_view[k]),
+                            other_clicks(prompts, prompt_view, k));
     else
       own[k] = segmenter.view_mask(selections[k], prompt_view[k]);
   }

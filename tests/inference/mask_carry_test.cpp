@@ -35,6 +35,12 @@ TEST_CASE("clicked mask: the mask holding the click that agrees best with the fe
   // Every click must lie in the mask: clicks on both halves take the merged mask.
   CHECK(cv::countNonZero(clicked_mask({merged, table, patient}, {{3, 4}, {15, 4}}, answer) !=
                          merged) == 0);
+  // Given with a click on the patient, the table's click never takes the merged mask, even where
+  // the answer would prefer it (here it covers both halves: IoU 1 with the merged mask).
+  const cv::Mat1b both = box(size, {0, 0, 20, 10});
+  CHECK(cv::countNonZero(clicked_mask({merged, table, patient}, {{3, 4}}, both) != merged) == 0);
+  CHECK(cv::countNonZero(clicked_mask({merged, table, patient}, {{3, 4}}, both, {{15, 4}}) !=
+                         table) == 0);
   // No mask holds the click: the answer's 8-connected piece under it (two pieces here).
   cv::Mat1b two = box(size, {0, 0, 4, 4}) | box(size, {10, 5, 4, 4});
   const cv::Mat1b piece = clicked_mask({patient}, {{1, 1}}, two);
