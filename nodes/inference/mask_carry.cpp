@@ -23,14 +23,10 @@ cv::Mat1b clicked_mask(const std::vector<cv::Mat1b>& candidates,
     if (iou > best_iou) best_iou = iou, best = &m;
   }
   if (best) return best->clone();
-  cv::Mat1b out = cv::Mat1b::zeros(answer.size());
-  if (clicks.empty() || !answer(clicks[0])) return out;
+  if (clicks.empty() || !answer(clicks[0])) return cv::Mat1b::zeros(answer.size());
   cv::Mat1i labels;
   cv::connectedComponents(answer, labels, 8, CV_32S);
-  const int id = labels(clicks[0]);
-  for (int y = 0; y < out.rows; ++y)
-    for (int x = 0; x < out.cols; ++x) out(y, x) = labels(y, x) == id ? 255 : 0;
-  return out;
+  return labels == labels(clicks[0]);  // 255 in the click's piece, 0 elsewhere
 }
 
 cv::Mat1b rendered_selection(const PixelRowsView& rows, int width, int height,
