@@ -55,6 +55,40 @@ cv::Mat1b covered_masks(const std::vector<cv::Mat1b>& candidates, const cv::Mat1
   return out;
 }
 
+cv::Mat1b containing_masks(const std::vector<cv::Mat1b>& candidates, const cv::Mat1b& own,
+                           const std::vector<cv::Mat1b>& others, double containment) {
+  cv::Mat1b out;
+  const int own_area = cv::countNonZero(own);
+  if (own_area == 0) return out;
+  std::vector<int> other_area;
+  for (const cv::Mat1b& o : others) other_area.push_back(cv::countNonZero(o));
+  for (const cv::Mat1b& m : candidates) {
+    if (cv::countNonZero(m & own) < containment * own_area) continue;
+    bool holds_other = false;
+    for (size_t j = 0; j < others.size() && !holds_other; ++j)
+      holds_other =
+          other_area[j] > 0 && cv::countNonZero(m & others[j]) >= containment * other_area[j];
+    if (holds_other) continue;
+    if (out.empty()) out = cv::Mat1b::zeros(m.size());
+    out |= m;
+  }
+  return out;
+}
+
+cv::Mat1b carried_masks(const std::vector<cv::Mat1b>& candidates,
+                        const std::vector<cv::Mat1b>& rendered, size_t k, double coverage,
+                        double containment) {
+  cv::Mat1b out = covered_masks(candidates, rendered[k], coverage);
+  if (containment <= 0) return out;
+  std::vector<cv::Mat1b> others;
+  for (size_t j = 0; j < rendered.size(); ++j)
+    if (j != k) others.push_back(rendered[j]);
+  const cv::Mat1b holding = containing_masks(candidates, rendered[k], others, containment);
+  if (out.empty()) return holding;
+  if (!holding.empty()) out |= holding;
+  return out;
+}
+
 std::vector<std::vector<cv::Mat1b>> masks_by_training_view(const Capture& capture,
                                                            const MaskSet& masks) {
   std::vector<std::vector<cv::Mat1b>> out(capture.views.size());

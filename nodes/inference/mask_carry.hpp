@@ -10,8 +10,10 @@
 // the features' answer (any granularity: the answer picks the whole table, not the table with
 // the patient on it, where both masks hold the click). Lifted by FlashSplat's vote in that view
 // alone, it gives a first set of Gaussians; in every other training view the masks that set,
-// rendered, covers for at least `coverage` of their pixels are the object there. The final
-// selection is the vote of all those masks (mask_vote_lifting.hpp).
+// rendered, covers for at least `coverage` of their pixels are the object there, and so are the
+// masks holding most of that rendered set and of no other prompt's (the whole object, where the
+// click's mask was a part of it). The final selection is the vote of all those masks
+// (mask_vote_lifting.hpp).
 #pragma once
 
 #include <vector>
@@ -43,6 +45,23 @@ cv::Mat1b rendered_selection(const PixelRowsView& rows, int width, int height,
 // of their own pixels; empty (a 0x0 Mat) when none does.
 cv::Mat1b covered_masks(const std::vector<cv::Mat1b>& candidates, const cv::Mat1b& covered,
                         double coverage);
+
+// The union of the `candidates` that hold at least `containment` of `own`'s pixels (a prompt's
+// rendered selection) and less than that share of each of `others` (the other prompts' rendered
+// selections in the same view); empty when none does. Where a view's automatic masks cut an object
+// into parts, the click's mask may be one part: the whole object's mask in another view holds all
+// of the part's selection but is covered by it for less than half (covered_masks misses it).
+// Holding most of another prompt's selection is what a mask merging two objects does: it is
+// neither's (the rule clicked_mask applies to clicks in the prompt's view).
+cv::Mat1b containing_masks(const std::vector<cv::Mat1b>& candidates, const cv::Mat1b& own,
+                           const std::vector<cv::Mat1b>& others, double containment);
+
+// Prompt k's masks in a view other than its own, from `rendered` (every prompt's rendered
+// selection there): the masks its selection covers (covered_masks, `coverage`) and, when
+// `containment` > 0, those holding its selection (containing_masks); empty when none.
+cv::Mat1b carried_masks(const std::vector<cv::Mat1b>& candidates,
+                        const std::vector<cv::Mat1b>& rendered, size_t k, double coverage,
+                        double containment);
 
 // Per capture view, the masks of `masks` given for it if it is a training view (empty
 // otherwise). Throws InputError as training_mask_views does.

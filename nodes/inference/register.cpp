@@ -255,7 +255,8 @@ struct PromptLiftNodeOptions {
   VotingViews views = VotingViews::Training;
   double background_bias = 0;  // FlashSplat's slackness; their code's default
   CarriedBy carry = CarriedBy::Features;
-  double coverage = 0.5;  // carry: masks [decision: a mask is the object's when mostly covered]
+  double coverage = 0.5;     // carry: masks [decision: a mask is the object's when mostly covered]
+  double containment = 0.5;  // carry: masks [decision: holding most of one selection alone]
 };
 
 const ParamTable<PromptLiftNodeOptions>& prompt_lift_node_table() {
@@ -274,7 +275,11 @@ const ParamTable<PromptLiftNodeOptions>& prompt_lift_node_table() {
                "the prompt's mask in the other views: the features' per-pixel answer, or the "
                "automatic masks (port 'automatic') that the prompt view's lifted mask covers")
           .add("coverage", &O::coverage,
-               "carry masks: share of an automatic mask the lifted selection must cover", 0, 1);
+               "carry masks: share of an automatic mask the lifted selection must cover", 0, 1)
+          .add("containment", &O::containment,
+               "carry masks: an automatic mask holding this share of the lifted selection, and "
+               "less of every other prompt's, is the object's too (0 = off)",
+               0, 1);
   return table;
 }
 
@@ -330,6 +335,12 @@ void run_prompt_lift(NodeContext& ctx, PromptLiftNodeOptions o) {
   for (const int v : views) {
     const View& view = capture->views[v];
     const RenderCache weights = render_weights(*model, view.camera, view.pose);
+    // carry: masks: every prompt's lifted set rendered here (containment compares them).
+    std::vector<cv::Mat1b> rendered(count);
+    if (o.carry == CarriedBy::Masks && o.views == VotingViews::Training)
+      for (size_t k = 0; k < count; ++k)
+        rendered[k] = rendered_selection(weights.pixel_rows(), view.camera.width,
+                                         view.camera.height, lifted[k]);
     std::vector<cv::Mat1b> masks(count);
     for (size_t k = 0; k < count; ++k) {
       if (v == prompt_view[k])
@@ -337,10 +348,7 @@ void run_prompt_lift(NodeContext& ctx, PromptLiftNodeOptions o) {
       else if (o.views == VotingViews::Prompt)
         continue;
       else if (o.carry == CarriedBy::Masks)
-        masks[k] = covered_masks(automatic[v],
-                                 rendered_selection(weights.pixel_rows(), view.camera.width,
-                                                    view.camera.height, lifted[k]),
-                                 o.coverage);
+        masks[k] = carried_masks(automatic[v], rendered, k, o.coverage, o.containment);
       else
         masks[k] = segmenter.view_mask(selections[k], v);
     }

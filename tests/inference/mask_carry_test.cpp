@@ -81,6 +81,38 @@ TEST_CASE("covered masks: the union of the masks the selection covers mostly",
   CHECK(covered_masks({}, covered, 0.5).empty());
 }
 
+TEST_CASE("containing masks: a mask holding the selection, and no other's, is the object's",
+          "[inference][mask_carry]") {
+  const cv::Size size(20, 10);
+  // A table (columns 0-9) whose leg (columns 0-4) was the click's mask, a patient beside it
+  // (columns 10-19), and a coarse mask merging both. The click's selection rendered here: columns
+  // 1-4 (40 pixels); the patient's prompt's: columns 12-17 (60 pixels).
+  const cv::Mat1b table = box(size, {0, 0, 10, 10}), leg = box(size, {0, 0, 5, 10}),
+                  patient = box(size, {10, 0, 10, 10}), merged = box(size, {0, 0, 20, 10});
+  const cv::Mat1b own = box(size, {1, 0, 4, 10}), other = box(size, {12, 0, 6, 10});
+  // The table and the leg hold all of it; the merged mask too, but all of the patient's as well.
+  CHECK(cv::countNonZero(containing_masks({table, leg, patient, merged}, own, {other}, 0.5) !=
+                         table) == 0);
+  // Without the other prompt the merged mask holds the selection and no one else's.
+  CHECK(cv::countNonZero(containing_masks({table, merged}, own, {}, 0.5) != merged) == 0);
+  // A mask from column 3 holds 20 of the 40 pixels: in at 0.5, out at 0.6.
+  const cv::Mat1b right_half = box(size, {3, 0, 7, 10});
+  CHECK(cv::countNonZero(containing_masks({right_half}, own, {other}, 0.5) != right_half) == 0);
+  CHECK(containing_masks({right_half}, own, {other}, 0.6).empty());
+  CHECK(containing_masks({table}, cv::Mat1b::zeros(size), {other}, 0.5).empty());
+
+  // Carried: covered_masks takes the leg (40 of its 50 pixels covered) and not the table (40 of
+  // 100); containment adds the table.
+  const std::vector<cv::Mat1b> rendered = {own, other};
+  const std::vector<cv::Mat1b> candidates = {table, leg, patient, merged};
+  CHECK(cv::countNonZero(carried_masks(candidates, rendered, 0, 0.5, 0) != leg) == 0);
+  CHECK(cv::countNonZero(carried_masks(candidates, rendered, 0, 0.5, 0.5) != table) == 0);
+  // The patient's prompt: its selection covers 60 of the patient's 100 pixels, and the merged
+  // mask holds the table's selection too.
+  CHECK(cv::countNonZero(carried_masks(candidates, rendered, 1, 0.5, 0.5) != patient) == 0);
+  CHECK(carried_masks(candidates, {cv::Mat1b::zeros(size), other}, 0, 0.5, 0.5).empty());
+}
+
 TEST_CASE("masks carried: the prompt view's mask lifted there alone, masks by training view",
           "[inference][mask_carry]") {
   const GaussianModel model = test::two_blobs();
