@@ -107,6 +107,7 @@ nlohmann::json run_case(const Case& c, int repeat) {
   j["phase_seconds"] = {{"prepare", r.phases.prepare}, {"render", r.phases.render},
                         {"losses", r.phases.losses},   {"backward", r.phases.backward},
                         {"adam", r.phases.adam},       {"density", r.phases.density}};
+  for (const auto& [term, seconds] : r.phases.terms) j["term_seconds"][term] = seconds;
   j["gaussians_initial"] = r.initial_gaussians;
   j["gaussians_final"] = r.model.size();
   j["train_psnr"] = r.train_psnr;

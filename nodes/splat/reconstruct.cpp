@@ -194,6 +194,7 @@ Training::Training(const Capture& capture, const ReconstructOptions& o,
   observations_ = depth_observations(targets_);
   terms_ = make_loss_terms(o, TermSetup{observations_});
   joins_.resize(terms_.size());
+  for (const auto& term : terms_) result.phases.terms.emplace_back(term->name(), 0.0);
   density_.emplace(o, extent_, observations_);
   clock_.charge(result.phases.prepare);
 }
@@ -222,8 +223,12 @@ RenderSettings Training::step_settings(int step, const TargetImages& target, int
 void Training::evaluate_stage(TermStage stage, const StepRender& s, LossSummary& loss,
                               RenderGrads& image) {
   for (size_t k = 0; k < terms_.size(); ++k)
-    if (joins_[k] && terms_[k]->stage() == stage)
+    if (joins_[k] && terms_[k]->stage() == stage) {
+      const auto start = std::chrono::steady_clock::now();
       loss.terms[k].second = terms_[k]->evaluate(s, image, grads_);
+      result_.phases.terms[k].second +=
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    }
 }
 
 LossSummary Training::step(int step) {
