@@ -2,6 +2,8 @@
 
 #include <set>
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 #include <opencv2/imgproc.hpp>
 
 #include "nodes/inference/mask_vote_lifting.hpp"
@@ -29,17 +31,32 @@ cv::Mat1b clicked_mask(const std::vector<cv::Mat1b>& candidates,
   return labels == labels(clicks[0]);  // 255 in the click's piece, 0 elsewhere
 }
 
-cv::Mat1b rendered_selection(const PixelRowsView& rows, int width, int height,
-                             const std::vector<uint8_t>& selected, float threshold) {
-  cv::Mat1b out(height, width);
-  for (int y = 0; y < height; ++y)
-    for (int x = 0; x < width; ++x) {
-      const size_t p = size_t(y) * width + x;
-      float a = 0;
-      for (uint32_t e = rows.offsets[p]; e < rows.offsets[p + 1]; ++e)
-        if (selected[rows.ids[e]]) a += rows.weights[e];
-      out(y, x) = a >= threshold ? 255 : 0;
-    }
+std::vector<cv::Mat1b> rendered_selections(const PixelRowsView& rows, int width, int height,
+                                           const std::vector<std::vector<uint8_t>>& selected,
+                                           float threshold) {
+  const size_t count = selected.size();
+  std::vector<cv::Mat1b> out(count);
+  for (cv::Mat1b& m : out) m.create(height, width);
+  if (count == 0) return out;
+  // Per Gaussian, the selections holding it as bits: a pair visits only those.
+  const size_t words = (count + 63) / 64, gaussians = selected[0].size();
+  std::vector<uint64_t> held(gaussians * words, 0);
+  for (size_t k = 0; k < count; ++k)
+    for (size_t g = 0; g < gaussians; ++g)
+      if (selected[k][g]) held[g * words + k / 64] |= uint64_t{1} << (k % 64);
+  tbb::parallel_for(tbb::blocked_range<int>(0, height), [&](const tbb::blocked_range<int>& r) {
+    std::vector<float> a(count);
+    for (int y = r.begin(); y != r.end(); ++y)
+      for (int x = 0; x < width; ++x) {
+        const size_t p = size_t(y) * width + x;
+        std::fill(a.begin(), a.end(), 0.f);
+        for (uint32_t e = rows.offsets[p]; e < rows.offsets[p + 1]; ++e)
+          for (size_t w = 0; w < words; ++w)
+            for (uint64_t bits = held[rows.ids[e] * words + w]; bits != 0; bits &= bits - 1)
+              a[w * 64 + __builtin_ctzll(bits)] += rows.weights[e];
+        for (size_t k = 0; k < count; ++k) out[k](y, x) = a[k] >= threshold ? 255 : 0;
+      }
+  });
   return out;
 }
 

@@ -36,10 +36,13 @@ cv::Mat1b clicked_mask(const std::vector<cv::Mat1b>& candidates,
                        const std::vector<cv::Point>& clicks, const cv::Mat1b& answer,
                        const std::vector<cv::Point>& others = {});
 
-// The pixels (255) where the Gaussians marked in `selected` blend to an accumulated weight of at
-// least `threshold` (SAGA's rendered 0/1 mask at 0.5).
-cv::Mat1b rendered_selection(const PixelRowsView& rows, int width, int height,
-                             const std::vector<uint8_t>& selected, float threshold = 0.5f);
+// Per selection k, the pixels (255) where the Gaussians marked in `selected[k]` blend to an
+// accumulated weight of at least `threshold` (SAGA's rendered 0/1 mask at 0.5). One pass over the
+// view's rows for all of them, parallel over image rows (each pixel's sums in row order: the same
+// at any thread count).
+std::vector<cv::Mat1b> rendered_selections(const PixelRowsView& rows, int width, int height,
+                                           const std::vector<std::vector<uint8_t>>& selected,
+                                           float threshold = 0.5f);
 
 // The union of the `candidates` that `covered` (nonzero pixels) covers for at least `coverage`
 // of their own pixels; empty (a 0x0 Mat) when none does.

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace gslift {
 
@@ -19,17 +20,27 @@ void MaskVotes::add_view(const PixelRowsView& rows, int width, int height,
       throw std::invalid_argument("mask votes: a " + std::to_string(m.cols) + "x" +
                                   std::to_string(m.rows) + " mask for a " + std::to_string(width) +
                                   "x" + std::to_string(height) + " view");
-  // One pass over the pixels; every pair adds its weight to one label of each prompt. Serial:
-  // the sums do not depend on a thread count.
-  for (int y = 0; y < height; ++y)
+  // One pass over the pixels; every pair adds its weight to one label of each prompt that has a
+  // mask here. Serial: each sum takes its terms in pixel and row order, whatever the thread count.
+  // The masks' labels are read once per pixel, not once per pair (the pairs are ~20 per pixel).
+  std::vector<size_t> voting;
+  for (size_t k = 0; k < prompts_; ++k)
+    if (!masks[k].empty()) voting.push_back(k);
+  if (voting.empty()) return;
+  std::vector<const uint8_t*> row(voting.size());
+  std::vector<size_t> slot(voting.size());  // the label's offset in a Gaussian's votes
+  for (int y = 0; y < height; ++y) {
+    for (size_t i = 0; i < voting.size(); ++i) row[i] = masks[voting[i]].ptr<uint8_t>(y);
     for (int x = 0; x < width; ++x) {
+      for (size_t i = 0; i < voting.size(); ++i) slot[i] = 2 * voting[i] + (row[i][x] ? 1 : 0);
       const size_t p = size_t(y) * width + x;
       for (uint32_t e = rows.offsets[p]; e < rows.offsets[p + 1]; ++e) {
         double* v = &votes_[2 * size_t(rows.ids[e]) * prompts_];
-        for (size_t k = 0; k < prompts_; ++k)
-          if (!masks[k].empty()) v[2 * k + (masks[k](y, x) ? 1 : 0)] += rows.weights[e];
+        const double w = rows.weights[e];
+        for (const size_t s : slot) v[s] += w;
       }
     }
+  }
 }
 
 std::vector<uint8_t> MaskVotes::object(size_t k, double bias, std::vector<float>* score) const {

@@ -336,11 +336,11 @@ void run_prompt_lift(NodeContext& ctx, PromptLiftNodeOptions o) {
     const View& view = capture->views[v];
     const RenderCache weights = render_weights(*model, view.camera, view.pose);
     // carry: masks: every prompt's lifted set rendered here (containment compares them).
-    std::vector<cv::Mat1b> rendered(count);
-    if (o.carry == CarriedBy::Masks && o.views == VotingViews::Training)
-      for (size_t k = 0; k < count; ++k)
-        rendered[k] = rendered_selection(weights.pixel_rows(), view.camera.width,
-                                         view.camera.height, lifted[k]);
+    const std::vector<cv::Mat1b> rendered =
+        o.carry == CarriedBy::Masks && o.views == VotingViews::Training
+            ? rendered_selections(weights.pixel_rows(), view.camera.width, view.camera.height,
+                                  lifted)
+            : std::vector<cv::Mat1b>(count);
     std::vector<cv::Mat1b> masks(count);
     for (size_t k = 0; k < count; ++k) {
       if (v == prompt_view[k])

@@ -59,11 +59,12 @@ TEST_CASE("rendered selection: a pixel is in where the selected weights reach th
   const std::vector<uint32_t> offsets{0, 2, 3, 4}, ids{0, 1, 1, 2};
   const std::vector<float> weights{0.3f, 0.4f, 0.6f, 0.5f};
   const PixelRowsView rows{offsets.data(), ids.data(), weights.data()};
-  const cv::Mat1b a = rendered_selection(rows, 3, 1, {1, 1, 0});
+  const std::vector<cv::Mat1b> drawn = rendered_selections(rows, 3, 1, {{1, 1, 0}, {1, 0, 1}});
+  REQUIRE(drawn.size() == 2);
+  const cv::Mat1b &a = drawn[0], &b = drawn[1];
   CHECK(a(0, 0) == 255);  // 0.7
   CHECK(a(0, 1) == 255);  // 0.6
   CHECK(a(0, 2) == 0);    // g2 not selected
-  const cv::Mat1b b = rendered_selection(rows, 3, 1, {1, 0, 1});
   CHECK(b(0, 0) == 0);    // 0.3
   CHECK(b(0, 1) == 0);    // 0
   CHECK(b(0, 2) == 255);  // 0.5: at the threshold counts
@@ -134,7 +135,8 @@ TEST_CASE("masks carried: the prompt view's mask lifted there alone, masks by tr
   // The left blob, rendered (alpha >= 0.5 within about 5 px of its centre), covers a few percent
   // of the left mask and none of the right one.
   const RenderCache w = render_weights(model, capture.views[0].camera, Pose{});
-  const cv::Mat1b drawn = rendered_selection(w.pixel_rows(), size.width, size.height, lifted[0]);
+  const cv::Mat1b drawn =
+      rendered_selections(w.pixel_rows(), size.width, size.height, {lifted[0]})[0];
   CHECK(cv::countNonZero(drawn & left) > 0.02 * cv::countNonZero(left));
   CHECK(cv::countNonZero(drawn & ~left) == 0);
   CHECK(cv::countNonZero(covered_masks({left, ~left}, drawn, 0.02) != left) == 0);
