@@ -70,6 +70,29 @@ TEST_CASE("rendered selection: a pixel is in where the selected weights reach th
   CHECK(b(0, 2) == 255);  // 0.5: at the threshold counts
 }
 
+TEST_CASE("rendered selections: more selections than one word of bits, each its own sums",
+          "[inference][mask_carry]") {
+  // 2 x 1 pixels: pixel 0 = (g0 0.5, g1 0.25), pixel 1 = (g2 0.75). Selection k holds Gaussian
+  // k % 3 and, for k >= 64 (the second word of bits), Gaussian 1 too.
+  const std::vector<uint32_t> offsets{0, 2, 3}, ids{0, 1, 2};
+  const std::vector<float> weights{0.5f, 0.25f, 0.75f};
+  const PixelRowsView rows{offsets.data(), ids.data(), weights.data()};
+  std::vector<std::vector<uint8_t>> selected(70, std::vector<uint8_t>(3, 0));
+  for (size_t k = 0; k < selected.size(); ++k) {
+    selected[k][k % 3] = 1;
+    if (k >= 64) selected[k][1] = 1;
+  }
+  const std::vector<cv::Mat1b> drawn = rendered_selections(rows, 2, 1, selected, 0.6f);
+  REQUIRE(drawn.size() == 70);
+  for (size_t k = 0; k < drawn.size(); ++k) {
+    INFO(k);
+    // Pixel 0 reaches 0.6 only with g0 and g1 (0.75); pixel 1 with g2 (0.75).
+    const bool both = k % 3 == 0 && k >= 64;
+    CHECK(drawn[k](0, 0) == (both ? 255 : 0));
+    CHECK(drawn[k](0, 1) == (k % 3 == 2 ? 255 : 0));
+  }
+}
+
 TEST_CASE("covered masks: the union of the masks the selection covers mostly",
           "[inference][mask_carry]") {
   const cv::Size size(10, 10);
