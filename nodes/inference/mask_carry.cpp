@@ -11,24 +11,56 @@
 
 namespace gslift {
 
+namespace {
+
+bool holds_all(const cv::Mat1b& m, const std::vector<cv::Point>& clicks) {
+  for (const cv::Point& c : clicks)
+    if (!m(c)) return false;
+  return !clicks.empty();
+}
+
+bool holds_any(const cv::Mat1b& m, const std::vector<cv::Point>& clicks) {
+  for (const cv::Point& c : clicks)
+    if (m(c)) return true;
+  return false;
+}
+
+// The 8-connected piece of `m` holding `at` (255 there, 0 elsewhere).
+cv::Mat1b piece_at(const cv::Mat1b& m, cv::Point at) {
+  cv::Mat1i labels;
+  cv::connectedComponents(m, labels, 8, CV_32S);
+  return labels == labels(at);
+}
+
+}  // namespace
+
 cv::Mat1b clicked_mask(const std::vector<cv::Mat1b>& candidates,
                        const std::vector<cv::Point>& clicks, const cv::Mat1b& answer,
                        const std::vector<cv::Point>& others) {
-  const cv::Mat1b* best = nullptr;
-  double best_iou = -1;
+  // Of the masks holding the clicks: those holding no other click, else those holding one too.
+  const cv::Mat1b *best = nullptr, *best_merged = nullptr;
+  double best_iou = -1, best_merged_iou = -1;
   for (const cv::Mat1b& m : candidates) {
-    bool holds = !clicks.empty();
-    for (const cv::Point& c : clicks) holds = holds && m(c) != 0;
-    for (const cv::Point& c : others) holds = holds && m(c) == 0;
-    if (!holds) continue;
+    if (!holds_all(m, clicks)) continue;
     const double iou = mask_iou(m, answer);
-    if (iou > best_iou) best_iou = iou, best = &m;
+    if (!holds_any(m, others)) {
+      if (iou > best_iou) best_iou = iou, best = &m;
+    } else if (iou > best_merged_iou) {
+      best_merged_iou = iou, best_merged = &m;
+    }
   }
   if (best) return best->clone();
+  if (best_merged) {
+    cv::Mat1b cut = best_merged->clone();
+    for (const cv::Mat1b& m : candidates)
+      if (holds_any(m, others) && !holds_any(m, clicks)) cut &= ~m;
+    if (cut(clicks[0])) {
+      cv::Mat1b piece = piece_at(cut, clicks[0]);
+      if (holds_all(piece, clicks) && !holds_any(piece, others)) return piece;
+    }
+  }
   if (clicks.empty() || !answer(clicks[0])) return cv::Mat1b::zeros(answer.size());
-  cv::Mat1i labels;
-  cv::connectedComponents(answer, labels, 8, CV_32S);
-  return labels == labels(clicks[0]);  // 255 in the click's piece, 0 elsewhere
+  return piece_at(answer, clicks[0]);
 }
 
 std::vector<cv::Mat1b> rendered_selections(const PixelRowsView& rows, int width, int height,

@@ -53,6 +53,30 @@ TEST_CASE("clicked mask: the mask holding the click that agrees best with the fe
   CHECK(cv::countNonZero(none) == 0);
 }
 
+TEST_CASE("clicked mask: a merged mask with the other clicks' masks cut out",
+          "[inference][mask_carry]") {
+  const cv::Size size(20, 10);
+  // The view's masks merged the table (columns 0-9) with the clicked patient (columns 10-19) and
+  // have no mask of the table alone; the patient has its own (columns 10-19) and a part (its
+  // head, columns 16-19). A fragment on the table (columns 0-2) does not hold the click.
+  const cv::Mat1b merged = box(size, {0, 0, 20, 10}), patient = box(size, {10, 0, 10, 10}),
+                  head = box(size, {16, 0, 4, 10}), fragment = box(size, {0, 0, 3, 10});
+  // The features' answer spreads over the room: without the cut the click would take all of it.
+  const cv::Mat1b answer = box(size, {0, 0, 20, 10});
+  const cv::Mat1b got =
+      clicked_mask({merged, patient, head, fragment}, {{5, 4}}, answer, {{15, 4}});
+  CHECK(cv::countNonZero(got != box(size, {0, 0, 10, 10})) == 0);
+  // Only the piece holding the click: a second piece of the merged mask left by the cut (the
+  // patient's mask holds columns 10-14 here, so columns 15-19 stay) is not the table's.
+  const cv::Mat1b middle = box(size, {10, 0, 5, 10});
+  const cv::Mat1b left = clicked_mask({merged, middle}, {{5, 4}}, answer, {{12, 4}});
+  CHECK(cv::countNonZero(left != box(size, {0, 0, 10, 10})) == 0);
+  // Where no mask holds the other click alone, nothing is cut and the piece still holds it: the
+  // answer's piece under the click, as without merged masks.
+  const cv::Mat1b small = box(size, {0, 0, 6, 10});
+  CHECK(cv::countNonZero(clicked_mask({merged}, {{3, 4}}, small, {{15, 4}}) != small) == 0);
+}
+
 TEST_CASE("rendered selection: a pixel is in where the selected weights reach the threshold",
           "[inference][mask_carry]") {
   // 3 x 1 pixels: pixel 0 = (g0 0.3, g1 0.4), pixel 1 = (g1 0.6), pixel 2 = (g2 0.5).
