@@ -215,12 +215,19 @@ int main(int argc, char** argv) {
               << "]\n";
   }
 
-  // The chart: per method a dev and a test bar side by side, whiskers one std, a dot per room.
+  // The chart: per method its sets' bars side by side in the table's order (dev sets, then test),
+  // whiskers one std, a dot per room.
   std::vector<std::string> methods;
-  for (const auto& s : sets)
+  size_t most_sets = 2;
+  for (const auto& s : sets) {
     if (std::find(methods.begin(), methods.end(), s.method) == methods.end())
       methods.push_back(s.method);
-  const double group_w = 130, left = 50, top = 40, plot_h = 260;
+    most_sets = std::max<size_t>(
+        most_sets, std::count_if(sets.begin(), sets.end(),
+                                 [&](const SetResult& o) { return o.method == s.method; }));
+  }
+  const double group_w = 50 * static_cast<double>(most_sets) + 30, left = 50, top = 40,
+               plot_h = 260;
   const double width = std::max(620.0, left + group_w * static_cast<double>(methods.size()) + 20);
   Svg svg(width, top + plot_h + 70, 12, true);
   svg.text(left, 20,
@@ -236,24 +243,24 @@ int main(int argc, char** argv) {
   for (size_t m = 0; m < methods.size(); ++m) {
     const double x0 = left + group_w * static_cast<double>(m) + 15;
     int slot = 0;
-    for (const char* set : {"dev", "test"}) {
-      const SetResult* s = find(methods[m], set);
+    for (const SetResult& set : sets) {
+      if (set.method != methods[m]) continue;
+      const SetResult* s = &set;
       const double x = x0 + 50 * slot++;
-      if (!s) continue;
       const auto v = values(*s);
       const auto [mean, sd] = mean_std(v);
-      const std::string colour = std::string(set) == "dev" ? "#9ecae1" : "#3182bd";
-      svg.begin_group(s->method + " " + set + ": " + s->headline + " " + fixed(mean) + " +- " +
+      const std::string colour = s->set == "test" ? "#3182bd" : "#9ecae1";
+      svg.begin_group(s->method + " " + s->set + ": " + s->headline + " " + fixed(mean) + " +- " +
                       fixed(sd) + " over " + std::to_string(v.size()) + " rooms");
       svg.rect(x, y_of(mean), 40, y_of(0) - y_of(mean), colour);
       svg.line(x + 20, y_of(mean - sd), x + 20, y_of(mean + sd), "black");
       for (size_t i = 0; i < v.size(); ++i)
         svg.circle(x + 8 + 24.0 * static_cast<double>(i % 7) / 6, y_of(v[i]), 2, "#222");
       svg.text(x + 20, y_of(mean + sd) - 4, fixed(mean), "text-anchor='middle'");
-      svg.text(x + 20, y_of(0) + 14, set, "text-anchor='middle'");
+      svg.text(x + 20, y_of(0) + 14, s->set, "text-anchor='middle' font-size='10'");
       svg.end_group();
     }
-    svg.text(x0 + 45, y_of(0) + 32, methods[m], "text-anchor='middle'");
+    svg.text(x0 + 25 * slot - 5, y_of(0) + 32, methods[m], "text-anchor='middle'");
   }
   svg.text(
       left, top + plot_h + 60,
