@@ -396,7 +396,21 @@ void add_prompt(Registry& registry) {
 struct RenderSelectionOptions {
   ViewSet views = ViewSet::All;
   double threshold = 0.5;  // SAGA render.py thresholds the rendered 0/1 mask at 0.5
+  MaskAlignment align;     // [off by default; saga.yaml turns it on: docs/saga.md]
 };
+
+const ParamTable<MaskAlignment>& mask_alignment_table() {
+  static const ParamTable<MaskAlignment> table =
+      ParamTable<MaskAlignment>()
+          .add("align_to_photo", &MaskAlignment::to_photo,
+               "move each view's masks by the 2D shift that registers the model's render there "
+               "to the view's photo (for captures whose poses are off by a few pixels)")
+          .add("align_min_gain", &MaskAlignment::min_gain,
+               "align_to_photo: the gain in image correlation a shift must bring to be applied "
+               "(0.003: chosen on the mixed dev rooms)",
+               0, 1);
+  return table;
+}
 
 const ParamTable<RenderSelectionOptions>& render_selection_table() {
   using O = RenderSelectionOptions;
@@ -404,7 +418,8 @@ const ParamTable<RenderSelectionOptions>& render_selection_table() {
       ParamTable<O>()
           .add("views", &O::views, view_set_names(), "views to render the selections in")
           .add("threshold", &O::threshold,
-               "accumulated alpha of a selection that makes a pixel part of its mask", 0, 1);
+               "accumulated alpha of a selection that makes a pixel part of its mask", 0, 1)
+          .nest(&O::align, mask_alignment_table());
   return table;
 }
 
@@ -413,9 +428,18 @@ void run_render_selection(NodeContext& ctx, const RenderSelectionOptions& o) {
   const auto capture = ctx.input<Capture>("capture");
   std::vector<std::string> names;
   for (const Prompt& p : ctx.input<PromptSet>("prompts")->prompts) names.push_back(p.name);
+  std::vector<PhotoAlignment> alignments;
   MaskSet masks = render_selection_masks(*model, *capture, capture->views_named(o.views), names,
-                                         static_cast<float>(o.threshold));
+                                         static_cast<float>(o.threshold), o.align, &alignments);
   ctx.record("views", static_cast<double>(masks.views.size()));
+  for (size_t i = 0; i < alignments.size() && o.align.to_photo; ++i) {
+    const PhotoAlignment& a = alignments[i];
+    const std::string at = "align/" + masks.views[i].view + "/";
+    ctx.record(at + "applied", a.applied ? 1.0 : 0.0);
+    ctx.record(at + "shift_x", a.applied ? a.shift_x : 0.0);
+    ctx.record(at + "shift_y", a.applied ? a.shift_y : 0.0);
+    ctx.record(at + "correlation_gain", a.correlation_after - a.correlation_before);
+  }
   const auto dir = ctx.out_dir();
   if (!dir.empty()) write_selection_files(masks, *model, names, *capture, dir);
   ctx.output("masks", std::move(masks));

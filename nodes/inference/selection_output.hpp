@@ -7,17 +7,28 @@
 #include <string>
 #include <vector>
 
+#include "nodes/inference/photo_alignment.hpp"
 #include "nodes/scene/capture.hpp"
 #include "nodes/scene/gaussian_model.hpp"
 #include "nodes/scene/masks.hpp"
 
 namespace gslift {
 
+// How the masks of a view are registered to its photo (photo_alignment.hpp); off by default.
+struct MaskAlignment {
+  bool to_photo = false;
+  double min_gain = 0.003;
+};
+
 // model.instance_ids[g] = k: Gaussian g belongs to selection k, named names[k] (-1: none). One
-// ViewMasks per view of `views`, one mask per selection, labelled with its name.
+// ViewMasks per view of `views`, one mask per selection, labelled with its name. With
+// `align.to_photo`, each view with a photo renders the model's colours there and moves its masks
+// by the shift that registers that render to the photo (when it passes min_gain); `alignments`
+// (when given) receives one result per view, in the order of `views`.
 MaskSet render_selection_masks(const GaussianModel& model, const Capture& capture,
                                const std::vector<int>& views, const std::vector<std::string>& names,
-                               float threshold = 0.5f);
+                               float threshold = 0.5f, const MaskAlignment& align = {},
+                               std::vector<PhotoAlignment>* alignments = nullptr);
 
 // Into `dir`: <view>__<name>_mask.png and _overlay.png for every mask (query_files.hpp), per
 // selection <name>.ply (its Gaussians alone, plain INRIA layout: no features, no ids) and
