@@ -53,7 +53,7 @@ TEST_CASE("photo alignment: a render 3 px left and 2 px below its photo is moved
   CHECK(cv::countNonZero(align_mask(mask, strict) != mask) == 0);
 }
 
-TEST_CASE("photo alignment: images that agree get no shift; sizes must match",
+TEST_CASE("photo alignment: images that agree get no shift, and sizes must match",
           "[inference][photo_alignment]") {
   const cv::Mat1f render = texture({160, 120});
   const PhotoAlignment a = align_render_to_photo(render, render.clone(), 0.003);
