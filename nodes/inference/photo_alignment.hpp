@@ -24,7 +24,7 @@ struct PhotoAlignment {
 
 // Registers `render` to `photo` (single-channel float images of the same size, any range) by a
 // 2D translation; applied when it raises the correlation by at least `min_gain`. Throws
-// std::invalid_argument on images of different sizes or types.
+// std::invalid_argument on images of different sizes.
 PhotoAlignment align_render_to_photo(const cv::Mat1f& render, const cv::Mat1f& photo,
                                      double min_gain);
 
