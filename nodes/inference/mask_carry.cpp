@@ -32,11 +32,41 @@ cv::Mat1b piece_at(const cv::Mat1b& m, cv::Point at) {
   return labels == labels(at);
 }
 
+// Each click no candidate holds moved to the nearest pixel (Euclidean, first in row order on a
+// tie) some candidate holds; unchanged where one holds it or none holds any pixel.
+std::vector<cv::Point> snapped_clicks(const std::vector<cv::Mat1b>& candidates,
+                                      const std::vector<cv::Point>& clicks) {
+  std::vector<cv::Point> out = clicks;
+  cv::Mat1b held;
+  for (cv::Point& c : out) {
+    bool is_held = false;
+    for (const cv::Mat1b& m : candidates) is_held = is_held || m(c);
+    if (is_held || candidates.empty()) continue;
+    if (held.empty()) {
+      held = cv::Mat1b::zeros(candidates[0].size());
+      for (const cv::Mat1b& m : candidates) held |= m;
+    }
+    long best = -1;
+    cv::Point at = c;
+    for (int y = 0; y < held.rows; ++y)
+      for (int x = 0; x < held.cols; ++x) {
+        if (!held(y, x)) continue;
+        const long d = long(x - c.x) * (x - c.x) + long(y - c.y) * (y - c.y);
+        if (best < 0 || d < best) best = d, at = cv::Point(x, y);
+      }
+    c = at;
+  }
+  return out;
+}
+
 }  // namespace
 
 cv::Mat1b clicked_mask(const std::vector<cv::Mat1b>& candidates,
-                       const std::vector<cv::Point>& clicks, const cv::Mat1b& answer,
+                       const std::vector<cv::Point>& given, const cv::Mat1b& answer,
                        const std::vector<cv::Point>& others) {
+  // SAM answers every click with a mask, its automatic masks leave gaps (thin parts, borders):
+  // a click in one is answered as at the nearest pixel a mask holds.
+  const std::vector<cv::Point> clicks = snapped_clicks(candidates, given);
   // Of the masks holding the clicks: those holding no other click, else those holding one too.
   const cv::Mat1b *best = nullptr, *best_merged = nullptr;
   double best_iou = -1, best_merged_iou = -1;

@@ -41,16 +41,33 @@ TEST_CASE("clicked mask: the mask holding the click that agrees best with the fe
   CHECK(cv::countNonZero(clicked_mask({merged, table, patient}, {{3, 4}}, both) != merged) == 0);
   CHECK(cv::countNonZero(clicked_mask({merged, table, patient}, {{3, 4}}, both, {{15, 4}}) !=
                          table) == 0);
-  // No mask holds the click: the answer's 8-connected piece under it (two pieces here).
+  // No candidate at all: the answer's 8-connected piece under the click (two pieces here).
   cv::Mat1b two = box(size, {0, 0, 4, 4}) | box(size, {10, 5, 4, 4});
-  const cv::Mat1b piece = clicked_mask({patient}, {{1, 1}}, two);
+  const cv::Mat1b piece = clicked_mask({}, {{1, 1}}, two);
   CHECK(cv::countNonZero(piece) == 16);
   CHECK(piece(1, 1) == 255);
   CHECK(piece(6, 11) == 0);
   // Neither a mask nor the answer holds it: an empty mask of the view's size.
-  const cv::Mat1b none = clicked_mask({patient}, {{5, 5}}, two);
+  const cv::Mat1b none = clicked_mask({}, {{5, 5}}, two);
   CHECK(none.size() == size);
   CHECK(cv::countNonZero(none) == 0);
+}
+
+TEST_CASE("clicked mask: a click in a gap of the masks is answered at the nearest held pixel",
+          "[inference][mask_carry]") {
+  const cv::Size size(20, 10);
+  // A thin lamp arm (columns 2-4) and a monitor (columns 12-19); the masks leave columns 5-11
+  // uncovered. The features' answer floods the wall behind (everything): the piece under the click
+  // would be the whole view.
+  const cv::Mat1b arm = box(size, {2, 0, 3, 10}), monitor = box(size, {12, 0, 8, 10});
+  const cv::Mat1b flood = box(size, {0, 0, 20, 10});
+  // Column 7 is 3 px from the arm (column 4) and 5 px from the monitor (column 12).
+  CHECK(cv::countNonZero(clicked_mask({arm, monitor}, {{7, 5}}, flood) != arm) == 0);
+  // Column 9: 5 px from the arm, 3 px from the monitor.
+  CHECK(cv::countNonZero(clicked_mask({arm, monitor}, {{9, 5}}, flood) != monitor) == 0);
+  // Snapped onto a mask holding another prompt's click, the merged-mask rule applies as to a
+  // click inside it: here no mask is left, so the answer's piece at the snapped pixel.
+  CHECK(cv::countNonZero(clicked_mask({monitor}, {{9, 5}}, flood, {{15, 5}}) != flood) == 0);
 }
 
 TEST_CASE("clicked mask: a merged mask with the other clicks' masks cut out",
