@@ -47,11 +47,11 @@ PhotoAlignment align_render_to_photo(const cv::Mat1f& render, const cv::Mat1f& p
   return out;
 }
 
-cv::Mat1b align_mask(const cv::Mat1b& mask, const PhotoAlignment& alignment) {
-  if (!alignment.applied) return mask.clone();
+cv::Mat align_image(const cv::Mat& image, const PhotoAlignment& alignment) {
+  if (!alignment.applied) return image.clone();
   const cv::Matx23f move(1, 0, float(alignment.shift_x), 0, 1, float(alignment.shift_y));
-  cv::Mat1b out;
-  cv::warpAffine(mask, out, move, mask.size(), cv::INTER_NEAREST, cv::BORDER_CONSTANT, 0);
+  cv::Mat out;
+  cv::warpAffine(image, out, move, image.size(), cv::INTER_NEAREST, cv::BORDER_CONSTANT, 0);
   return out;
 }
 

@@ -28,8 +28,8 @@ struct PhotoAlignment {
 PhotoAlignment align_render_to_photo(const cv::Mat1f& render, const cv::Mat1f& photo,
                                      double min_gain);
 
-// `mask` (rendered at the view's pose) moved by the alignment's shift when it was applied
-// (nearest pixel, 0 where it comes from outside the image); otherwise a copy.
-cv::Mat1b align_mask(const cv::Mat1b& mask, const PhotoAlignment& alignment);
+// `image` (a mask or a map rendered at the view's pose, any type) moved by the alignment's shift
+// when it was applied (nearest pixel, 0 where it comes from outside the image); otherwise a copy.
+cv::Mat align_image(const cv::Mat& image, const PhotoAlignment& alignment);
 
 }  // namespace gslift

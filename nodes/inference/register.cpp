@@ -48,6 +48,19 @@ std::vector<int32_t> query_class_ids(const GaussianModel& model, const TextQuery
   return ids;
 }
 
+// align/<view>/{applied, shift_x, shift_y, correlation_gain} of each view answered.
+void record_alignments(NodeContext& ctx, const std::vector<std::string>& views,
+                       const std::vector<PhotoAlignment>& alignments) {
+  for (size_t i = 0; i < alignments.size(); ++i) {
+    const PhotoAlignment& a = alignments[i];
+    const std::string at = "align/" + views[i] + "/";
+    ctx.record(at + "applied", a.applied ? 1.0 : 0.0);
+    ctx.record(at + "shift_x", a.applied ? a.shift_x : 0.0);
+    ctx.record(at + "shift_y", a.applied ? a.shift_y : 0.0);
+    ctx.record(at + "correlation_gain", a.correlation_after - a.correlation_before);
+  }
+}
+
 // The node's params: the queries, the views to answer in, and the answering options.
 struct TextQueryNodeOptions {
   std::vector<std::string> queries;  // empty = the capture's ground-truth class names
@@ -75,11 +88,15 @@ void run_text_query(NodeContext& ctx, TextQueryNodeOptions o) {
     throw InputError("inference.text_query: no queries given and the capture '" + capture->name +
                      "' has no ground-truth class names to use instead");
   const std::vector<int> views = capture->views_named(o.views);
-  TextQueryResults results =
-      answer_text_queries(*model, *ctx.input<InstanceSet>("instances"),
-                          *ctx.input<TextEncoder>("encoder"), *capture, views, o.queries, o.answer);
+  std::vector<PhotoAlignment> alignments;
+  TextQueryResults results = answer_text_queries(*model, *ctx.input<InstanceSet>("instances"),
+                                                 *ctx.input<TextEncoder>("encoder"), *capture,
+                                                 views, o.queries, o.answer, &alignments);
   ctx.record("queries", static_cast<double>(o.queries.size()));
   ctx.record("views", static_cast<double>(views.size()));
+  std::vector<std::string> view_names;
+  for (const auto& v : results.views) view_names.push_back(v.view);
+  if (o.answer.align.to_photo) record_alignments(ctx, view_names, alignments);
   size_t answered = 0;
   for (const auto& s : results.instances) answered += s.empty() ? 0 : 1;
   ctx.record("queries_with_instances", static_cast<double>(answered));
@@ -399,19 +416,6 @@ struct RenderSelectionOptions {
   MaskAlignment align;     // [off by default; saga.yaml turns it on: docs/saga.md]
 };
 
-const ParamTable<MaskAlignment>& mask_alignment_table() {
-  static const ParamTable<MaskAlignment> table =
-      ParamTable<MaskAlignment>()
-          .add("align_to_photo", &MaskAlignment::to_photo,
-               "move each view's masks by the 2D shift that registers the model's render there "
-               "to the view's photo (for captures whose poses are off by a few pixels)")
-          .add("align_min_gain", &MaskAlignment::min_gain,
-               "align_to_photo: the gain in image correlation a shift must bring to be applied "
-               "(0.003: chosen on the mixed dev rooms)",
-               0, 1);
-  return table;
-}
-
 const ParamTable<RenderSelectionOptions>& render_selection_table() {
   using O = RenderSelectionOptions;
   static const ParamTable<O> table =
@@ -419,7 +423,7 @@ const ParamTable<RenderSelectionOptions>& render_selection_table() {
           .add("views", &O::views, view_set_names(), "views to render the selections in")
           .add("threshold", &O::threshold,
                "accumulated alpha of a selection that makes a pixel part of its mask", 0, 1)
-          .nest(&O::align, mask_alignment_table());
+          .nest(&O::align, mask_alignment_param_table());
   return table;
 }
 
@@ -432,14 +436,9 @@ void run_render_selection(NodeContext& ctx, const RenderSelectionOptions& o) {
   MaskSet masks = render_selection_masks(*model, *capture, capture->views_named(o.views), names,
                                          static_cast<float>(o.threshold), o.align, &alignments);
   ctx.record("views", static_cast<double>(masks.views.size()));
-  for (size_t i = 0; i < alignments.size() && o.align.to_photo; ++i) {
-    const PhotoAlignment& a = alignments[i];
-    const std::string at = "align/" + masks.views[i].view + "/";
-    ctx.record(at + "applied", a.applied ? 1.0 : 0.0);
-    ctx.record(at + "shift_x", a.applied ? a.shift_x : 0.0);
-    ctx.record(at + "shift_y", a.applied ? a.shift_y : 0.0);
-    ctx.record(at + "correlation_gain", a.correlation_after - a.correlation_before);
-  }
+  std::vector<std::string> view_names;
+  for (const ViewMasks& vm : masks.views) view_names.push_back(vm.view);
+  if (o.align.to_photo) record_alignments(ctx, view_names, alignments);
   const auto dir = ctx.out_dir();
   if (!dir.empty()) write_selection_files(masks, *model, names, *capture, dir);
   ctx.output("masks", std::move(masks));
@@ -467,6 +466,7 @@ void add_render_selection(Registry& registry) {
 struct LabelInferenceOptions {
   ViewSet views = ViewSet::Test;
   double min_area = 0;  // label_argmax.hpp
+  MaskAlignment align;  // [off by default; docs/protosaga.md]
 };
 
 const ParamTable<LabelInferenceOptions>& label_inference_param_table() {
@@ -476,11 +476,26 @@ const ParamTable<LabelInferenceOptions>& label_inference_param_table() {
           .add("min_area", &LabelInferenceOptions::min_area,
                "labels covering less than this fraction of a view are dropped there, their "
                "pixels taking the next best label (speckle labels); 0 = off",
-               0, 1);
+               0, 1)
+          .nest(&LabelInferenceOptions::align, mask_alignment_param_table());
   return table;
 }
 
-void output_labels(NodeContext& ctx, const Capture& capture, LabelMapSet labels) {
+// Each label map moved by the shift registering the model's render in its view to the photo.
+void output_labels(NodeContext& ctx, const Capture& capture, LabelMapSet labels,
+                   const MaskAlignment& align) {
+  if (align.to_photo) {
+    const auto model = ctx.input<GaussianModel>("model");
+    std::vector<std::string> names;
+    std::vector<PhotoAlignment> alignments;
+    for (LabelMap& m : labels.views) {
+      alignments.push_back(
+          view_photo_alignment(*model, capture.views[capture.find_view(m.view)], align));
+      m.labels = align_image(m.labels, alignments.back());
+      names.push_back(m.view);
+    }
+    record_alignments(ctx, names, alignments);
+  }
   ctx.record("views", static_cast<double>(labels.views.size()));
   ctx.record("labels", static_cast<double>(labels.labels));
   const auto dir = ctx.out_dir();
@@ -520,7 +535,8 @@ void add_label_inference(Registry& registry) {
               ctx, *c,
               infer_labels_by_prototypes(*ctx.input<GaussianModel>("model"), *c,
                                          *ctx.input<LabelMapSet>("labels"), c->views_named(o.views),
-                                         kind, ctx.seed(), o.min_area));
+                                         kind, ctx.seed(), o.min_area),
+              o.align);
         });
   registry.add(
       NodeSpec{"inference.classifier",
@@ -534,7 +550,8 @@ void add_label_inference(Registry& registry) {
         output_labels(ctx, *c,
                       infer_labels_by_classifier(*ctx.input<GaussianModel>("model"), *c,
                                                  *ctx.input<LabelClassifier>("classifier"),
-                                                 c->views_named(o.views), o.min_area));
+                                                 c->views_named(o.views), o.min_area),
+                      o.align);
       });
 }
 

@@ -2,33 +2,12 @@
 
 #include <algorithm>
 
-#include <opencv2/imgproc.hpp>
-
 #include "base/errors.hpp"
 #include "nodes/inference/query_files.hpp"
 #include "nodes/inference/text_query.hpp"
 #include "nodes/splat/ply_io.hpp"
-#include "nodes/splat/rasterizer.hpp"
-#include "nodes/splat/training_targets.hpp"
 
 namespace gslift {
-
-namespace {
-
-// The view's photo and the model's colours rendered at its pose, as gray images in [0, 1].
-PhotoAlignment align_view(const GaussianModel& model, const View& view, double min_gain) {
-  const RenderOutput r = render(model, view.camera, view.pose, RenderSettings{});
-  cv::Mat3f rgb(r.height, r.width);
-  std::copy(r.rgb.begin(), r.rgb.end(), reinterpret_cast<float*>(rgb.data));
-  cv::Mat1f rendered, photo;
-  cv::cvtColor(rgb, rendered, cv::COLOR_RGB2GRAY);
-  cv::Mat photo8;
-  cv::cvtColor(load_view_rgb(view), photo8, cv::COLOR_RGB2GRAY);
-  photo8.convertTo(photo, CV_32F, 1.0 / 255);
-  return align_render_to_photo(rendered, photo, min_gain);
-}
-
-}  // namespace
 
 MaskSet render_selection_masks(const GaussianModel& model, const Capture& capture,
                                const std::vector<int>& views, const std::vector<std::string>& names,
@@ -41,14 +20,12 @@ MaskSet render_selection_masks(const GaussianModel& model, const Capture& captur
   for (int v : views) {
     const View& view = capture.views[v];
     const QueryView qv(model, view.camera, view.pose);
-    const PhotoAlignment alignment = align.to_photo && view.rgb.present()
-                                         ? align_view(model, view, align.min_gain)
-                                         : PhotoAlignment{};
+    const PhotoAlignment alignment = view_photo_alignment(model, view, align);
     if (alignments) alignments->push_back(alignment);
     ViewMasks vm{view.name, {}};
     for (size_t k = 0; k < names.size(); ++k) {
       Mask m;
-      m.pixels = align_mask(qv.instance_mask({static_cast<int>(k)}, threshold), alignment);
+      m.pixels = align_image(qv.instance_mask({static_cast<int>(k)}, threshold), alignment);
       m.label = names[k];
       vm.masks.push_back(std::move(m));
     }

@@ -7,18 +7,12 @@
 #include <string>
 #include <vector>
 
-#include "nodes/inference/photo_alignment.hpp"
+#include "nodes/inference/view_alignment.hpp"
 #include "nodes/scene/capture.hpp"
 #include "nodes/scene/gaussian_model.hpp"
 #include "nodes/scene/masks.hpp"
 
 namespace gslift {
-
-// How the masks of a view are registered to its photo (photo_alignment.hpp); off by default.
-struct MaskAlignment {
-  bool to_photo = false;
-  double min_gain = 0.003;
-};
 
 // model.instance_ids[g] = k: Gaussian g belongs to selection k, named names[k] (-1: none). One
 // ViewMasks per view of `views`, one mask per selection, labelled with its name. With

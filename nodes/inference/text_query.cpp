@@ -147,7 +147,8 @@ TextQueryResults answer_text_queries(const GaussianModel& model, const InstanceS
                                      const TextEncoder& encoder, const Capture& capture,
                                      const std::vector<int>& view_indices,
                                      const std::vector<std::string>& queries,
-                                     const TextQueryOptions& options) {
+                                     const TextQueryOptions& options,
+                                     std::vector<PhotoAlignment>* alignments) {
   if (model.instance_ids.size() != model.size())
     throw InputError("text query: the model has " + std::to_string(model.instance_ids.size()) +
                      " instance ids for " + std::to_string(model.size()) +
@@ -158,21 +159,25 @@ TextQueryResults answer_text_queries(const GaussianModel& model, const InstanceS
                        " is outside the " + std::to_string(instances.size()) + " instances");
   TextQueryResults results;
   results.queries = queries;
+  if (alignments) alignments->clear();
   select_instances(instances, encoder, options, results);
 
   for (int vi : view_indices) {
     const View& view = capture.views.at(static_cast<size_t>(vi));
     const QueryView qv(model, view.camera, view.pose);
+    const PhotoAlignment alignment = view_photo_alignment(model, view, options.align);
+    if (alignments) alignments->push_back(alignment);
     TextQueryResults::ViewAnswers answers;
     answers.view = view.name;
     cv::Mat1f alpha;
     if (options.normalise_relevancy)
       alpha = cv::max(qv.render(std::vector<float>(model.size(), 1.f)), 1e-6f);
     for (size_t q = 0; q < queries.size(); ++q) {
-      answers.masks.push_back(qv.instance_mask(results.instances[q], options.mask_threshold));
+      answers.masks.push_back(
+          align_image(qv.instance_mask(results.instances[q], options.mask_threshold), alignment));
       cv::Mat1f relevancy = qv.render_instances(results.relevancy[q]);
       if (options.normalise_relevancy) relevancy /= alpha;
-      answers.relevancy.push_back(relevancy);
+      answers.relevancy.push_back(align_image(relevancy, alignment));
     }
     results.views.push_back(std::move(answers));
   }
@@ -200,7 +205,8 @@ const ParamTable<TextQueryOptions>& text_query_param_table() {
                "relevancy map = weighted mean of instance relevancies (divided by the accumulated "
                "alpha) instead of the weighted sum")
           .add("softmax_scale", &O::softmax_scale,
-               "temperature of the relevancy softmax (LangSplat: 10)", 0.1, 1000);
+               "temperature of the relevancy softmax (LangSplat: 10)", 0.1, 1000)
+          .nest(&O::align, mask_alignment_param_table());
   return table;
 }
 

@@ -25,6 +25,7 @@
 #include <opencv2/core.hpp>
 
 #include "nodes/inference/instance_retrieval.hpp"
+#include "nodes/inference/view_alignment.hpp"
 #include "nodes/scene/capture.hpp"
 #include "nodes/scene/gaussian_model.hpp"
 #include "nodes/scene/instances.hpp"
@@ -86,11 +87,14 @@ struct TextQueryOptions {
   // encoder's match_threshold or above) stands for it: the entry leaves the closed set, so
   // "nurse" selects the circulating nurse instead of losing it to the class name itself.
   std::vector<std::string> vocabulary;
+  // Each view's masks and relevancy maps moved by the shift registering the model's render there
+  // to its photo (view_alignment.hpp; off by default, langor.yaml: docs/langor.md).
+  MaskAlignment align;
 };
 
 // The params of inference.text_query that configure the answering: selection,
-// relevancy_threshold, mask_threshold, normalise_relevancy, softmax_scale (negatives and
-// vocabulary are not params).
+// relevancy_threshold, mask_threshold, normalise_relevancy, softmax_scale, align_to_photo,
+// align_min_gain (negatives and vocabulary are not params).
 const ParamTable<TextQueryOptions>& text_query_param_table();
 
 // Selection only (no rendering): instances and their relevancies for every query, and the
@@ -100,11 +104,13 @@ void select_instances(const InstanceSet& instances, const TextEncoder& encoder,
                       const TextQueryOptions& options, TextQueryResults& results);
 
 // Answers `queries` in the views `view_indices` of `capture`. The model must carry instance_ids
-// (one per Gaussian, ids < instances.size() or -1); throws InputError otherwise.
+// (one per Gaussian, ids < instances.size() or -1); throws InputError otherwise. `alignments`
+// (when given) receives each view's photo alignment (options.align), in the order of the views.
 TextQueryResults answer_text_queries(const GaussianModel& model, const InstanceSet& instances,
                                      const TextEncoder& encoder, const Capture& capture,
                                      const std::vector<int>& view_indices,
                                      const std::vector<std::string>& queries,
-                                     const TextQueryOptions& options);
+                                     const TextQueryOptions& options,
+                                     std::vector<PhotoAlignment>* alignments = nullptr);
 
 }  // namespace gslift

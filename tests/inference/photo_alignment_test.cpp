@@ -42,7 +42,7 @@ TEST_CASE("photo alignment: a render 3 px left and 2 px below its photo is moved
   // A mask rendered at the view's pose follows the content.
   cv::Mat1b mask = cv::Mat1b::zeros(render.size());
   mask(cv::Rect(40, 30, 20, 10)) = 255;
-  const cv::Mat1b aligned = align_mask(mask, a);
+  const cv::Mat1b aligned = align_image(mask, a);
   cv::Mat1b expected = cv::Mat1b::zeros(render.size());
   expected(cv::Rect(43, 28, 20, 10)) = 255;
   CHECK(cv::countNonZero(aligned != expected) == 0);
@@ -50,7 +50,7 @@ TEST_CASE("photo alignment: a render 3 px left and 2 px below its photo is moved
   const PhotoAlignment strict = align_render_to_photo(render, photo, 0.9);
   CHECK_FALSE(strict.applied);
   CHECK(strict.shift_x == Approx(3.0).margin(0.05));
-  CHECK(cv::countNonZero(align_mask(mask, strict) != mask) == 0);
+  CHECK(cv::countNonZero(cv::Mat1b(align_image(mask, strict)) != mask) == 0);
 }
 
 TEST_CASE("photo alignment: images that agree get no shift, and sizes must match",

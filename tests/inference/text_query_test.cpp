@@ -1,5 +1,8 @@
-// Rendering selections through the render cache, checked against the rasterizer's own alpha.
+// Rendering selections through the render cache, checked against the rasterizer's own alpha, and
+// the answers registered to a view's photo.
 #include "nodes/inference/text_query.hpp"
+
+#include <opencv2/imgproc.hpp>
 
 #include "nodes/splat/rasterizer.hpp"
 #include "nodes/text/hashing_text_encoder.hpp"
@@ -153,4 +156,42 @@ TEST_CASE("selection: closed set takes the argmax query, relevancy every instanc
   CHECK(r.instances[0] == std::vector<int>{0, 1});
   CHECK_THROWS_AS(text_query_param_table().read({{"selection", std::string("top_k")}}),
                   std::invalid_argument);
+}
+
+TEST_CASE("answers registered to a photo that sits 3 px right of the render move with it") {
+  GaussianModel model = test::two_blobs();
+  model.sh = {1.5f, 0.f, 0.f, 0.f, 1.5f, 0.f};  // a red and a green blob on black
+  const HashingTextEncoder enc(64);
+  const InstanceSet instances = patient_and_monitor(enc);
+  Capture capture;
+  View view;
+  view.name = "v";
+  view.camera = test::query_camera();
+  // The photo: the model's render with its content moved 3 px to the right.
+  const RenderOutput r = render(model, view.camera, Pose{}, RenderSettings{});
+  cv::Mat3f rgb(r.height, r.width);
+  std::copy(r.rgb.begin(), r.rgb.end(), reinterpret_cast<float*>(rgb.data));
+  cv::Mat3b photo;
+  rgb.convertTo(photo, CV_8U, 255);
+  cv::warpAffine(photo, photo, cv::Matx23f(1, 0, 3, 0, 1, 0), photo.size());
+  view.rgb = ImageSource::in_memory(photo);
+  capture.views.push_back(view);
+  TextQueryOptions o;
+  o.vocabulary = {"patient", "monitor"};
+  const TextQueryResults plain =
+      answer_text_queries(model, instances, enc, capture, {0}, {"patient"}, o);
+  o.align.to_photo = true;
+  std::vector<PhotoAlignment> alignments;
+  const TextQueryResults moved =
+      answer_text_queries(model, instances, enc, capture, {0}, {"patient"}, o, &alignments);
+  REQUIRE(alignments.size() == 1);
+  REQUIRE(alignments[0].applied);
+  CHECK(alignments[0].shift_x == Approx(3.0).margin(0.1));
+  CHECK(std::abs(alignments[0].shift_y) < 0.1);
+  // The mask and the relevancy map are the unaligned ones 3 columns to the right.
+  const cv::Mat1b& a = plain.views[0].masks[0];
+  const cv::Mat1b& b = moved.views[0].masks[0];
+  REQUIRE(cv::countNonZero(a) > 0);
+  CHECK(cv::countNonZero(a.colRange(0, 61) != b.colRange(3, 64)) == 0);
+  CHECK(moved.views[0].relevancy[0](24, 20) == plain.views[0].relevancy[0](24, 17));
 }
