@@ -34,17 +34,17 @@ cv::Mat1b piece_at(const cv::Mat1b& m, cv::Point at) {
 
 // Each click no candidate holds moved to the nearest pixel (Euclidean, first in row order on a
 // tie) some candidate holds; unchanged where one holds it or none holds any pixel.
-std::vector<cv::Point> snapped_clicks(const std::vector<cv::Mat1b>& candidates,
+std::vector<cv::Point> snapped_clicks(const std::vector<const cv::Mat1b*>& candidates,
                                       const std::vector<cv::Point>& clicks) {
   std::vector<cv::Point> out = clicks;
   cv::Mat1b held;
   for (cv::Point& c : out) {
     bool is_held = false;
-    for (const cv::Mat1b& m : candidates) is_held = is_held || m(c);
+    for (const cv::Mat1b* m : candidates) is_held = is_held || (*m)(c);
     if (is_held || candidates.empty()) continue;
     if (held.empty()) {
-      held = cv::Mat1b::zeros(candidates[0].size());
-      for (const cv::Mat1b& m : candidates) held |= m;
+      held = cv::Mat1b::zeros(candidates[0]->size());
+      for (const cv::Mat1b* m : candidates) held |= *m;
     }
     long best = -1;
     cv::Point at = c;
@@ -59,38 +59,65 @@ std::vector<cv::Point> snapped_clicks(const std::vector<cv::Mat1b>& candidates,
   return out;
 }
 
-}  // namespace
-
-cv::Mat1b clicked_mask(const std::vector<cv::Mat1b>& candidates,
-                       const std::vector<cv::Point>& given, const cv::Mat1b& answer,
+// clicked_mask's rules over masks that hold the clicks; empty (0x0) where none applies.
+cv::Mat1b mask_holding(const std::vector<const cv::Mat1b*>& candidates,
+                       const std::vector<cv::Point>& clicks, const cv::Mat1b& answer,
                        const std::vector<cv::Point>& others) {
-  // SAM answers every click with a mask, its automatic masks leave gaps (thin parts, borders):
-  // a click in one is answered as at the nearest pixel a mask holds.
-  const std::vector<cv::Point> clicks = snapped_clicks(candidates, given);
   // Of the masks holding the clicks: those holding no other click, else those holding one too.
   const cv::Mat1b *best = nullptr, *best_merged = nullptr;
   double best_iou = -1, best_merged_iou = -1;
-  for (const cv::Mat1b& m : candidates) {
-    if (!holds_all(m, clicks)) continue;
-    const double iou = mask_iou(m, answer);
-    if (!holds_any(m, others)) {
-      if (iou > best_iou) best_iou = iou, best = &m;
+  for (const cv::Mat1b* m : candidates) {
+    if (!holds_all(*m, clicks)) continue;
+    const double iou = mask_iou(*m, answer);
+    if (!holds_any(*m, others)) {
+      if (iou > best_iou) best_iou = iou, best = m;
     } else if (iou > best_merged_iou) {
-      best_merged_iou = iou, best_merged = &m;
+      best_merged_iou = iou, best_merged = m;
     }
   }
   if (best) return best->clone();
   if (best_merged) {
     cv::Mat1b cut = best_merged->clone();
-    for (const cv::Mat1b& m : candidates)
-      if (holds_any(m, others) && !holds_any(m, clicks)) cut &= ~m;
+    for (const cv::Mat1b* m : candidates)
+      if (holds_any(*m, others) && !holds_any(*m, clicks)) cut &= ~*m;
     if (cut(clicks[0])) {
       cv::Mat1b piece = piece_at(cut, clicks[0]);
       if (holds_all(piece, clicks) && !holds_any(piece, others)) return piece;
     }
   }
-  if (clicks.empty() || !answer(clicks[0])) return cv::Mat1b::zeros(answer.size());
-  return piece_at(answer, clicks[0]);
+  return {};
+}
+
+}  // namespace
+
+cv::Mat1b clicked_mask(const std::vector<cv::Mat1b>& candidates,
+                       const std::vector<cv::Point>& clicks, const cv::Mat1b& answer,
+                       const std::vector<cv::Point>& others) {
+  const cv::Mat1b piece = !clicks.empty() && answer(clicks[0])
+                              ? piece_at(answer, clicks[0])
+                              : cv::Mat1b(cv::Mat1b::zeros(answer.size()));
+  std::vector<const cv::Mat1b*> all;
+  bool held = false;
+  for (const cv::Mat1b& m : candidates) {
+    all.push_back(&m);
+    held = held || holds_all(m, clicks);
+  }
+  cv::Mat1b out;
+  if (held) {
+    out = mask_holding(all, clicks, answer, others);
+  } else {
+    // SAM answers every click with a mask; its automatic masks leave gaps (thin parts, borders).
+    // A click in one is answered as at the nearest pixel of the masks the answer's piece under it
+    // covers for half (the features still say which object is meant): where the object has no
+    // mask at all, none is near and the answer's piece stays (a neighbour's mask would be next).
+    std::vector<const cv::Mat1b*> agreeing;
+    for (const cv::Mat1b* m : all) {
+      const int area = cv::countNonZero(*m);
+      if (area > 0 && 2 * cv::countNonZero(*m & piece) >= area) agreeing.push_back(m);
+    }
+    out = mask_holding(agreeing, snapped_clicks(agreeing, clicks), answer, others);
+  }
+  return out.empty() ? piece : out;
 }
 
 std::vector<cv::Mat1b> rendered_selections(const PixelRowsView& rows, int width, int height,

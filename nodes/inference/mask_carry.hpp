@@ -27,17 +27,17 @@
 
 namespace gslift {
 
-// A click no candidate holds (SAM answers every click, its automatic masks leave gaps along thin
-// parts and borders) is first moved to the nearest pixel a candidate holds. Then: of `candidates`
-// (one view's automatic masks), the one holding a click (every pixel of `clicks`) and none of
-// `others` (the clicks of the other prompts given with it, in the same view: they name other
-// objects, so a mask merging two of them is neither's) with the highest IoU with `answer`. When
-// every mask holding the click holds another's too (the view's masks merged the clicked object with
-// a clicked neighbour and have no mask of it alone), the one of those with the highest IoU with
-// `answer`, with every mask holding another click and not this one cut out: its 8-connected piece
-// holding the click, if that piece holds no other click. Otherwise the 8-connected piece of
-// `answer` holding the first click (empty when the answer misses the click too), which can spread
-// far beyond the object (docs/saga.md).
+// Of `candidates` (one view's automatic masks), the one holding a click (every pixel of `clicks`)
+// and none of `others` (the clicks of the other prompts given with it, in the same view: they name
+// other objects, so a mask merging two of them is neither's) with the highest IoU with `answer`.
+// When every mask holding the click holds another's too (the view's masks merged the clicked
+// object with a clicked neighbour and have no mask of it alone), the one of those with the highest
+// IoU with `answer`, with every mask holding another click and not this one cut out: its
+// 8-connected piece holding the click, if that piece holds no other click. A click no candidate
+// holds (SAM answers every click; its automatic masks leave gaps along thin parts and borders) is
+// answered by the same rules at the nearest pixel of the masks that the answer's 8-connected piece
+// under the click covers for at least half. Otherwise that piece of `answer` (empty when the
+// answer misses the click too), which can spread far beyond the object (docs/saga.md).
 cv::Mat1b clicked_mask(const std::vector<cv::Mat1b>& candidates,
                        const std::vector<cv::Point>& clicks, const cv::Mat1b& answer,
                        const std::vector<cv::Point>& others = {});

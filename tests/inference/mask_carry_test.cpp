@@ -65,6 +65,11 @@ TEST_CASE("clicked mask: a click in a gap of the masks is answered at the neares
   CHECK(cv::countNonZero(clicked_mask({arm, monitor}, {{7, 5}}, flood) != arm) == 0);
   // Column 9: 5 px from the arm, 3 px from the monitor.
   CHECK(cv::countNonZero(clicked_mask({arm, monitor}, {{9, 5}}, flood) != monitor) == 0);
+  // The answer is the arm's piece alone (the features found the object, its masks missed it):
+  // the monitor's mask lies outside it and is not taken; the answer's piece stays.
+  const cv::Mat1b compact = box(size, {6, 2, 3, 6});
+  CHECK(cv::countNonZero(clicked_mask({arm, monitor}, {{7, 5}}, compact) != compact) == 0);
+  CHECK(cv::countNonZero(clicked_mask({monitor}, {{7, 5}}, compact) != compact) == 0);
   // Snapped onto a mask holding another prompt's click, the merged-mask rule applies as to a
   // click inside it: here no mask is left, so the answer's piece at the snapped pixel.
   CHECK(cv::countNonZero(clicked_mask({monitor}, {{9, 5}}, flood, {{15, 5}}) != flood) == 0);
