@@ -46,6 +46,13 @@ TEST_CASE("photo alignment: a render 3 px left and 2 px below its photo is moved
   cv::Mat1b expected = cv::Mat1b::zeros(render.size());
   expected(cv::Rect(43, 28, 20, 10)) = 255;
   CHECK(cv::countNonZero(aligned != expected) == 0);
+  // A label map (32-bit ids) moves the same way, its ids kept: nearest pixel, no blending.
+  cv::Mat1i labels = cv::Mat1i::zeros(render.size());
+  labels(cv::Rect(40, 30, 20, 10)) = 70000;
+  cv::Mat1i expected_labels = cv::Mat1i::zeros(render.size());
+  expected_labels(cv::Rect(43, 28, 20, 10)) = 70000;
+  const cv::Mat1i moved_labels = align_image(labels, a);
+  CHECK(cv::countNonZero(moved_labels != expected_labels) == 0);
   // The same shift below the gain asked for is recorded, not applied: the mask stays.
   const PhotoAlignment strict = align_render_to_photo(render, photo, 0.9);
   CHECK_FALSE(strict.applied);

@@ -111,6 +111,14 @@ InstanceSet patient_and_monitor(const TextEncoder& enc) {
   return instances;
 }
 
+// The view "v" of the two-blob scene, at the origin.
+View blob_view() {
+  View view;
+  view.name = "v";
+  view.camera = test::query_camera();
+  return view;
+}
+
 }  // namespace
 
 TEST_CASE("normalised relevancy maps divide the blend by the accumulated alpha") {
@@ -118,10 +126,7 @@ TEST_CASE("normalised relevancy maps divide the blend by the accumulated alpha")
   const HashingTextEncoder enc(64);
   const InstanceSet instances = patient_and_monitor(enc);
   Capture capture;
-  View view;
-  view.name = "v";
-  view.camera = test::query_camera();
-  capture.views.push_back(view);
+  capture.views.push_back(blob_view());
   TextQueryOptions o;
   o.vocabulary = {"patient", "monitor"};  // monitor competes, so it does not answer "patient"
   const TextQueryResults sum =
@@ -164,9 +169,7 @@ TEST_CASE("answers registered to a photo that sits 3 px right of the render move
   const HashingTextEncoder enc(64);
   const InstanceSet instances = patient_and_monitor(enc);
   Capture capture;
-  View view;
-  view.name = "v";
-  view.camera = test::query_camera();
+  View view = blob_view();
   // The photo: the model's render with its content moved 3 px to the right.
   const RenderOutput r = render(model, view.camera, Pose{}, RenderSettings{});
   cv::Mat3f rgb(r.height, r.width);
