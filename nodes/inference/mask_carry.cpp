@@ -93,19 +93,19 @@ cv::Mat1b mask_holding(const std::vector<const cv::Mat1b*>& candidates,
 cv::Mat1b clicked_mask(const std::vector<cv::Mat1b>& candidates,
                        const std::vector<cv::Point>& clicks, const cv::Mat1b& answer,
                        const std::vector<cv::Point>& others) {
-  const cv::Mat1b piece = !clicks.empty() && answer(clicks[0])
-                              ? piece_at(answer, clicks[0])
-                              : cv::Mat1b(cv::Mat1b::zeros(answer.size()));
   std::vector<const cv::Mat1b*> all;
   bool held = false;
   for (const cv::Mat1b& m : candidates) {
     all.push_back(&m);
     held = held || holds_all(m, clicks);
   }
-  cv::Mat1b out;
-  if (held) {
-    out = mask_holding(all, clicks, answer, others);
-  } else {
+  cv::Mat1b out = held ? mask_holding(all, clicks, answer, others) : cv::Mat1b();
+  if (!out.empty()) return out;
+  // The answer's piece under the click: the fallback, and what a gap click's masks must agree with.
+  const cv::Mat1b piece = !clicks.empty() && answer(clicks[0])
+                              ? piece_at(answer, clicks[0])
+                              : cv::Mat1b(cv::Mat1b::zeros(answer.size()));
+  if (!held) {
     // SAM answers every click with a mask; its automatic masks leave gaps (thin parts, borders).
     // A click in one is answered as at the nearest pixel of the masks the answer's piece under it
     // covers for half (the features still say which object is meant): where the object has no
