@@ -37,6 +37,7 @@ void register_port_codecs(Registry& registry) {
   registry.add_codec<SemanticMaps>(kPortArchiveVersion);
   registry.add_codec<TextQueryResults>(kPortArchiveVersion);
   registry.add_codec<Vocabulary>(kPortArchiveVersion);
+  registry.add_codec<ViewPoses>(kPortArchiveVersion);
 }
 
 }  // namespace

@@ -1,5 +1,6 @@
 #include "runtime/preflight.hpp"
 
+#include <algorithm>
 #include <filesystem>
 #include <map>
 #include <optional>
@@ -80,6 +81,27 @@ std::string named_folder_problem(const CaptureNeed& need, const GraphNode& node,
          looked + " (none, or empty); " + need.produced_by;
 }
 
+// The node that opened the capture `node` outputs: back through the nodes that hand a capture on
+// (an input `capture` and an output of its type: splat.refined_capture replaces the poses), so
+// that what a consumer needs is asked of the capture itself.
+const GraphNode* capture_opener(const Graph& graph, const Registry& registry,
+                                const GraphNode* node) {
+  for (size_t hops = 0; node && hops < graph.nodes.size(); ++hops) {
+    if (registry.capture_probe(node->type)) return node;
+    const NodeSpec* spec = registry.find(node->type);
+    const auto in = node->inputs.find("capture");
+    if (!spec || in == node->inputs.end()) return node;
+    const auto input = std::find_if(spec->inputs.begin(), spec->inputs.end(),
+                                    [](const PortSpec& p) { return p.name == "capture"; });
+    const bool hands_on = input != spec->inputs.end() &&
+                          std::any_of(spec->outputs.begin(), spec->outputs.end(),
+                                      [&](const PortSpec& p) { return p.type == input->type; });
+    if (!hands_on) return node;
+    node = graph.find(in->second.node);
+  }
+  return node;
+}
+
 }  // namespace
 
 std::vector<std::string> preflight_problems(const Graph& graph, const Registry& registry) {
@@ -94,7 +116,7 @@ std::vector<std::string> preflight_problems(const Graph& graph, const Registry& 
     for (const auto& port : spec->inputs) {
       auto wired = node.inputs.find(port.name);
       if (port.needs.empty() || wired == node.inputs.end()) continue;
-      const GraphNode* source = graph.find(wired->second.node);
+      const GraphNode* source = capture_opener(graph, registry, graph.find(wired->second.node));
       const CaptureInventory* inventory = source ? inventories.of(*source) : nullptr;
       if (!inventory) continue;
       for (const auto& need : port.needs) {

@@ -292,6 +292,25 @@ void read(ByteReader& r, PromptSet& v) {
   });
 }
 
+void write(ByteWriter& w, const ViewPoses& v) {
+  w.put_strings(v.views);
+  write_list(w, v.poses, [&](const Pose& p) {
+    w.put_array(p.R.data(), 9);
+    w.put_array(p.t.data(), 3);
+  });
+}
+
+void read(ByteReader& r, ViewPoses& v) {
+  v.views = r.get_strings();
+  read_list(r, v.poses, 2 * (8 + 8 * 3), [&](Pose& p) {
+    r.get_array(p.R.data(), 9);
+    r.get_array(p.t.data(), 3);
+  });
+  if (v.poses.size() != v.views.size())
+    throw ArchiveError("archived poses: " + std::to_string(v.poses.size()) + " for " +
+                       std::to_string(v.views.size()) + " views");
+}
+
 void write(ByteWriter& w, const SemanticMaps& v) {
   w.put_strings(v.classes);
   write_list(w, v.views, [&](const SemanticView& s) {

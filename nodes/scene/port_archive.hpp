@@ -15,6 +15,7 @@
 #include "nodes/scene/prompts.hpp"
 #include "nodes/scene/semantic_maps.hpp"
 #include "nodes/scene/text_query_results.hpp"
+#include "nodes/scene/view_poses.hpp"
 #include "nodes/scene/vocabulary.hpp"
 
 namespace gslift {
@@ -46,6 +47,8 @@ void write(ByteWriter& w, const TextQueryResults& v);
 void read(ByteReader& r, TextQueryResults& v);
 void write(ByteWriter& w, const Vocabulary& v);
 void read(ByteReader& r, Vocabulary& v);
+void write(ByteWriter& w, const ViewPoses& v);
+void read(ByteReader& r, ViewPoses& v);
 
 // The pieces the port types are made of, for tests and for new port types.
 void write(ByteWriter& w, const cv::Mat& m);

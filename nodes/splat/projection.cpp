@@ -123,7 +123,7 @@ bool project_gaussian(const ViewTransform& view, const float* mean, const float*
 
 void project_gaussian_backward(const ViewTransform& view, const float* mean, const float* log_scale,
                                const float* quat, const ProjectionGrads& grads, float* d_mean,
-                               float* d_log_scale, float* d_quat) {
+                               float* d_log_scale, float* d_quat, float* d_pose) {
   const GaussianGeometry g = geometry(view, mean, log_scale, quat);
   Eigen::Matrix2f cov = g.J * g.cov_cam * g.J.transpose();
   cov(0, 0) += kDilation;
@@ -177,6 +177,19 @@ void project_gaussian_backward(const ViewTransform& view, const float* mean, con
   }
   const Eigen::Vector3f d_mu = view.R.transpose() * d_cam;
   for (int k = 0; k < 3; ++k) d_mean[k] += d_mu[k];
+  if (d_pose) {
+    // The view's pose moved by a small rotation w and translation dt in camera space:
+    // cam' = (I + [w]x) cam + dt, C' = C + [w]x C - C [w]x. dL/dw from the mean is cam x d_cam;
+    // from the covariance tr((C G - G C) [w]x) with G = dL/dC symmetric.
+    const Eigen::Matrix3f A = g.cov_cam * d_cov_cam - d_cov_cam * g.cov_cam;
+    const Eigen::Vector3f d_w =
+        g.cam.cross(d_cam) +
+        Eigen::Vector3f(A(1, 2) - A(2, 1), A(2, 0) - A(0, 2), A(0, 1) - A(1, 0));
+    for (int k = 0; k < 3; ++k) {
+      d_pose[k] += d_w[k];
+      d_pose[3 + k] += d_cam[k];
+    }
+  }
 }
 
 }  // namespace gslift

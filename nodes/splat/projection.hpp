@@ -48,9 +48,11 @@ struct ProjectionGrads {
   Eigen::Vector3f normal = Eigen::Vector3f::Zero();
 };
 
-// Adds dL/d(mean), dL/d(log_scale), dL/d(quat) for a Gaussian that project_gaussian accepted.
+// Adds dL/d(mean), dL/d(log_scale), dL/d(quat) for a Gaussian that project_gaussian accepted,
+// and with d_pose (6 floats) dL/d of the view's pose correction through this Gaussian's
+// projection: a rotation w then a translation dt applied in camera space (pose_correction.hpp).
 void project_gaussian_backward(const ViewTransform& view, const float* mean, const float* log_scale,
                                const float* quat, const ProjectionGrads& grads, float* d_mean,
-                               float* d_log_scale, float* d_quat);
+                               float* d_log_scale, float* d_quat, float* d_pose = nullptr);
 
 }  // namespace gslift

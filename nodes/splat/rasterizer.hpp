@@ -87,6 +87,11 @@ struct ModelGrads {
   void reset(const GaussianModel& model);
 };
 
+// dL/d of a view's pose correction (pose_correction.hpp): rotation w (0-2), translation dt (3-5),
+// both in camera space. Exact for every rendered channel (the projected means and covariances
+// and the SH view direction).
+using PoseGradient = Eigen::Matrix<double, 6, 1>;
+
 // Renders the selected channels of the model seen by camera/pose. Throws InputError when the
 // model's arrays are inconsistent in size or the camera has no pixels.
 RenderOutput render(const GaussianModel& model, const Camera& camera, const Pose& pose,
@@ -94,9 +99,11 @@ RenderOutput render(const GaussianModel& model, const Camera& camera, const Pose
 
 // Backpropagates grads (dL/d each rendered channel) through the forward pass `forward`, which
 // must come from render() with the same model, camera, pose and settings. Adds into `accumulate`
-// (reset() it first, or sizes are checked and an InputError is thrown).
+// (reset() it first, or sizes are checked and an InputError is thrown). With pose_grad, also
+// sets it to dL/d of the view's pose correction.
 void render_backward(const GaussianModel& model, const Camera& camera, const Pose& pose,
                      const RenderSettings& settings, const RenderOutput& forward,
-                     const RenderGrads& grads, ModelGrads& accumulate);
+                     const RenderGrads& grads, ModelGrads& accumulate,
+                     PoseGradient* pose_grad = nullptr);
 
 }  // namespace gslift

@@ -276,9 +276,11 @@ void backward_tile_channels(const RasterState& s, int t, const PixelGrads& pixel
 }
 
 // Gaussian gi's colour gradient d_rgb through its SH coefficients and, through the view
-// direction, its mean. A clamped (negative) colour channel passes no gradient.
-void sh_colour_backward(const GaussianModel& model, const ViewTransform& view, int sh_degree,
-                        size_t gi, const float* d_rgb, ModelGrads& accumulate) {
+// direction, its mean. A clamped (negative) colour channel passes no gradient. Returns the part
+// of the mean's gradient that came through the view direction.
+Eigen::Vector3f sh_colour_backward(const GaussianModel& model, const ViewTransform& view,
+                                   int sh_degree, size_t gi, const float* d_rgb,
+                                   ModelGrads& accumulate) {
   const int K = GaussianModel::sh_coeffs(model.sh_degree);
   float basis[kMaxShCoeffs];
   Eigen::Vector3f basis_grad[kMaxShCoeffs];
@@ -301,13 +303,14 @@ void sh_colour_backward(const GaussianModel& model, const ViewTransform& view, i
   // dir = (mu - centre) / |mu - centre|.
   const Eigen::Vector3f d_mu = (d_dir - dir * dir.dot(d_dir)) / length;
   for (int k = 0; k < 3; ++k) accumulate.means[3 * gi + k] += d_mu[k];
+  return d_mu;
 }
 
 }  // namespace
 
 void render_backward(const GaussianModel& model, const Camera& camera, const Pose& pose,
                      const RenderSettings& settings, const RenderOutput& forward,
-                     const RenderGrads& grads, ModelGrads& accumulate) {
+                     const RenderGrads& grads, ModelGrads& accumulate, PoseGradient* pose_grad) {
   check_model(model);
   if (!forward.state) throw InputError("render_backward: the forward output has no raster state");
   const RasterState& s = *forward.state;
@@ -329,6 +332,8 @@ void render_backward(const GaussianModel& model, const Camera& camera, const Pos
                         backward_tile_channels(s, t, pixel_grads, slot_grads.data(), scratch);
                     });
 
+  // Per Gaussian, its share of the pose gradient, summed in Gaussian order after the pass.
+  std::vector<float> pose_parts(pose_grad ? 6 * n : 0, 0.f);
   // Pass 2, per Gaussian: sum its slots in tile order, then chain through colour and projection.
   tbb::parallel_for(
       tbb::blocked_range<size_t>(0, n, 256), [&](const tbb::blocked_range<size_t>& r) {
@@ -343,8 +348,13 @@ void render_backward(const GaussianModel& model, const Camera& camera, const Pos
 
           const float o = sigmoid(model.opacity_logits[gi]);
           accumulate.opacity_logits[gi] += sum[5] * o * (1.f - o);
-          if (s.rgb_offset >= 0)
-            sh_colour_backward(model, view, s.sh_degree, gi, dv + s.rgb_offset, accumulate);
+          float* d_pose = pose_grad ? &pose_parts[6 * gi] : nullptr;
+          if (s.rgb_offset >= 0) {
+            const Eigen::Vector3f d_dir_mu =
+                sh_colour_backward(model, view, s.sh_degree, gi, dv + s.rgb_offset, accumulate);
+            // The camera centre moves by -R^T dt under the correction (pose_correction.hpp).
+            if (d_pose) Eigen::Map<Eigen::Vector3f>(d_pose + 3) += view.R * d_dir_mu;
+          }
           for (int f = 0; s.feature_offset >= 0 && f < D; ++f)
             accumulate.features[gi * D + f] += dv[s.feature_offset + f];
 
@@ -357,13 +367,18 @@ void render_backward(const GaussianModel& model, const Camera& camera, const Pos
                                         dv[s.normal_offset + 2]);
           project_gaussian_backward(view, mean, &model.log_scales[3 * gi], &model.quats[4 * gi], pg,
                                     &accumulate.means[3 * gi], &accumulate.log_scales[3 * gi],
-                                    &accumulate.quats[4 * gi]);
+                                    &accumulate.quats[4 * gi], d_pose);
           // View-space gradient in NDC units for densification (3DGS threshold 2e-4).
           accumulate.mean2d_abs[gi] +=
               std::hypot(sum[0] * 0.5f * s.width, sum[1] * 0.5f * s.height);
           accumulate.visible[gi] += 1;
         }
       });
+  if (pose_grad) {
+    pose_grad->setZero();
+    for (size_t gi = 0; gi < n; ++gi)
+      for (int k = 0; k < 6; ++k) (*pose_grad)[k] += pose_parts[6 * gi + k];
+  }
 }
 
 }  // namespace gslift

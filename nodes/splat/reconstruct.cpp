@@ -78,12 +78,16 @@ class PhaseClock {
   std::chrono::steady_clock::time_point last_ = std::chrono::steady_clock::now();
 };
 
-// The depth priors that observe free space, at full resolution.
-std::vector<DepthObservation> depth_observations(const std::vector<TrainTarget>& targets) {
+// The depth priors that observe free space, at full resolution, seen from `poses` (per view of
+// the capture, which the observations point into).
+std::vector<DepthObservation> depth_observations(const std::vector<TrainTarget>& targets,
+                                                 const Capture& capture,
+                                                 const std::vector<Pose>& poses) {
   std::vector<DepthObservation> observations;
   for (const TrainTarget& t : targets)
     if (!t.full.depth.empty())
-      observations.push_back({&t.view->camera, &t.view->pose, t.full.depth});
+      observations.push_back(
+          {&t.view->camera, &poses[t.view - capture.views.data()], t.full.depth});
   return observations;
 }
 
@@ -136,6 +140,8 @@ class Training {
   // The strategy's counts into the result.
   void finish(ReconstructResult& result) const;
   const Eigen::Vector3f& background() const { return background_; }
+  // Per view of the capture, its pose now (refined with refine_poses, else the written one).
+  const std::vector<Pose>& poses() const { return poses_; }
 
  private:
   // The step's render settings: background, SH degree, the channels the joining terms need.
@@ -150,6 +156,9 @@ class Training {
   GaussianModel model_;
   double extent_ = 0;
   std::vector<TrainTarget> targets_;
+  // Per view of the capture; the depth observations point into it, so it never resizes.
+  std::vector<Pose> poses_;
+  std::vector<PoseOptimiser> pose_optimisers_;
   int coarse_steps_ = 0;
   // The background of the records (and of training unless random).
   Eigen::Vector3f background_ = Eigen::Vector3f::Zero();
@@ -191,7 +200,11 @@ Training::Training(const Capture& capture, const ReconstructOptions& o,
     targets_.push_back(make_target(capture.views[v], o.normal_weight > 0, coarse_steps_ > 0));
   if (o.background == Background::White) background_ = Eigen::Vector3f::Ones();
   if (o.background == Background::Mean) background_ = mean_colour(targets_);
-  observations_ = depth_observations(targets_);
+  for (const View& view : capture.views) poses_.push_back(view.pose);
+  if (o.poses.refine)
+    pose_optimisers_.assign(capture.views.size(),
+                            PoseOptimiser(o.poses.rotation_lr, o.poses.translation_lr * extent_));
+  observations_ = depth_observations(targets_, capture, poses_);
   terms_ = make_loss_terms(o, TermSetup{observations_});
   joins_.resize(terms_.size());
   for (const auto& term : terms_) result.phases.terms.emplace_back(term->name(), 0.0);
@@ -244,13 +257,14 @@ LossSummary Training::step(int step) {
   const TargetImages& target = step < coarse_steps_ ? train_target.half : train_target.full;
   const int view_index = static_cast<int>(&view - capture_.views.data());
   const RenderSettings settings = step_settings(step, target, view_index);
-  const RenderOutput out = render(model_, target.camera, view.pose, settings);
+  const Pose& pose = poses_[view_index];
+  const RenderOutput out = render(model_, target.camera, pose, settings);
   PhaseSeconds& phases = result_.phases;
   clock_.charge(phases.render);
 
   // The terms by stage (loss_term.hpp): image gradients, the rasterizer's backward pass, then
   // the terms that add to the model's gradients. The total sums them in the terms' order.
-  const StepRender s{model_, target.camera, view.pose, target, out};
+  const StepRender s{model_, target.camera, pose, target, out};
   LossSummary loss;
   for (const auto& term : terms_) loss.terms.emplace_back(term->name(), 0.0);
   RenderGrads image;
@@ -259,7 +273,9 @@ LossSummary Training::step(int step) {
   if (objective_)
     loss.features = feature_objective_grads(*objective_, step, view_index, out, image);
   clock_.charge(phases.losses);
-  render_backward(model_, target.camera, view.pose, settings, out, image, grads_);
+  PoseGradient pose_grad;
+  render_backward(model_, target.camera, pose, settings, out, image, grads_,
+                  o_.poses.refine ? &pose_grad : nullptr);
   clock_.charge(phases.backward);
   evaluate_stage(TermStage::Ray, s, loss, image);
   evaluate_stage(TermStage::Model, s, loss, image);
@@ -272,6 +288,8 @@ LossSummary Training::step(int step) {
   clock_.charge(phases.losses);
 
   adam_.step(model_, grads_, step, extent_, objective_);
+  // The pose moves by the gradient of the render's terms (image stage), taken at this pose.
+  if (o_.poses.refine) pose_optimisers_[view_index].step(poses_[view_index], pose_grad);
   if (objective_ && objective_->update) objective_->update(step);
   clock_.charge(phases.adam);
   if (auto change = density_->after_update(model_, grads_, step)) adam_.remap(change->source);
@@ -299,6 +317,18 @@ void evaluate_model(const GaussianModel& model, const Capture& capture,
     result.test_psnr = result.test_geometry->psnr;
   } else {
     result.test_psnr = mean_psnr(model, capture, test, background);
+  }
+}
+
+// Each held-out view's pose registered to its photo with the model fixed (pose_correction.hpp).
+void refine_held_out_poses(const GaussianModel& model, const Capture& capture,
+                           const PoseRefinementOptions& o, const Eigen::Vector3f& background,
+                           double extent, std::vector<Pose>& poses) {
+  if (!o.refine) return;
+  for (int v : capture.test_views()) {
+    const View& view = capture.views[v];
+    poses[v] = refine_pose_to_photo(model, view.camera, poses[v], load_view_rgb(view), background,
+                                    o.held_out_steps, o.rotation_lr, o.translation_lr * extent);
   }
 }
 
@@ -386,8 +416,14 @@ ReconstructResult reconstruct(const Capture& capture, const ReconstructOptions& 
   }
   training.finish(result);
   result.final_loss = tail_mean(history);
+  result.poses = training.poses();
+  refine_held_out_poses(training.model(), capture, options.poses, training.background(),
+                        result.scene_extent, result.poses);
   result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  evaluate_model(training.model(), capture, training.background(), result);
+  // The records see the views where the poses put them.
+  Capture posed = capture;
+  for (size_t v = 0; v < posed.views.size(); ++v) posed.views[v].pose = result.poses[v];
+  evaluate_model(training.model(), posed, training.background(), result);
   result.model = std::move(training.model());
   return result;
 }

@@ -25,6 +25,7 @@
 #include "nodes/splat/feature_objective.hpp"
 #include "nodes/splat/free_space.hpp"
 #include "nodes/splat/initialise.hpp"
+#include "nodes/splat/pose_correction.hpp"
 #include "nodes/splat/view_geometry.hpp"
 #include "param/param_table.hpp"
 
@@ -94,6 +95,9 @@ struct ReconstructOptions {
   // (free_space.hpp), at each densification round and every density.interval steps after growth
   // stops; off by default.
   FreeSpacePruneOptions floaters;
+  // The training views' poses optimised with the Gaussians, then each held-out view's against its
+  // photo (pose_correction.hpp); off by default.
+  PoseRefinementOptions poses;
   // Early stop when the mean loss of the last `plateau_window` steps improves on the previous
   // window by less than plateau_tolerance (relative). 0 = off.
   int plateau_window = 0;
@@ -182,6 +186,8 @@ struct ReconstructResult {
   std::optional<Emptied> emptied;
   LossSummary final_loss;
   std::vector<double> loss_history;  // total loss per step
+  // Per view of the capture, its pose after refinement (the written pose where none ran).
+  std::vector<Pose> poses;
   // Mean PSNR (dB) of the final model over the training / held-out views; NaN without such views.
   double train_psnr = 0, test_psnr = 0;
   // Held-out geometry against ground-truth depth (mean over the held-out views), when every view

@@ -116,6 +116,23 @@ ParamTable<FreeSpacePruneOptions> free_space_param_table() {
            0, 1);
 }
 
+ParamTable<PoseRefinementOptions> pose_refinement_param_table() {
+  using P = PoseRefinementOptions;
+  return ParamTable<P>()
+      .add("refine_poses", &P::refine,
+           "optimise each training view's pose with the Gaussians, then each held-out view's "
+           "against its photo (a rig's calibration or an SfM is a few tenths of a degree off); "
+           "the refined poses come out on port `poses`")
+      .add("pose_rotation_lr", &P::rotation_lr, "Adam rate of a pose's rotation, radians per step",
+           0, 0.1)
+      .add("pose_translation_lr", &P::translation_lr,
+           "Adam rate of a pose's translation, scene extents per step", 0, 0.1)
+      .add("pose_held_out_steps", &P::held_out_steps,
+           "steps registering each held-out view's pose to its photo after training; 0 = keep "
+           "its written pose",
+           0, 10000);
+}
+
 }  // namespace
 
 const ParamTable<ReconstructOptions>& reconstruct_param_table() {
@@ -149,6 +166,7 @@ const ParamTable<ReconstructOptions>& reconstruct_param_table() {
           .add("line_of_sight_start", &O::line_of_sight_start,
                "fraction of the steps before the line-of-sight loss joins", 0, 1)
           .nest(&O::floaters, free_space_param_table())
+          .nest(&O::poses, pose_refinement_param_table())
           .add("sh_degree", &O::sh_degree, "highest SH degree, raised one every 100 steps", 0, 3)
           .add("ssim_lambda", &O::ssim_lambda, "weight of D-SSIM in the photometric loss", 0, 1)
           .add("coarse_fraction", &O::coarse_fraction,

@@ -1,14 +1,20 @@
 #include "nodes/splat/register.hpp"
 
 #include <cmath>
+#include <locale>
 #include <map>
+#include <sstream>
 #include <string>
 #include <utility>
 
+#include <Eigen/Geometry>
+
+#include "base/atomic_file.hpp"
 #include "nodes/scene/caption_strip.hpp"
 #include "nodes/scene/capture.hpp"
 #include "nodes/scene/gaussian_model.hpp"
 #include "nodes/scene/image_io.hpp"
+#include "nodes/scene/view_poses.hpp"
 #include "nodes/splat/channel_images.hpp"
 #include "nodes/splat/ply_io.hpp"
 #include "nodes/splat/rasterizer.hpp"
@@ -80,6 +86,54 @@ void record_losses_and_geometry(NodeContext& ctx, const ReconstructResult& r) {
     if (std::isfinite(value)) ctx.record(key, value);
 }
 
+ViewPoses view_poses(const Capture& capture, const std::vector<Pose>& poses) {
+  ViewPoses out;
+  for (size_t v = 0; v < capture.views.size(); ++v) {
+    out.views.push_back(capture.views[v].name);
+    out.poses.push_back(poses[v]);
+  }
+  return out;
+}
+
+// How far refinement moved the poses: mean and largest rotation (degrees) and camera-centre
+// shift (capture units), over the training and over the held-out views.
+void record_pose_changes(NodeContext& ctx, const Capture& capture, const std::vector<Pose>& poses) {
+  for (const auto& [set, views] :
+       {std::pair{"train", capture.train_views()}, std::pair{"held_out", capture.test_views()}}) {
+    if (views.empty()) continue;
+    double deg = 0, deg_max = 0, centre = 0, centre_max = 0;
+    for (int v : views) {
+      const PoseChange c = pose_change(capture.views[v].pose, poses[v]);
+      deg += c.degrees / views.size();
+      centre += c.centre / views.size();
+      deg_max = std::max(deg_max, c.degrees);
+      centre_max = std::max(centre_max, c.centre);
+    }
+    const std::string prefix = std::string("pose_change/") + set + "/";
+    ctx.record(prefix + "degrees_mean", deg);
+    ctx.record(prefix + "degrees_max", deg_max);
+    ctx.record(prefix + "centre_mean", centre);
+    ctx.record(prefix + "centre_max", centre_max);
+  }
+}
+
+// refined_poses.txt: a line per view, "name qw qx qy qz tx ty tz" (world -> camera, as COLMAP's
+// images.txt), 17 significant digits.
+void write_refined_poses(const std::filesystem::path& file, const Capture& capture,
+                         const std::vector<Pose>& poses) {
+  std::ostringstream text;
+  text.imbue(std::locale::classic());
+  text.precision(17);
+  text << "# poses refined by splat.reconstruct (refine_poses): view qw qx qy qz tx ty tz, world "
+          "-> camera\n";
+  for (size_t v = 0; v < capture.views.size(); ++v) {
+    const Eigen::Quaterniond q(poses[v].R);
+    text << capture.views[v].name << ' ' << q.w() << ' ' << q.x() << ' ' << q.y() << ' ' << q.z()
+         << ' ' << poses[v].t.x() << ' ' << poses[v].t.y() << ' ' << poses[v].t.z() << '\n';
+  }
+  write_file_atomically(file, text.str());
+}
+
 void run_reconstruct(NodeContext& ctx, ReconstructNodeParams p) {
   ReconstructOptions& o = p.recon;
   o.seed = ctx.seed();
@@ -103,6 +157,7 @@ void run_reconstruct(NodeContext& ctx, ReconstructNodeParams p) {
   ctx.record("growth_refused", static_cast<double>(r.growth_refused));
   ctx.record("depth_prior_views", static_cast<double>(r.depth_prior_views));
   ctx.record("seconds", r.seconds);
+  if (o.poses.refine) record_pose_changes(ctx, *ctx.input<Capture>("capture"), r.poses);
   // Where the time went (wall seconds per phase): what a user trading a lever's gain against its
   // cost reads first.
   ctx.record("prepare_seconds", r.phases.prepare);
@@ -117,6 +172,8 @@ void run_reconstruct(NodeContext& ctx, ReconstructNodeParams p) {
   const auto dir = ctx.out_dir();
   if (!dir.empty()) {
     write_ply(r.model, dir / "model.ply");
+    if (o.poses.refine)
+      write_refined_poses(dir / "refined_poses.txt", *ctx.input<Capture>("capture"), r.poses);
     const Capture& capture = *ctx.input<Capture>("capture");
     const std::vector<int> test = capture.test_views();
     for (size_t k = 0; k < r.test_pictures.size() && k < test.size(); ++k)
@@ -130,6 +187,7 @@ void run_reconstruct(NodeContext& ctx, ReconstructNodeParams p) {
   const std::string failure = reconstruction_failure(r, p.min_train_psnr);
   if (!failure.empty()) throw InputError(failure);
   ctx.output("model", std::move(r.model));
+  ctx.output("poses", view_poses(*ctx.input<Capture>("capture"), r.poses));
 }
 
 void add_reconstruct(Registry& registry) {
@@ -139,8 +197,41 @@ void add_reconstruct(Registry& registry) {
       {capture_port({{CaptureItem::Images}})},
       {model_port("the trained Gaussians; also written as model.ply (INRIA layout), and with "
                   "ground-truth depth <view>_heldout_geometry.png per held-out view (floaters "
-                  "red, holes blue, surfaces no training view saw grey)")}};
+                  "red, holes blue, surfaces no training view saw grey)"),
+       {"poses", PortTypeName<ViewPoses>::value,
+        "every view's pose: refined with refine_poses, else as written (splat.refined_capture "
+        "puts them into the capture)"}}};
   registry.add(std::move(spec), reconstruct_node_param_table(), run_reconstruct);
+}
+
+struct RefinedCaptureOptions {};
+
+void run_refined_capture(NodeContext& ctx, const RefinedCaptureOptions&) {
+  Capture capture = *ctx.input<Capture>("capture");
+  const ViewPoses& poses = *ctx.input<ViewPoses>("poses");
+  if (poses.views.size() != capture.views.size())
+    throw InputError("splat.refined_capture: port 'poses' holds " +
+                     std::to_string(poses.views.size()) + " views, capture '" + capture.name +
+                     "' has " + std::to_string(capture.views.size()));
+  for (size_t v = 0; v < capture.views.size(); ++v) {
+    if (poses.views[v] != capture.views[v].name)
+      throw InputError("splat.refined_capture: port 'poses' names view '" + poses.views[v] +
+                       "' where capture '" + capture.name + "' has '" + capture.views[v].name +
+                       "' (poses of another capture)");
+    capture.views[v].pose = poses.poses[v];
+  }
+  ctx.output("capture", std::move(capture));
+}
+
+// The capture with the poses the reconstruction refined, for the stages after it that render at
+// the capture's views: they then see each view where its photo is.
+void add_refined_capture(Registry& registry) {
+  NodeSpec spec{"splat.refined_capture",
+                "the capture with the poses splat.reconstruct refined (its port `poses`)",
+                {capture_port({}),
+                 {"poses", PortTypeName<ViewPoses>::value, "a pose per view of the capture"}},
+                {{"capture", PortTypeName<Capture>::value, "the capture, its poses replaced"}}};
+  registry.add(std::move(spec), ParamTable<RefinedCaptureOptions>(), run_refined_capture);
 }
 
 // splat.load's one param.
@@ -224,6 +315,7 @@ void add_render(Registry& registry) {
 
 void register_splat_nodes(Registry& registry) {
   add_reconstruct(registry);
+  add_refined_capture(registry);
   add_load(registry);
   add_render(registry);
 }

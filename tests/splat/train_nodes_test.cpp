@@ -1,4 +1,5 @@
 // splat.reconstruct and splat.render through the executor, on an inline graph.
+#include <fstream>
 #include <sstream>
 
 #include <spdlog/sinks/ostream_sink.h>
@@ -31,6 +32,16 @@ Registry registry_with_tiny_capture() {
         [](NodeContext& ctx) {
           Capture c = test::rendered_capture();
           for (View& v : c.views) v.depth = ImageSource();
+          ctx.output("capture", std::move(c));
+        });
+  r.add(NodeSpec{"test.tiny_renamed",
+                 "the same capture with other view names",
+                 {},
+                 {{"capture", "Capture", "the capture"}},
+                 {}},
+        [](NodeContext& ctx) {
+          Capture c = test::rendered_capture();
+          for (View& v : c.views) v.name = "other_" + v.name;
           ctx.output("capture", std::move(c));
         });
   return r;
@@ -148,4 +159,46 @@ nodes:
                                            registry, options);
   REQUIRE_FALSE(missing.ok());
   CHECK_THAT(missing.error->str(), Catch::Contains("/nonexistent/model.ply"));
+}
+
+TEST_CASE(
+    "splat.refined_capture hands on the poses splat.reconstruct refined, and refuses another "
+    "capture's") {
+  const Registry registry = registry_with_tiny_capture();
+  RunOptions options;
+  options.out_dir = test::scratch_dir("train_nodes_poses");
+  const std::string graph = R"(
+graph: poses
+nodes:
+  capture: {type: test.tiny_capture}
+  other:   {type: test.tiny_renamed}
+  recon:   {type: splat.reconstruct, in: {capture: capture.capture},
+            params: {iterations: 40, refine_poses: true, pose_held_out_steps: 10}}
+  posed:   {type: splat.refined_capture, in: {capture: CAPTURE.capture, poses: recon.poses}}
+  render:  {type: splat.render, in: {model: recon.model, capture: posed.capture}}
+)";
+  const auto with = [&](const std::string& capture) {
+    std::string text = graph;
+    text.replace(text.find("CAPTURE"), 7, capture);
+    return text;
+  };
+  const RunResult run = run_graph_text(with("capture"), registry, options);
+  INFO((run.error ? run.error->str() : std::string()));
+  REQUIRE(run.ok());
+  const auto& records = run.node("recon")->records;
+  // The true poses move a little (the model is wrong early on); each record is a real change.
+  CHECK(std::get<double>(records.at("pose_change/train/degrees_mean")) > 0);
+  CHECK(std::get<double>(records.at("pose_change/held_out/centre_max")) > 0);
+  std::ifstream poses(options.out_dir / "recon" / "refined_poses.txt");
+  std::string line;
+  int views = 0;
+  while (std::getline(poses, line))
+    if (line.rfind("cam_", 0) == 0) ++views;
+  CHECK(views == 5);
+
+  const RunResult mismatched = run_graph_text(with("other"), registry, RunOptions{});
+  REQUIRE_FALSE(mismatched.ok());
+  CHECK_THAT(mismatched.error->str(),
+             Catch::Matchers::Contains("port 'poses' names view 'cam_0' where capture 'tiny' has "
+                                       "'other_cam_0'"));
 }
