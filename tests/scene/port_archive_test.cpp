@@ -142,6 +142,28 @@ TEST_CASE("semantic maps, prompts, text answers and vocabularies come back", "[p
   CHECK(v.entities[0].appearance == "green gown");
 }
 
+TEST_CASE("view poses come back bit for bit, and a pose count that disagrees is refused",
+          "[port_archive]") {
+  ViewPoses poses;
+  poses.views = {"cam_00", "cam_01"};
+  Eigen::Matrix4d c2w = Eigen::Matrix4d::Identity();
+  c2w.block<3, 3>(0, 0) << 0, -1, 0, 1, 0, 0, 0, 0, 1;
+  c2w.block<3, 1>(0, 3) << 0.1, -2.5, 1.0 / 3;
+  poses.poses = {Pose(), Pose::from_camera_to_world(c2w)};
+  const ViewPoses back = round_trip(poses);
+  CHECK(back.views == poses.views);
+  REQUIRE(back.poses.size() == 2);
+  CHECK(back.poses[1].R == poses.poses[1].R);
+  CHECK(back.poses[1].t == poses.poses[1].t);
+  ViewPoses short_of_one = poses;
+  short_of_one.views.push_back("cam_02");
+  ByteWriter w;
+  write(w, short_of_one);
+  ByteReader r(w.bytes());
+  ViewPoses refused;
+  CHECK_THROWS_AS(read(r, refused), ArchiveError);
+}
+
 TEST_CASE("a damaged archive throws instead of allocating what it claims", "[port_archive]") {
   GaussianModel g;
   g.resize(100);
