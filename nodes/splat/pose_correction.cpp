@@ -1,6 +1,5 @@
 #include "nodes/splat/pose_correction.hpp"
 
-#include <algorithm>
 #include <cmath>
 
 #include <Eigen/Geometry>
@@ -56,12 +55,12 @@ Pose refine_pose_to_photo(const GaussianModel& model, const Camera& camera, cons
   PoseOptimiser optimiser(rotation_rate, translation_rate);
   ModelGrads unused;
   const size_t values = size_t(camera.width) * camera.height * 3;
+  RenderGrads grads;
+  grads.rgb.resize(values);
+  const float* t = target.ptr<float>();
   for (int step = 0; step < steps; ++step) {
     const RenderOutput out = render(model, camera, refined, settings);
     // L1: robust to what the training views never saw (the held-out view's uncovered surfaces).
-    RenderGrads grads;
-    grads.rgb.resize(values);
-    const float* t = target.ptr<float>();
     for (size_t i = 0; i < values; ++i)
       grads.rgb[i] = out.rgb[i] > t[i] ? 1.f / values : (out.rgb[i] < t[i] ? -1.f / values : 0.f);
     unused.reset(model);
