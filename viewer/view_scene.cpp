@@ -12,6 +12,7 @@
 #include "nodes/ingest/capture_loader.hpp"
 #include "nodes/ingest/capture_provider.hpp"
 #include "nodes/scene/context_prompt.hpp"
+#include "nodes/scene/view_poses.hpp"
 #include "nodes/splat/ply_io.hpp"
 #include "nodes/text/hashing_text_encoder.hpp"
 #include "nodes/text/lexical_text_encoder.hpp"
@@ -99,6 +100,12 @@ ViewScene open_run_folder(const fs::path& run) {
     throw InputError(record.string() + ": the graph has no ingest.capture node with a path");
   scene.model = read_ply(model_file);
   scene.capture = load_capture(resolve_capture_path(capture_path), capture_options(capture_params));
+  for (const auto& node : nodes) {
+    const fs::path file = run / node.value("id", "") / "refined_poses.txt";
+    if (node.value("id", "").empty() || !fs::is_regular_file(file)) continue;
+    apply_view_poses(scene.capture, read_view_poses(file), file.string());
+    scene.poses_file = file.string();
+  }
   scene.instance_labels = default_labels(scene.model, scene.capture);
   for (const auto& node : nodes) {
     const fs::path file = run / node.value("id", "") / "instances.json";
@@ -117,11 +124,15 @@ ViewScene open_run_folder(const fs::path& run) {
   return scene;
 }
 
-ViewScene open_model(const fs::path& ply, const std::string& capture) {
+ViewScene open_model(const fs::path& ply, const std::string& capture, const fs::path& poses_file) {
   ViewScene scene;
   scene.title = ply.string();
   scene.model = read_ply(ply);
   scene.capture = load_capture(resolve_capture_path(capture));
+  if (!poses_file.empty()) {
+    apply_view_poses(scene.capture, read_view_poses(poses_file), poses_file.string());
+    scene.poses_file = poses_file.string();
+  }
   scene.instance_labels = default_labels(scene.model, scene.capture);
   return scene;
 }

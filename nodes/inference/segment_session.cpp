@@ -24,6 +24,7 @@
 #include "nodes/inference/selection_output.hpp"
 #include "nodes/ingest/capture_loader.hpp"
 #include "nodes/ingest/capture_provider.hpp"
+#include "nodes/scene/view_poses.hpp"
 #include "nodes/splat/ply_io.hpp"
 #include "runtime/exit_codes.hpp"
 
@@ -201,18 +202,21 @@ double option_number(const std::string& option, const std::string& text) {
 }
 
 int segment_main(int argc, char** argv) {
-  std::string model_path, input;
+  std::string model_path, input, poses;
   PromptOptions options;
   CaptureOptions capture_options;
   capture_options.skip_missing_images = true;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
     if (arg == "--help" || arg == "-h") {
-      std::cout << "usage: gslift segment MODEL.ply --input CAPTURE [--tau T] [--adaptive]\n"
-                   "                      [--downscale N]\n\n"
-                   "Loads a model with affinity features (features.correspondence) and a capture\n"
-                   "once, then reads one JSON prompt per stdin line and prints one JSON reply per\n"
-                   "prompt (docs/saga.md, nodes/inference/segment_session.hpp).\n";
+      std::cout
+          << "usage: gslift segment MODEL.ply --input CAPTURE [--poses FILE] [--tau T]\n"
+             "                      [--adaptive] [--downscale N]\n\n"
+             "Loads a model with affinity features (features.correspondence) and a capture\n"
+             "once, then reads one JSON prompt per stdin line and prints one JSON reply per\n"
+             "prompt (docs/saga.md, nodes/inference/segment_session.hpp). --poses: the poses\n"
+             "the model was trained at (a run's recon/refined_poses.txt), in place of the\n"
+             "capture's.\n";
       return exit_code::kOk;
     }
     if (arg == "--adaptive") {
@@ -228,6 +232,8 @@ int segment_main(int argc, char** argv) {
       try {
         if (arg == "--input")
           input = value;
+        else if (arg == "--poses")
+          poses = value;
         else if (arg == "--tau") {
           // A threshold on a cosine similarity: 1 or more selects nothing, 0 or less everything.
           options.tau = option_number(arg, value);
@@ -257,7 +263,8 @@ int segment_main(int argc, char** argv) {
   }
   try {
     const GaussianModel model = read_ply(model_path);
-    const Capture capture = load_capture(resolve_capture_path(input), capture_options);
+    Capture capture = load_capture(resolve_capture_path(input), capture_options);
+    if (!poses.empty()) apply_view_poses(capture, read_view_poses(poses), poses);
     run_segment_session(model, capture, options, std::cin, std::cout);
     // std::cin reads through stdio: a read error (stdin a folder, an I/O error) ends its lines
     // like the end of the input does, and only ferror tells the two apart.

@@ -1,13 +1,9 @@
 #include "nodes/splat/register.hpp"
 
 #include <cmath>
-#include <locale>
 #include <map>
-#include <sstream>
 #include <string>
 #include <utility>
-
-#include <Eigen/Geometry>
 
 #include "base/atomic_file.hpp"
 #include "nodes/scene/caption_strip.hpp"
@@ -117,23 +113,6 @@ void record_pose_changes(NodeContext& ctx, const Capture& capture, const std::ve
   }
 }
 
-// refined_poses.txt: a line per view, "name qw qx qy qz tx ty tz" (world -> camera, as COLMAP's
-// images.txt), 17 significant digits.
-void write_refined_poses(const std::filesystem::path& file, const Capture& capture,
-                         const std::vector<Pose>& poses) {
-  std::ostringstream text;
-  text.imbue(std::locale::classic());
-  text.precision(17);
-  text << "# poses refined by splat.reconstruct (refine_poses): view qw qx qy qz tx ty tz, world "
-          "-> camera\n";
-  for (size_t v = 0; v < capture.views.size(); ++v) {
-    const Eigen::Quaterniond q(poses[v].R);
-    text << capture.views[v].name << ' ' << q.w() << ' ' << q.x() << ' ' << q.y() << ' ' << q.z()
-         << ' ' << poses[v].t.x() << ' ' << poses[v].t.y() << ' ' << poses[v].t.z() << '\n';
-  }
-  write_file_atomically(file, text.str());
-}
-
 void run_reconstruct(NodeContext& ctx, ReconstructNodeParams p) {
   ReconstructOptions& o = p.recon;
   o.seed = ctx.seed();
@@ -173,7 +152,8 @@ void run_reconstruct(NodeContext& ctx, ReconstructNodeParams p) {
   if (!dir.empty()) {
     write_ply(r.model, dir / "model.ply");
     if (o.poses.refine)
-      write_refined_poses(dir / "refined_poses.txt", *ctx.input<Capture>("capture"), r.poses);
+      write_file_atomically(dir / "refined_poses.txt",
+                            view_poses_text(view_poses(*ctx.input<Capture>("capture"), r.poses)));
     const Capture& capture = *ctx.input<Capture>("capture");
     const std::vector<int> test = capture.test_views();
     for (size_t k = 0; k < r.test_pictures.size() && k < test.size(); ++k)
@@ -208,18 +188,7 @@ struct RefinedCaptureOptions {};
 
 void run_refined_capture(NodeContext& ctx, const RefinedCaptureOptions&) {
   Capture capture = *ctx.input<Capture>("capture");
-  const ViewPoses& poses = *ctx.input<ViewPoses>("poses");
-  if (poses.views.size() != capture.views.size())
-    throw InputError("splat.refined_capture: port 'poses' holds " +
-                     std::to_string(poses.views.size()) + " views, capture '" + capture.name +
-                     "' has " + std::to_string(capture.views.size()));
-  for (size_t v = 0; v < capture.views.size(); ++v) {
-    if (poses.views[v] != capture.views[v].name)
-      throw InputError("splat.refined_capture: port 'poses' names view '" + poses.views[v] +
-                       "' where capture '" + capture.name + "' has '" + capture.views[v].name +
-                       "' (poses of another capture)");
-    capture.views[v].pose = poses.poses[v];
-  }
+  apply_view_poses(capture, *ctx.input<ViewPoses>("poses"), "splat.refined_capture: port 'poses'");
   ctx.output("capture", std::move(capture));
 }
 

@@ -5,6 +5,10 @@
 
 #include <nlohmann/json.hpp>
 
+#include <Eigen/Geometry>
+
+#include "nodes/ingest/capture_loader.hpp"
+#include "nodes/scene/view_poses.hpp"
 #include "nodes/splat/ply_io.hpp"
 #include "runtime/exit_codes.hpp"
 #include "tests/cli/command.hpp"
@@ -79,4 +83,75 @@ TEST_CASE("gslift segment answers a scripted session line by line", "[cli]") {
   CHECK(failed.code == exit_code::kBadInput);
   CHECK_THAT(failed.output,
              Catch::Matchers::Contains("reading the prompts from stdin failed: Is a directory"));
+}
+
+namespace {
+
+std::string file_bytes(const fs::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  std::ostringstream bytes;
+  bytes << in.rdbuf();
+  return bytes.str();
+}
+
+}  // namespace
+
+// --poses: a run that refined its poses (recon/refined_poses.txt) is prompted at the poses its
+// model was trained at. The same poses as written give the same answer; cam_00 turned by 3
+// degrees moves its mask; poses of another capture are refused before any prompt is read.
+TEST_CASE("gslift segment --poses answers at the given poses", "[cli]") {
+  const fs::path dir = test::scratch_dir("cli_segment_poses");
+  const std::string binary = GSLIFT_BINARY;
+  REQUIRE(run_command(binary + " synth --out '" + (dir / "capture").string() +
+                      "' --width 96 --height 72 --views 4")
+              .code == exit_code::kOk);
+  GaussianModel model;
+  model.resize(64);
+  model.feature_dim = 1;
+  model.features.assign(64, 1.f);
+  for (int g = 0; g < 64; ++g) {
+    model.means[3 * g + 0] = -1.5f + 0.4f * (g % 8);
+    model.means[3 * g + 1] = -1.5f + 0.4f * (g / 8);
+    model.means[3 * g + 2] = 1.f;
+    for (int a = 0; a < 3; ++a) model.log_scales[3 * g + a] = -1.5f;
+    model.opacity_logits[g] = 2.f;
+  }
+  write_ply(model, dir / "model.ply");
+  const Capture capture = load_capture(dir / "capture");
+  ViewPoses written;
+  for (const View& v : capture.views) {
+    written.views.push_back(v.name);
+    written.poses.push_back(v.pose);
+  }
+  ViewPoses turned = written;
+  turned.poses[0].R =
+      Eigen::AngleAxisd(3 * M_PI / 180, Eigen::Vector3d::UnitY()).toRotationMatrix() *
+      turned.poses[0].R;
+  ViewPoses other = written;
+  other.views[2] = "cam_99";
+  std::ofstream(dir / "written.txt") << view_poses_text(written);
+  std::ofstream(dir / "turned.txt") << view_poses_text(turned);
+  std::ofstream(dir / "other.txt") << view_poses_text(other);
+  const auto session = [&](const std::string& poses, const std::string& out) {
+    std::ofstream(dir / "prompt.jsonl")
+        << R"({"name": "a", "view": "cam_00", "positive": [[48, 36]], "views": ["cam_00"], )"
+        << R"("output": ")" << (dir / out).string() << "\"}\n";
+    return run_command(binary + " segment '" + (dir / "model.ply").string() + "' --input '" +
+                       (dir / "capture").string() + "'" + poses + " < '" +
+                       (dir / "prompt.jsonl").string() + "'");
+  };
+  const auto plain = session("", "plain");
+  const auto same = session(" --poses '" + (dir / "written.txt").string() + "'", "same");
+  const auto moved = session(" --poses '" + (dir / "turned.txt").string() + "'", "moved");
+  INFO(plain.output << same.output << moved.output);
+  REQUIRE(plain.code == exit_code::kOk);
+  REQUIRE(same.code == exit_code::kOk);
+  REQUIRE(moved.code == exit_code::kOk);
+  const std::string mask = "cam_00__a_mask.png";
+  REQUIRE(fs::exists(dir / "plain" / mask));
+  CHECK(file_bytes(dir / "same" / mask) == file_bytes(dir / "plain" / mask));
+  CHECK(file_bytes(dir / "moved" / mask) != file_bytes(dir / "plain" / mask));
+  const auto refused = session(" --poses '" + (dir / "other.txt").string() + "'", "refused");
+  CHECK(refused.code == exit_code::kBadInput);
+  CHECK_THAT(refused.output, Catch::Matchers::Contains("other.txt names view 'cam_99'"));
 }
