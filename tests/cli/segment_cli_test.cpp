@@ -1,6 +1,7 @@
 // `gslift segment` itself: a scripted session through the executable's stdin and stdout, on a
 // small synthetic capture and a hand-made feature model.
 #include <fstream>
+#include <functional>
 #include <sstream>
 
 #include <nlohmann/json.hpp>
@@ -18,26 +19,44 @@ using namespace gslift;
 using gslift::test::run_command;
 namespace fs = std::filesystem;
 
-TEST_CASE("gslift segment answers a scripted session line by line", "[cli]") {
-  const fs::path dir = test::scratch_dir("cli_segment");
-  const std::string binary = GSLIFT_BINARY;
-  REQUIRE(run_command(binary + " synth --out '" + (dir / "capture").string() +
+namespace {
+
+// A small capture written by `gslift synth` into dir/capture, and dir/model.ply: 64 Gaussians on a
+// grid around the room's centre, Gaussian g with a 1 on feature axis feature_axis(g).
+void write_capture_and_grid(const fs::path& dir, int feature_dim,
+                            const std::function<int(int)>& feature_axis) {
+  REQUIRE(run_command(std::string(GSLIFT_BINARY) + " synth --out '" + (dir / "capture").string() +
                       "' --width 96 --height 72 --views 4")
               .code == exit_code::kOk);
-  // 64 Gaussians on a grid around the room's centre, two feature directions.
   GaussianModel model;
   model.resize(64);
-  model.feature_dim = 2;
-  model.features.assign(128, 0.f);
+  model.feature_dim = feature_dim;
+  model.features.assign(64 * feature_dim, 0.f);
   for (int g = 0; g < 64; ++g) {
     model.means[3 * g + 0] = -1.5f + 0.4f * (g % 8);
     model.means[3 * g + 1] = -1.5f + 0.4f * (g / 8);
     model.means[3 * g + 2] = 1.f;
     for (int a = 0; a < 3; ++a) model.log_scales[3 * g + a] = -1.5f;
     model.opacity_logits[g] = 2.f;
-    model.features[2 * g + (g % 2)] = 1.f;
+    model.features[feature_dim * g + feature_axis(g)] = 1.f;
   }
   write_ply(model, dir / "model.ply");
+}
+
+std::string file_bytes(const fs::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  std::ostringstream bytes;
+  bytes << in.rdbuf();
+  return bytes.str();
+}
+
+}  // namespace
+
+TEST_CASE("gslift segment answers a scripted session line by line", "[cli]") {
+  const fs::path dir = test::scratch_dir("cli_segment");
+  const std::string binary = GSLIFT_BINARY;
+  // Two feature directions, alternating along the grid.
+  write_capture_and_grid(dir, 2, [](int g) { return g % 2; });
   std::ofstream(dir / "prompts.jsonl")
       << R"({"name": "a", "view": "cam_00", "positive": [[48, 36]], "output": ")"
       << (dir / "out").string() << R"(", "views": "all"})"
@@ -85,38 +104,14 @@ TEST_CASE("gslift segment answers a scripted session line by line", "[cli]") {
              Catch::Matchers::Contains("reading the prompts from stdin failed: Is a directory"));
 }
 
-namespace {
-
-std::string file_bytes(const fs::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  std::ostringstream bytes;
-  bytes << in.rdbuf();
-  return bytes.str();
-}
-
-}  // namespace
-
 // --poses: a run that refined its poses (recon/refined_poses.txt) is prompted at the poses its
 // model was trained at. The same poses as written give the same answer; cam_00 turned by 3
 // degrees moves its mask; poses of another capture are refused before any prompt is read.
 TEST_CASE("gslift segment --poses answers at the given poses", "[cli]") {
   const fs::path dir = test::scratch_dir("cli_segment_poses");
   const std::string binary = GSLIFT_BINARY;
-  REQUIRE(run_command(binary + " synth --out '" + (dir / "capture").string() +
-                      "' --width 96 --height 72 --views 4")
-              .code == exit_code::kOk);
-  GaussianModel model;
-  model.resize(64);
-  model.feature_dim = 1;
-  model.features.assign(64, 1.f);
-  for (int g = 0; g < 64; ++g) {
-    model.means[3 * g + 0] = -1.5f + 0.4f * (g % 8);
-    model.means[3 * g + 1] = -1.5f + 0.4f * (g / 8);
-    model.means[3 * g + 2] = 1.f;
-    for (int a = 0; a < 3; ++a) model.log_scales[3 * g + a] = -1.5f;
-    model.opacity_logits[g] = 2.f;
-  }
-  write_ply(model, dir / "model.ply");
+  // One feature for every Gaussian: a click anywhere on the grid selects all of it.
+  write_capture_and_grid(dir, 1, [](int) { return 0; });
   const Capture capture = load_capture(dir / "capture");
   ViewPoses written;
   for (const View& v : capture.views) {
