@@ -69,6 +69,12 @@ std::shared_ptr<const TextEncoder> run_encoder(const nlohmann::json& params) {
   return nullptr;  // table and embeddings encoders need files or a server the run had
 }
 
+// The capture's poses replaced by those of a refined_poses.txt (the ones the model was trained at).
+void take_poses(ViewScene& scene, const fs::path& file) {
+  apply_view_poses(scene.capture, read_view_poses(file), file.string());
+  scene.poses_file = file.string();
+}
+
 }  // namespace
 
 ViewScene open_run_folder(const fs::path& run) {
@@ -102,9 +108,7 @@ ViewScene open_run_folder(const fs::path& run) {
   scene.capture = load_capture(resolve_capture_path(capture_path), capture_options(capture_params));
   for (const auto& node : nodes) {
     const fs::path file = run / node.value("id", "") / "refined_poses.txt";
-    if (node.value("id", "").empty() || !fs::is_regular_file(file)) continue;
-    apply_view_poses(scene.capture, read_view_poses(file), file.string());
-    scene.poses_file = file.string();
+    if (!node.value("id", "").empty() && fs::is_regular_file(file)) take_poses(scene, file);
   }
   scene.instance_labels = default_labels(scene.model, scene.capture);
   for (const auto& node : nodes) {
@@ -129,10 +133,7 @@ ViewScene open_model(const fs::path& ply, const std::string& capture, const fs::
   scene.title = ply.string();
   scene.model = read_ply(ply);
   scene.capture = load_capture(resolve_capture_path(capture));
-  if (!poses_file.empty()) {
-    apply_view_poses(scene.capture, read_view_poses(poses_file), poses_file.string());
-    scene.poses_file = poses_file.string();
-  }
+  if (!poses_file.empty()) take_poses(scene, poses_file);
   scene.instance_labels = default_labels(scene.model, scene.capture);
   return scene;
 }

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
 #include <iterator>
 #include <locale>
 #include <sstream>
@@ -10,6 +9,7 @@
 #include <Eigen/Geometry>
 
 #include "base/errors.hpp"
+#include "base/input_file.hpp"
 #include "nodes/scene/capture.hpp"
 
 namespace gslift {
@@ -62,11 +62,7 @@ ViewPoses parse_view_poses(const std::string& text, const std::string& source) {
 }
 
 ViewPoses read_view_poses(const std::filesystem::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw InputError(file.string() + ": cannot be read");
-  std::ostringstream text;
-  text << in.rdbuf();
-  return parse_view_poses(text.str(), file.string());
+  return parse_view_poses(read_input_file(file, "poses file"), file.string());
 }
 
 void apply_view_poses(Capture& capture, const ViewPoses& poses, const std::string& source) {

@@ -27,6 +27,8 @@ GSLIFT_PORT_TYPE(ViewPoses, "ViewPoses");
 std::string view_poses_text(const ViewPoses& poses);
 // Parses that text; `source` (the file) names a malformed line in the InputError it throws.
 ViewPoses parse_view_poses(const std::string& text, const std::string& source);
+// The file's text parsed; a directory, a FIFO or a missing file is an InputError naming it
+// (base/input_file.hpp: the path comes from a user).
 ViewPoses read_view_poses(const std::filesystem::path& file);
 
 // Puts the poses into the capture, view by view. Throws InputError naming `source` where their

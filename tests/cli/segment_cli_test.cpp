@@ -8,6 +8,7 @@
 
 #include <Eigen/Geometry>
 
+#include "base/input_file.hpp"
 #include "nodes/ingest/capture_loader.hpp"
 #include "nodes/scene/view_poses.hpp"
 #include "nodes/splat/ply_io.hpp"
@@ -41,13 +42,6 @@ void write_capture_and_grid(const fs::path& dir, int feature_dim,
     model.features[feature_dim * g + feature_axis(g)] = 1.f;
   }
   write_ply(model, dir / "model.ply");
-}
-
-std::string file_bytes(const fs::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  std::ostringstream bytes;
-  bytes << in.rdbuf();
-  return bytes.str();
 }
 
 }  // namespace
@@ -144,8 +138,8 @@ TEST_CASE("gslift segment --poses answers at the given poses", "[cli]") {
   REQUIRE(moved.code == exit_code::kOk);
   const std::string mask = "cam_00__a_mask.png";
   REQUIRE(fs::exists(dir / "plain" / mask));
-  CHECK(file_bytes(dir / "same" / mask) == file_bytes(dir / "plain" / mask));
-  CHECK(file_bytes(dir / "moved" / mask) != file_bytes(dir / "plain" / mask));
+  CHECK(read_input_file(dir / "same" / mask) == read_input_file(dir / "plain" / mask));
+  CHECK(read_input_file(dir / "moved" / mask) != read_input_file(dir / "plain" / mask));
   const auto refused = session(" --poses '" + (dir / "other.txt").string() + "'", "refused");
   CHECK(refused.code == exit_code::kBadInput);
   CHECK_THAT(refused.output, Catch::Matchers::Contains("other.txt names view 'cam_99'"));

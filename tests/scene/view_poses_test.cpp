@@ -59,7 +59,10 @@ TEST_CASE("a malformed refined_poses.txt is refused naming its file and line", "
   CHECK_THROWS_WITH(parse_view_poses("cam_00 2 0 0 0 0 0 0\n", "p.txt"),
                     Contains("p.txt:1") && Contains("no unit quaternion"));
   CHECK_THROWS_WITH(parse_view_poses("# only a comment\n", "p.txt"), Contains("holds no pose"));
-  CHECK_THROWS_AS(read_view_poses("/nonexistent/refined_poses.txt"), InputError);
+  CHECK_THROWS_WITH(read_view_poses("/nonexistent/refined_poses.txt"),
+                    Contains("/nonexistent/refined_poses.txt") && Contains("does not exist"));
+  const auto dir = test::scratch_dir("view_poses_dir");
+  CHECK_THROWS_WITH(read_view_poses(dir), Contains("is a directory"));
 }
 
 TEST_CASE("poses of another capture are refused, the capture left as it was", "[scene]") {
