@@ -17,10 +17,11 @@ command -v ccache >/dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
 start=$(date +%s)
 # -O1: the sanitizers' usual level; -pipe keeps the temporary assembly off /tmp; shared libraries:
 # each test executable links in seconds instead of copying the instrumented libraries; a unity
-# build as in .ci/build; no e2e executables, which this suite does not run.
+# build with precompiled headers as in .ci/build; no e2e executables or [long] cases, which this
+# suite does not run.
 cmake -S "$src" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=None -DCMAKE_CXX_COMPILER=clang++ \
       -DCMAKE_CXX_FLAGS="-O1 -pipe" -DGSLIFT_FUZZ=ON -DGSLIFT_BUILD_BENCH=OFF -DBUILD_SHARED_LIBS=ON \
-      -DCMAKE_UNITY_BUILD=ON -DGSLIFT_BUILD_E2E_TESTS=OFF \
+      -DCMAKE_UNITY_BUILD=ON -DGSLIFT_PRECOMPILE_HEADERS=ON -DGSLIFT_BUILD_E2E_TESTS=OFF \
       -DGSLIFT_TEST_TIMEOUT_SCALE=4 ${launcher[@]+"${launcher[@]}"} >/dev/null
 cmake --build "$build" -j "$jobs"
 built=$(date +%s)

@@ -110,7 +110,8 @@ TEST_CASE("nodes lists the catalogue and documents every listed type", "[cli]") 
   WARN(types << " node types registered");
 }
 
-TEST_CASE("every graph shipped in graphs/ validates against the built-in catalogue", "[cli]") {
+TEST_CASE("every graph shipped in graphs/ validates against the built-in catalogue",
+          "[cli][long]") {
   int graphs = 0;
   for (const auto& e : fs::recursive_directory_iterator(fs::path(GSLIFT_SOURCE_DIR) / "graphs")) {
     if (e.path().extension() != ".yaml") continue;

@@ -103,7 +103,7 @@ TEST_CASE("feature objective: the combined loss's gradient matches central diffe
 }
 
 TEST_CASE("feature objective: weight 0 leaves the reconstruction bit-identical, weight > 0 trains",
-          "[splat]") {
+          "[splat][long]") {
   const Capture capture = test::rendered_capture();
   ReconstructOptions o;
   o.iterations = 60;

@@ -97,7 +97,8 @@ nodes:
                                     ("cam_" + std::to_string(v) + "_" + c + ".png")));
 }
 
-TEST_CASE("the depth_prior recipe on plain photos says its depth levers do nothing there") {
+TEST_CASE("the depth_prior recipe on plain photos says its depth levers do nothing there",
+          "[long]") {
   const Registry registry = registry_with_tiny_capture();
   std::ostringstream log;
   auto sink = std::make_shared<spdlog::sinks::ostream_sink_mt>(log);

@@ -56,7 +56,7 @@ TEST_CASE("a held-out view's pose registers to its photo against the model") {
   CHECK(kept.t == start.t);
 }
 
-TEST_CASE("refine_poses corrects a training view's pose while the model trains") {
+TEST_CASE("refine_poses corrects a training view's pose while the model trains", "[long]") {
   const Capture truth = test::rendered_capture();
   Capture capture = truth;
   capture.views[1].pose = disturbed(truth.views[1].pose, 1.0, 0.04);

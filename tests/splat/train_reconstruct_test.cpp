@@ -50,7 +50,7 @@ ReconstructResult reconstruct_at_one_and_two_threads(const Capture& capture,
 
 }  // namespace
 
-TEST_CASE("a tiny reconstruction reaches a PSNR floor and lowers its loss") {
+TEST_CASE("a tiny reconstruction reaches a PSNR floor and lowers its loss", "[long]") {
   const Capture capture = rendered_capture();
   int calls = 0;
   TrainingStep last;
@@ -114,7 +114,7 @@ TEST_CASE("reconstruction is identical at 1 and 2 threads, and loss terms switch
   CHECK(off.final_loss.total == Approx(off.final_loss.term("photometric")));
 }
 
-TEST_CASE("early stop ends a run whose loss has plateaued") {
+TEST_CASE("early stop ends a run whose loss has plateaued", "[long]") {
   const Capture capture = rendered_capture();
   ReconstructOptions o = tiny_options();
   o.iterations = 2000;
@@ -127,7 +127,7 @@ TEST_CASE("early stop ends a run whose loss has plateaued") {
   CHECK(std::string(model_size_reason(r)) == "plateau");
 }
 
-TEST_CASE("a reconstruction capped by its Gaussian budget says so") {
+TEST_CASE("a reconstruction capped by its Gaussian budget says so", "[long]") {
   const Capture capture = rendered_capture();
   ReconstructOptions o = tiny_options();
   o.iterations = 200;  // densification rounds at steps 100 and 120 (stop at 60%)
@@ -142,7 +142,8 @@ TEST_CASE("a reconstruction capped by its Gaussian budget says so") {
   CHECK(std::string(model_size_reason(free)) == "iterations");
 }
 
-TEST_CASE("coarse-to-fine trains the first steps at half resolution and still reaches the floor") {
+TEST_CASE("coarse-to-fine trains the first steps at half resolution and still reaches the floor",
+          "[long]") {
   const Capture capture = rendered_capture();
   ReconstructOptions o = tiny_options();
   o.coarse_fraction = 0.4;
@@ -164,7 +165,8 @@ TEST_CASE("PSNR is taken over the background the model was trained on") {
   CHECK(mean_psnr(empty, capture, {0}) == Approx(0.0).margin(1e-9));
 }
 
-TEST_CASE("the line-of-sight loss lowers the opacity drawn in front of the depth priors") {
+TEST_CASE("the line-of-sight loss lowers the opacity drawn in front of the depth priors",
+          "[long]") {
   const Capture capture = rendered_capture();
   ReconstructOptions o = tiny_options();
   o.iterations = 150;
