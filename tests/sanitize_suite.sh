@@ -15,10 +15,11 @@ jobs=${2:-2}
 launcher=()
 command -v ccache >/dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
 start=$(date +%s)
-# -O1: the sanitizers' usual level; -pipe keeps the temporary assembly off /tmp; shared libraries:
-# each test executable links in seconds instead of copying the instrumented libraries; a unity
-# build with precompiled headers as in .ci/build; no e2e executables or [long] cases, which this
-# suite does not run.
+# -O1: the sanitizers' usual level, for the libraries (the tests' own files: -O0,
+# tests/CMakeLists.txt); -pipe keeps the temporary assembly off /tmp; shared libraries: each test
+# executable links in seconds instead of copying the instrumented libraries; a unity build with
+# precompiled headers as in .ci/build; no e2e executables or [long] cases, which this suite does
+# not run.
 cmake -S "$src" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=None -DCMAKE_CXX_COMPILER=clang++ \
       -DCMAKE_CXX_FLAGS="-O1 -pipe" -DGSLIFT_FUZZ=ON -DGSLIFT_BUILD_BENCH=OFF -DBUILD_SHARED_LIBS=ON \
       -DCMAKE_UNITY_BUILD=ON -DGSLIFT_PRECOMPILE_HEADERS=ON -DGSLIFT_BUILD_E2E_TESTS=OFF \
