@@ -105,7 +105,7 @@ std::map<int32_t, Eigen::VectorXf> feature_prototypes(const std::vector<float>& 
 Filter3dResult filter_instances_3d(const std::vector<float>& means,
                                    const std::vector<int32_t>& instance_ids,
                                    const Filter3dOptions& o, const std::vector<float>& features,
-                                   int feature_dim) {
+                                   int feature_dim, const GrowthExclusion& excluded) {
   filter_3d_param_table().validate(o, "inference.filter_3d");
   if (means.size() != 3 * instance_ids.size())
     throw std::invalid_argument("filter_3d: " + std::to_string(means.size() / 3) +
@@ -117,6 +117,12 @@ Filter3dResult filter_instances_3d(const std::vector<float>& means,
     throw std::invalid_argument(
         "filter_3d: growth_min_similarity needs the Gaussians' features (the model has " +
         std::to_string(feature_dim) + " feature channels)");
+  for (const auto& [id, flags] : excluded)
+    if (flags.size() != instance_ids.size())
+      throw std::invalid_argument("filter_3d: instance " + std::to_string(id) +
+                                  "'s exclusion has " + std::to_string(flags.size()) +
+                                  " flags for " + std::to_string(instance_ids.size()) +
+                                  " Gaussians");
   Filter3dResult result;
   result.instance_ids = instance_ids;
   std::map<int32_t, std::vector<size_t>> members;  // ordered: results do not depend on hashing
@@ -200,6 +206,7 @@ Filter3dResult filter_instances_3d(const std::vector<float>& means,
         feature_gate ? feature_prototypes(features, feature_dim, kept_all, kept_instance)
                      : std::map<int32_t, Eigen::VectorXf>{};
     std::vector<int32_t> joined(instance_ids.size(), -1);
+    std::vector<char> was_excluded(instance_ids.size(), 0);
     tbb::parallel_for(size_t(0), instance_ids.size(), [&](size_t g) {
       if (is_kept[g]) return;
       std::vector<int> idx;
@@ -218,15 +225,21 @@ Filter3dResult filter_instances_3d(const std::vector<float>& means,
                                (p.array() > b->second.second.array()).any()))
           continue;
         if (feature_gate && f.dot(prototype.at(id)) < o.growth_min_similarity) continue;
-        if (std::sqrt(d2[j]) <= radius.at(id)) {
-          joined[g] = id;
-          break;
+        if (std::sqrt(d2[j]) > radius.at(id)) continue;
+        const auto ex = excluded.find(id);
+        if (ex != excluded.end() && ex->second[g]) {
+          was_excluded[g] = 1;
+          continue;
         }
+        joined[g] = id;
+        break;
       }
     });
     std::map<int32_t, int64_t> joins;
-    for (const int32_t id : joined)
-      if (id >= 0) ++joins[id];
+    for (size_t g = 0; g < joined.size(); ++g) {
+      if (joined[g] >= 0) ++joins[joined[g]];
+      result.excluded += joined[g] < 0 && was_excluded[g];
+    }
     const double scene = static_cast<double>(instance_ids.size());
     std::map<int32_t, bool> refuse;
     for (Filter3dResult::Growth& g : result.growth) {

@@ -7,7 +7,8 @@
 //     nearest-neighbour distance in the filtered set: components holding the instance's mass are
 //     kept (the largest, and any other with at least `min_component_fraction` of its Gaussians);
 //  3. ball-query growth: a Gaussian within r of the kept set joins the instance, when it was
-//     unassigned or removed from this same instance by steps 1-2.
+//     unassigned or removed from this same instance by steps 1-2, and is not excluded from it
+//     (an instance's exclusion: the Gaussians its prompt's 2D mask rules out, mask_silhouette.hpp).
 // Gaussians removed from an instance and not restored become unassigned (-1), never another
 // instance's.
 // Growth has no feature or colour check (SAGA's neither), so a selection that touches a dense
@@ -18,6 +19,7 @@
 #pragma once
 
 #include <cstdint>
+#include <map>
 #include <vector>
 
 #include "param/param_table.hpp"
@@ -61,6 +63,7 @@ struct Filter3dResult {
   int64_t component_dropped = 0;      // removed with a small connected component
   int64_t grown = 0;                  // unassigned Gaussians that joined an instance
   int64_t restored = 0;               // removed by steps 1-2, then within r of the kept set
+  int64_t excluded = 0;               // within reach of an instance's growth, but excluded from it
   // Per instance (filtered ones, in id order): Gaussians on input, after steps 1-2, and at the
   // end; refused = its growth exceeded a bound and was undone (after == kept).
   struct Growth {
@@ -73,12 +76,17 @@ struct Filter3dResult {
   int64_t refused = 0;  // instances whose growth was refused
 };
 
+// Per instance id, per Gaussian: 1 = may not join that instance by growth.
+using GrowthExclusion = std::map<int32_t, std::vector<char>>;
+
 // means: N x 3 centres (row-major); instance_ids: N ids, -1 = unassigned; features: N x
-// feature_dim (row-major), needed only for growth_min_similarity. Deterministic at any thread
-// count. Throws std::invalid_argument on inconsistent sizes, or a similarity gate without features.
+// feature_dim (row-major), needed only for growth_min_similarity; excluded: N flags per listed
+// instance. Deterministic at any thread count. Throws std::invalid_argument on inconsistent
+// sizes, or a similarity gate without features.
 Filter3dResult filter_instances_3d(const std::vector<float>& means,
                                    const std::vector<int32_t>& instance_ids,
                                    const Filter3dOptions& options,
-                                   const std::vector<float>& features = {}, int feature_dim = 0);
+                                   const std::vector<float>& features = {}, int feature_dim = 0,
+                                   const GrowthExclusion& excluded = {});
 
 }  // namespace gslift

@@ -9,6 +9,7 @@
 
 #include "base/errors.hpp"
 #include "nodes/inference/kmeans.hpp"
+#include "nodes/inference/mask_silhouette.hpp"
 #include "nodes/splat/rasterizer.hpp"
 
 namespace gslift {
@@ -291,19 +292,12 @@ std::vector<float> PromptSegmenter::features_at(const Camera& cam, const Pose& p
 
 void PromptSegmenter::validate_by_mask(PromptSelection& r, const cv::Mat1b& mask,
                                        const View& view) const {
-  const Camera& cam = view.camera;
-  for (size_t g = 0; g < r.selected.size(); ++g) {
-    if (!r.selected[g]) continue;
-    const Eigen::Vector3d x = view.pose.to_camera(
-        Eigen::Vector3d(model_.means[3 * g], model_.means[3 * g + 1], model_.means[3 * g + 2]));
-    if (x.z() <= 1e-6) continue;
-    const double u = cam.fx * x.x() / x.z() + cam.cx, w = cam.fy * x.y() / x.z() + cam.cy;
-    if (u < 0 || w < 0 || u >= cam.width || w >= cam.height) continue;
-    if (!mask(static_cast<int>(w), static_cast<int>(u))) {
+  const std::vector<char> outside = centres_outside_mask(model_.means, view, mask);
+  for (size_t g = 0; g < r.selected.size(); ++g)
+    if (r.selected[g] && outside[g]) {
       r.selected[g] = 0;
       --r.count;
     }
-  }
 }
 
 std::vector<int32_t> selection_instance_ids(const std::vector<PromptSelection>& selections) {

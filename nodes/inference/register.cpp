@@ -12,6 +12,7 @@
 #include "nodes/inference/filter_3d.hpp"
 #include "nodes/inference/label_inference.hpp"
 #include "nodes/inference/mask_carry.hpp"
+#include "nodes/inference/mask_silhouette.hpp"
 #include "nodes/inference/mask_vote_lifting.hpp"
 #include "nodes/inference/prompt_io.hpp"
 #include "nodes/inference/prompt_segmentation.hpp"
@@ -131,12 +132,34 @@ void run_filter_3d(NodeContext& ctx, const Filter3dOptions& o) {
     throw InputError("inference.filter_3d: the model has " +
                      std::to_string(model->instance_ids.size()) + " instance ids for " +
                      std::to_string(model->size()) + " Gaussians (run an association first)");
+  // Instance k is prompt k's selection (inference.prompt's `prompts`, in id order): a mask
+  // prompt's mask keeps the growth of its instance inside the mask's silhouette.
+  GrowthExclusion excluded;
+  if (ctx.has_input("prompts")) {
+    if (!ctx.has_input("capture"))
+      throw InputError(
+          "inference.filter_3d: input 'prompts' needs input 'capture' (the views the "
+          "prompts' masks were drawn in)");
+    const auto prompts = ctx.input<PromptSet>("prompts");
+    const auto capture = ctx.input<Capture>("capture");
+    for (size_t k = 0; k < prompts->prompts.size(); ++k) {
+      const Prompt& p = prompts->prompts[k];
+      if (p.mask.empty()) continue;
+      const int v = capture->find_view(p.view);
+      if (v < 0)
+        throw InputError("inference.filter_3d: prompt '" + p.name + "': the capture has no view '" +
+                         p.view + "'");
+      excluded[static_cast<int32_t>(k)] =
+          centres_outside_mask(model->means, capture->views[v], p.mask);
+    }
+  }
   Filter3dResult r = filter_instances_3d(model->means, model->instance_ids, o, model->features,
-                                         model->feature_dim);
+                                         model->feature_dim, excluded);
   ctx.record("outliers", static_cast<double>(r.outliers));
   ctx.record("component_dropped", static_cast<double>(r.component_dropped));
   ctx.record("grown", static_cast<double>(r.grown));
   ctx.record("restored", static_cast<double>(r.restored));
+  if (!excluded.empty()) ctx.record("growth_excluded", static_cast<double>(r.excluded));
   // How much each instance grew, and which growth was refused (the un-grown instance kept).
   int64_t before = 0, after = 0;
   double largest_ratio = 0;
@@ -171,7 +194,12 @@ void add_filter_3d(Registry& registry) {
       "inference.filter_3d",
       "3D post-processing of segmented Gaussians (SAGA): statistical outlier filter, "
       "connected components, ball-query growth",
-      {{"model", PortTypeName<GaussianModel>::value, "segmented Gaussians (instance_ids set)"}},
+      {{"model", PortTypeName<GaussianModel>::value, "segmented Gaussians (instance_ids set)"},
+       {"prompts", PortTypeName<PromptSet>::value,
+        "the prompts of the instances, in id order (inference.prompt): a mask prompt's instance "
+        "grows only into Gaussians inside its mask's silhouette",
+        true},
+       {"capture", PortTypeName<Capture>::value, "the views of the prompts (with prompts)", true}},
       {{"model", PortTypeName<GaussianModel>::value,
         "the same Gaussians; removed ones unassigned (-1), grown ones joined"}}};
   registry.add(std::move(spec), filter_3d_param_table(), run_filter_3d);

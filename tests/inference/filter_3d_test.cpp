@@ -1,5 +1,6 @@
 // 3D post-processing on hand-built point sets whose answers follow from the definitions.
 #include "nodes/inference/filter_3d.hpp"
+#include "nodes/inference/mask_silhouette.hpp"
 
 #include <random>
 
@@ -305,4 +306,54 @@ TEST_CASE("filter_3d: growth stops at a feature edge when growth_min_similarity 
     CHECK_THROWS_WITH(filter_instances_3d(p.means, p.ids, o),
                       Catch::Matchers::Contains("growth_min_similarity needs the Gaussians'"));
   }
+}
+
+TEST_CASE("filter_3d: an instance does not grow into Gaussians excluded from it",
+          "[inference][filter_3d]") {
+  // Three unassigned Gaussians within the growth radius (1) of a 5 x 5 grid: one excluded from
+  // instance 0, and the exclusion of another instance must not matter.
+  Points p;
+  p.grid(0, 0, 5, 5, 0);
+  const size_t left = p.add(-1, 2, 0, -1), right = p.add(5, 2, 0, -1), top = p.add(2, 5, 0, -1);
+  GrowthExclusion excluded;
+  excluded[0].assign(p.ids.size(), 0);
+  excluded[0][right] = 1;
+  excluded[7].assign(p.ids.size(), 1);
+  const Filter3dResult r =
+      filter_instances_3d(p.means, p.ids, only(false, false, true), {}, 0, excluded);
+  CHECK(r.grown == 2);
+  CHECK(r.excluded == 1);
+  CHECK(r.instance_ids[left] == 0);
+  CHECK(r.instance_ids[top] == 0);
+  CHECK(r.instance_ids[right] == -1);
+  excluded[0].pop_back();
+  CHECK_THROWS_WITH(
+      filter_instances_3d(p.means, p.ids, only(false, false, true), {}, 0, excluded),
+      Catch::Matchers::Contains("instance 0's exclusion has 27 flags for 28 Gaussians"));
+}
+
+TEST_CASE("mask_silhouette: Gaussians projecting outside a mask are ruled out, unseen ones not",
+          "[inference][filter_3d]") {
+  // A 10 x 8 pinhole at the origin looking down +z, f = 10, principal point (5, 4): a centre
+  // (x, y, z) lands on pixel (10 x / z + 5, 10 y / z + 4). The mask holds the columns 0-4.
+  View view;
+  view.name = "v0";
+  view.camera.width = 10;
+  view.camera.height = 8;
+  view.camera.fx = view.camera.fy = 10;
+  view.camera.cx = 5;
+  view.camera.cy = 4;
+  cv::Mat1b mask(8, 10, uchar(0));
+  mask.colRange(0, 5).setTo(255);
+  const std::vector<float> means = {
+      -0.2f,  0, 1,   // pixel (3, 4): inside the mask
+      0.2f,   0, 1,   // pixel (7, 4): outside, ruled out
+      0.4f,   0, 4,   // pixel (6, 4), 4 deep: outside, ruled out
+      0.2f,   0, -1,  // behind the camera: not seen, kept
+      2.f,    0, 1,   // pixel (25, 4): outside the frame, kept
+      -0.05f, 0, 1,   // pixel (4.5, 4): column 4, inside
+  };
+  CHECK(centres_outside_mask(means, view, mask) == std::vector<char>{0, 1, 1, 0, 0, 0});
+  CHECK_THROWS_WITH(centres_outside_mask(means, view, cv::Mat1b(8, 9, uchar(0))),
+                    Catch::Matchers::Contains("mask of view 'v0' is 9x8, the view 10x8"));
 }
