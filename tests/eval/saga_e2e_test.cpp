@@ -100,6 +100,11 @@ TEST_CASE("saga on DTU scan 24 at 1/16 scale reaches its accuracy floor") {
   WARN("saga DTU 1/16: mIoU " << miou << " mAcc " << std::get<double>(records.at("mAcc")));
   CHECK(std::get<double>(records.at("target_views")) == 24);
   CHECK(miou >= 50);
+  // The growth is kept inside the prompt mask's silhouette (saga_dtu.yaml wires the prompts):
+  // the records say how many Gaussians within reach it kept out.
+  const auto& clean = run.node("clean")->records;
+  REQUIRE(clean.count("growth_excluded"));
+  WARN("growth kept out " << std::get<double>(clean.at("growth_excluded")) << " Gaussians");
 }
 
 TEST_CASE("saga: carrying a click by the automatic masks needs them wired") {
