@@ -197,8 +197,7 @@ void add_filter_3d(Registry& registry) {
       {{"model", PortTypeName<GaussianModel>::value, "segmented Gaussians (instance_ids set)"},
        {"prompts", PortTypeName<PromptSet>::value,
         "the prompts of the instances, in id order (inference.prompt, inference.prompt_lift): a "
-        "mask prompt's instance "
-        "grows only into Gaussians inside its mask's silhouette",
+        "mask prompt's instance grows only into Gaussians inside its mask's silhouette",
         true},
        {"capture", PortTypeName<Capture>::value, "the views of the prompts (with prompts)", true}},
       {{"model", PortTypeName<GaussianModel>::value,
