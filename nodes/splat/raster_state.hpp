@@ -154,8 +154,13 @@ inline float lane_sum(const float* a) {
   return (quarter[0] + quarter[2]) + (quarter[1] + quarter[3]);
 }
 
-// kLanes floats as one GCC/clang vector value, which the compiler keeps in a register (one
-// AVX-512 register, or several narrower ones) where it would store and reload an array.
+// kLanes floats as vector values, which the compiler keeps in registers where it would store and
+// reload an array. With AVX-512 one GCC/clang vector of 16 floats is one register. Without it,
+// GCC lowers a 64-byte vector type through the stack (its halves stored, reloaded as 16-byte
+// pieces and moved through general registers: store-forwarding stalls that made the backward
+// pass's channel loop 2/5 of the main job on an AVX2 machine, perf annotate), so there the lanes
+// are two vectors of 8, one AVX register each. Same operations per lane, same results.
+#if defined(__AVX512F__)
 using LaneVector = float __attribute__((vector_size(kLanes * sizeof(float))));
 inline LaneVector load_lanes(const float* p) {
   LaneVector v;
@@ -165,6 +170,32 @@ inline LaneVector load_lanes(const float* p) {
 inline void store_lanes(float* p, const LaneVector& v) {
   std::memcpy(p, &v, sizeof v);
 }
+#else
+struct LaneVector {
+  using Half = float __attribute__((vector_size(kLanes / 2 * sizeof(float))));
+  Half lo{}, hi{};
+  LaneVector& operator+=(const LaneVector& o) {
+    lo += o.lo;
+    hi += o.hi;
+    return *this;
+  }
+  friend LaneVector operator+(LaneVector a, const LaneVector& b) { return a += b; }
+  friend LaneVector operator*(const LaneVector& a, const LaneVector& b) {
+    return {a.lo * b.lo, a.hi * b.hi};
+  }
+  friend LaneVector operator*(const LaneVector& a, float b) { return {a.lo * b, a.hi * b}; }
+};
+inline LaneVector load_lanes(const float* p) {
+  LaneVector v;
+  std::memcpy(&v.lo, p, sizeof v.lo);
+  std::memcpy(&v.hi, p + kLanes / 2, sizeof v.hi);
+  return v;
+}
+inline void store_lanes(float* p, const LaneVector& v) {
+  std::memcpy(p, &v.lo, sizeof v.lo);
+  std::memcpy(p + kLanes / 2, &v.hi, sizeof v.hi);
+}
+#endif
 
 // Lane accumulators of one list entry's geometry gradient over its pixels. With p = dL/dpower at
 // a pixel and d = mean2d - pixel centre, power = -0.5 (A dx^2 + C dy^2) - B dx dy has gradients
