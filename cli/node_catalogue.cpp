@@ -33,9 +33,12 @@ std::string param_line(const ParamSpec& p) {
 std::string ports_text(const char* title, const std::vector<PortSpec>& ports) {
   std::string out = std::string(title) + ":\n";
   if (ports.empty()) return out + "  (none)\n";
-  for (const auto& p : ports)
-    out += "  " + p.name + ": " + p.type + (p.optional ? " (optional)" : "") + "\n      " + p.doc +
-           "\n";
+  for (const auto& p : ports) {
+    std::string with;
+    for (const auto& other : p.wired_with) with += (with.empty() ? ", with " : " and ") + other;
+    out += "  " + p.name + ": " + p.type + (p.optional ? " (optional" + with + ")" : "") +
+           "\n      " + p.doc + "\n";
+  }
   return out;
 }
 

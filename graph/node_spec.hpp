@@ -21,6 +21,9 @@ struct PortSpec {
   // replies, SAM masks, ground truth, held-out views). Checked before the run
   // (runtime/preflight.hpp); {} so that a port written without it is complete.
   std::vector<CaptureNeed> needs{};
+  // Optional inputs only: the other inputs this one means nothing without (filter_3d's prompts
+  // and the capture their masks were drawn in). Validation refuses the port wired alone.
+  std::vector<std::string> wired_with{};
 };
 
 struct NodeSpec {

@@ -214,11 +214,21 @@ class Validator {
       }
     }
     if (!spec) return;
-    for (const auto& in : spec->inputs)
+    for (const auto& in : spec->inputs) {
       if (!in.optional && !wired.count(in.name))
         diagnostics_.error(doc_node.loc, "missing-input",
                            describe(doc_node) + " needs input '" + in.name + "' (" + in.type + ")",
                            outputs_of_type(in.type, consumer));
+      if (!wired.count(in.name)) continue;
+      for (const auto& other : in.wired_with) {
+        const PortSpec* partner = spec->find_input(other);
+        if (wired.count(other) || !partner) continue;
+        diagnostics_.error(doc_node.inputs.at(in.name).key_loc, "missing-input",
+                           describe(doc_node) + " input '" + in.name + "' needs input '" + other +
+                               "' (" + partner->type + ") wired with it",
+                           outputs_of_type(partner->type, consumer));
+      }
+    }
   }
 
   // Checks `ref` ("node.port") wired to input `port` (spec `in`, null when unknown); returns the

@@ -135,11 +135,7 @@ void run_filter_3d(NodeContext& ctx, const Filter3dOptions& o) {
   // Instance k is prompt k's selection (inference.prompt's `prompts`, in id order): a mask
   // prompt's mask keeps the growth of its instance inside the mask's silhouette.
   GrowthExclusion excluded;
-  if (ctx.has_input("prompts")) {
-    if (!ctx.has_input("capture"))
-      throw InputError(
-          "inference.filter_3d: input 'prompts' needs input 'capture' (the views the "
-          "prompts' masks were drawn in)");
+  if (ctx.has_input("prompts")) {  // validation saw to the capture (PortSpec::wired_with)
     const auto prompts = ctx.input<PromptSet>("prompts");
     const auto capture = ctx.input<Capture>("capture");
     for (size_t k = 0; k < prompts->prompts.size(); ++k) {
@@ -195,11 +191,14 @@ void add_filter_3d(Registry& registry) {
       "3D post-processing of segmented Gaussians (SAGA): statistical outlier filter, "
       "connected components, ball-query growth",
       {{"model", PortTypeName<GaussianModel>::value, "segmented Gaussians (instance_ids set)"},
-       {"prompts", PortTypeName<PromptSet>::value,
+       {"prompts",
+        PortTypeName<PromptSet>::value,
         "the prompts of the instances, in id order (inference.prompt, inference.prompt_lift): a "
         "mask prompt's instance grows only into Gaussians inside its mask's silhouette",
-        true},
-       {"capture", PortTypeName<Capture>::value, "the views of the prompts (with prompts)", true}},
+        true,
+        {},
+        {"capture"}},
+       {"capture", PortTypeName<Capture>::value, "the views the prompts were given in", true}},
       {{"model", PortTypeName<GaussianModel>::value,
         "the same Gaussians; removed ones unassigned (-1), grown ones joined"}}};
   registry.add(std::move(spec), filter_3d_param_table(), run_filter_3d);

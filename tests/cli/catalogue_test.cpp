@@ -36,6 +36,23 @@ TEST_CASE("one type's page shows ports and params with defaults, ranges and choi
   CHECK(node_type_text(*reg.find("debug.random")).find("inputs:\n  (none)\n") != std::string::npos);
 }
 
+TEST_CASE("one type's page names the inputs an optional input is wired with", "[catalogue]") {
+  const NodeSpec spec{"math.affine",
+                      "a node",
+                      {{"offset", "Number", "added", true, {}, {"scale", "value"}},
+                       {"scale", "Number", "factor", true}},
+                      {}};
+  CHECK(node_type_text(spec) ==
+        "math.affine: a node\n"
+        "inputs:\n"
+        "  offset: Number (optional, with scale and value)\n"
+        "      added\n"
+        "  scale: Number (optional)\n"
+        "      factor\n"
+        "outputs:\n  (none)\n"
+        "params:\n  (none)\n");
+}
+
 TEST_CASE("one type's page names the file that registers it", "[catalogue]") {
   const Registry reg = test::debug_registry();
   // The debug nodes are registered in tests/runtime/debug_nodes.cpp: the registry keeps the

@@ -188,6 +188,31 @@ TEST_CASE("missing-input: required ports must be wired, optional ones need not")
   CHECK(d.hint == "outputs of type Number: one.value, mul.product");
 }
 
+TEST_CASE("missing-input: an optional input wired without the input it needs beside it") {
+  const std::string alone =
+      "nodes:\n"
+      "  one: {type: src.make}\n"
+      "  aff: {type: math.affine, in: {value: one.value, offset: one.value}}\n";
+  const auto d = only(load_test_yaml(alone), "missing-input");
+  CHECK(d.loc.str() == position(alone, "offset"));
+  CHECK(d.message ==
+        "node 'aff' (math.affine) input 'offset' needs input 'scale' (Number) wired "
+        "with it");
+  CHECK(d.hint == "outputs of type Number: one.value");
+  // Both wired, or neither: valid.
+  CHECK(load_test_yaml("nodes:\n  one: {type: src.make}\n"
+                       "  aff: {type: math.affine, in: {value: one.value, offset: one.value, "
+                       "scale: one.value}}\n")
+            .ok());
+  CHECK(load_test_yaml("nodes:\n  one: {type: src.make}\n"
+                       "  aff: {type: math.affine, in: {value: one.value}}\n")
+            .ok());
+  // The partner alone is not refused: only the port that names it needs it.
+  CHECK(load_test_yaml("nodes:\n  one: {type: src.make}\n"
+                       "  aff: {type: math.affine, in: {value: one.value, scale: one.value}}\n")
+            .ok());
+}
+
 TEST_CASE("unknown-input-port: points at the port, suggests the nearest") {
   const std::string yaml =
       "nodes:\n"

@@ -61,6 +61,14 @@ class FakeCatalog : public NodeCatalog {
          {{"product", "Number", "", false}},
          {float_param("factor", 2.0, "extra factor")}});
     add({"sink.number", "prints a number", {{"value", "Number", "", false}}, {}, {}});
+    // `offset` means nothing without `scale`: wired alone it is refused (PortSpec::wired_with).
+    add({"math.affine",
+         "value * scale + offset",
+         {{"value", "Number", "", false},
+          {"offset", "Number", "", true, {}, {"scale"}},
+          {"scale", "Number", "", true}},
+         {{"result", "Number", "", false}},
+         {}});
     add({"sink.print",
          "prints a text",
          {{"text", "String", "", false}},
