@@ -56,4 +56,14 @@ std::vector<uint8_t> MaskVotes::object(size_t k, double bias, std::vector<float>
   return out;
 }
 
+std::vector<float> MaskVotes::balance(size_t k) const {
+  std::vector<float> out(gaussians_, 0.f);
+  for (size_t g = 0; g < gaussians_; ++g) {
+    const double a0 = background(g, k), a1 = foreground(g, k);
+    const double norm = std::hypot(a0, a1);
+    if (norm > 0) out[g] = static_cast<float>((a1 - a0) / norm);
+  }
+  return out;
+}
+
 }  // namespace gslift

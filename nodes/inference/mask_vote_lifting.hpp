@@ -36,6 +36,10 @@ class MaskVotes {
   // the same Gaussian.
   std::vector<uint8_t> object(size_t k, double bias, std::vector<float>* score = nullptr) const;
 
+  // Per Gaussian, prompt k's normalised vote balance (A_1 - A_0) / |(A_0, A_1)| in [-1, 1]: 1 =
+  // seen only inside the masks, -1 only outside; 0 for unseen Gaussians (PromptSet::vote_balance).
+  std::vector<float> balance(size_t k) const;
+
   double background(size_t g, size_t k) const { return votes_[2 * (g * prompts_ + k)]; }
   double foreground(size_t g, size_t k) const { return votes_[2 * (g * prompts_ + k) + 1]; }
 

@@ -279,6 +279,8 @@ void write(ByteWriter& w, const PromptSet& v) {
     write_points(w, p.negative);
     write(w, p.mask);
   });
+  write_list(w, v.vote_balance,
+             [&](const std::vector<float>& b) { w.put_array(b.data(), b.size()); });
 }
 
 void read(ByteReader& r, PromptSet& v) {
@@ -290,6 +292,7 @@ void read(ByteReader& r, PromptSet& v) {
     read_points(r, p.negative);
     read_typed_mat(r, p.mask);
   });
+  read_list(r, v.vote_balance, 8, [&](std::vector<float>& b) { b = r.get_vector<float>(); });
 }
 
 void write(ByteWriter& w, const ViewPoses& v) {

@@ -21,7 +21,7 @@
 namespace gslift {
 
 // Bumped whenever a binary form below changes: it is part of every cache key.
-constexpr int kPortArchiveVersion = 1;
+constexpr int kPortArchiveVersion = 2;
 
 void write(ByteWriter& w, const BoxSet& v);
 void read(ByteReader& r, BoxSet& v);

@@ -29,6 +29,11 @@ struct Prompt {
 
 struct PromptSet {
   std::vector<Prompt> prompts;
+  // Where the prompts were answered by FlashSplat's vote (inference.prompt_lift): per prompt, per
+  // Gaussian of that model, (A_1 - A_0) / |(A_0, A_1)|, how much more of the Gaussian's blend
+  // weight over the voting views fell inside the prompt's masks than outside, in [-1, 1]; 0 where
+  // no voting view sees it. Empty otherwise.
+  std::vector<std::vector<float>> vote_balance;
 };
 
 GSLIFT_PORT_TYPE(PromptSet, "PromptSet");

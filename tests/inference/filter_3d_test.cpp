@@ -1,5 +1,6 @@
 // 3D post-processing on hand-built point sets whose answers follow from the definitions.
 #include "nodes/inference/filter_3d.hpp"
+#include "nodes/inference/growth_exclusion.hpp"
 #include "nodes/inference/mask_silhouette.hpp"
 
 #include <random>
@@ -332,10 +333,11 @@ TEST_CASE("filter_3d: an instance does not grow into Gaussians excluded from it"
       Catch::Matchers::Contains("instance 0's exclusion has 27 flags for 28 Gaussians"));
 }
 
-TEST_CASE("mask_silhouette: Gaussians projecting outside a mask are ruled out, unseen ones not",
-          "[inference][filter_3d]") {
-  // A 10 x 8 pinhole at the origin looking down +z, f = 10, principal point (5, 4): a centre
-  // (x, y, z) lands on pixel (10 x / z + 5, 10 y / z + 4). The mask holds the columns 0-4.
+namespace {
+
+// A 10 x 8 pinhole at the origin looking down +z, f = 10, principal point (5, 4): a centre
+// (x, y, z) lands on pixel (10 x / z + 5, 10 y / z + 4).
+View pinhole_view() {
   View view;
   view.name = "v0";
   view.camera.width = 10;
@@ -343,8 +345,22 @@ TEST_CASE("mask_silhouette: Gaussians projecting outside a mask are ruled out, u
   view.camera.fx = view.camera.fy = 10;
   view.camera.cx = 5;
   view.camera.cy = 4;
+  return view;
+}
+
+// The mask of pinhole_view's columns 0-4.
+cv::Mat1b left_columns_mask() {
   cv::Mat1b mask(8, 10, uchar(0));
   mask.colRange(0, 5).setTo(255);
+  return mask;
+}
+
+}  // namespace
+
+TEST_CASE("mask_silhouette: Gaussians projecting outside a mask are ruled out, unseen ones not",
+          "[inference][filter_3d]") {
+  const View view = pinhole_view();
+  const cv::Mat1b mask = left_columns_mask();
   const std::vector<float> means = {
       -0.2f,  0, 1,   // pixel (3, 4): inside the mask
       0.2f,   0, 1,   // pixel (7, 4): outside, ruled out
@@ -356,4 +372,35 @@ TEST_CASE("mask_silhouette: Gaussians projecting outside a mask are ruled out, u
   CHECK(centres_outside_mask(means, view, mask) == std::vector<char>{0, 1, 1, 0, 0, 0});
   CHECK_THROWS_WITH(centres_outside_mask(means, view, cv::Mat1b(8, 9, uchar(0))),
                     Catch::Matchers::Contains("mask of view 'v0' is 9x8, the view 10x8"));
+}
+
+TEST_CASE("growth exclusion: a mask's silhouette and the vote's outside Gaussians, per prompt",
+          "[inference][filter_3d]") {
+  Capture capture;
+  capture.views = {pinhole_view()};
+  // Gaussian 0 inside the mask (pixel (3, 4)), 1 outside it (pixel (7, 4)), 2 behind the camera.
+  const std::vector<float> means = {-0.2f, 0, 1, 0.2f, 0, 1, 0.2f, 0, -1};
+  PromptSet prompts;
+  prompts.prompts = {{"masked", PromptKind::Mask, "v0", {}, {}, left_columns_mask()},
+                     {"clicked", PromptKind::Point, "v0", {{3, 4}}, {}, {}}};
+  // Without votes only the mask rules out, and the click rules out nothing.
+  GrowthExclusion ex = prompt_growth_exclusion(means, capture, prompts, 0.9);
+  CHECK(ex.size() == 1);
+  CHECK(ex.at(0) == std::vector<char>{0, 1, 0});
+  // Votes: below -0.9 rules out (Gaussian 2 for the mask prompt: seen only outside; Gaussian 0
+  // for the click), -0.9 itself and an unseen 0 do not.
+  prompts.vote_balance = {{0.5f, 0.f, -0.95f}, {-1.f, -0.9f, 0.f}};
+  ex = prompt_growth_exclusion(means, capture, prompts, 0.9);
+  CHECK(ex.at(0) == std::vector<char>{0, 1, 1});
+  CHECK(ex.at(1) == std::vector<char>{1, 0, 0});
+  // outside_vote 1: the vote rules nothing out; 0: every Gaussian seen more outside than inside.
+  CHECK(prompt_growth_exclusion(means, capture, prompts, 1).count(1) == 0);
+  CHECK(prompt_growth_exclusion(means, capture, prompts, 0).at(1) == std::vector<char>{1, 1, 0});
+  prompts.vote_balance[1].pop_back();
+  CHECK_THROWS_WITH(prompt_growth_exclusion(means, capture, prompts, 0.9),
+                    Catch::Matchers::Contains("'clicked' was voted on a model of 2 Gaussians, "
+                                              "this one has 3"));
+  prompts.prompts[0].view = "v9";
+  CHECK_THROWS_WITH(prompt_growth_exclusion(means, capture, prompts, 0.9),
+                    Catch::Matchers::Contains("the capture has no view 'v9'"));
 }

@@ -57,6 +57,15 @@ TEST_CASE("mask votes: weighted majority with FlashSplat's background bias",
   CHECK(votes.object(0, -0.99) == std::vector<uint8_t>{1, 1, 0, 0});
   // Prompt 1 voted in view b alone: g0 (0, 0.1) object, g1 (0.4, 0) background.
   CHECK(votes.object(1, 0) == std::vector<uint8_t>{1, 0, 0, 0});
+  // The balance (A_1 - A_0) / |A|: g0 (0.6 - 0.1) / 0.608, g1 0.2 / 0.860, g2 seen only outside
+  // -1, g3 unseen 0; prompt 1: g0 1, g1 -1.
+  const std::vector<float> balance = votes.balance(0);
+  REQUIRE(balance.size() == 4);
+  CHECK(balance[0] == Approx(0.5 / std::hypot(0.1, 0.6)));
+  CHECK(balance[1] == Approx(0.2 / std::hypot(0.5, 0.7)));
+  CHECK(balance[2] == Approx(-1.0));
+  CHECK(balance[3] == 0);
+  CHECK(votes.balance(1) == std::vector<float>{1.f, -1.f, 0.f, 0.f});
   CHECK_THROWS_AS(votes.add_view(a.view(), 2, 1, {row_mask(true, false)}), std::invalid_argument);
   CHECK_THROWS_AS(votes.add_view(a.view(), 2, 1, {cv::Mat1b(2, 2), cv::Mat1b()}),
                   std::invalid_argument);

@@ -119,7 +119,9 @@ TEST_CASE("semantic maps, prompts, text answers and vocabularies come back", "[p
   PromptSet prompts;
   prompts.prompts = {{"lamp", PromptKind::Scribble, "cam_01", {{1, 2}, {3, 4}}, {{5, 6}}, {}},
                      {"bed", PromptKind::Mask, "cam_00", {}, {}, disc(8, 8)}};
+  prompts.vote_balance = {{0.5f, -1.f, 0.f}, {}};
   const PromptSet p = round_trip(prompts);
+  CHECK(p.vote_balance == prompts.vote_balance);
   CHECK(p.prompts[0].kind == PromptKind::Scribble);
   CHECK(p.prompts[0].positive[1] == cv::Point(3, 4));
   CHECK(p.prompts[1].mask.size() == cv::Size(8, 8));
