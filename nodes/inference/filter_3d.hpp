@@ -8,7 +8,8 @@
 //     kept (the largest, and any other with at least `min_component_fraction` of its Gaussians);
 //  3. ball-query growth: a Gaussian within r of the kept set joins the instance, when it was
 //     unassigned or removed from this same instance by steps 1-2, and is not excluded from it
-//     (an instance's exclusion: the Gaussians its prompt's 2D answers rule out, growth_exclusion.hpp).
+//     (an instance's exclusion: the Gaussians its prompt's 2D answers rule out,
+//     growth_exclusion.hpp).
 // Gaussians removed from an instance and not restored become unassigned (-1), never another
 // instance's.
 // Growth has no feature or colour check (SAGA's neither), so a selection that touches a dense
