@@ -5,6 +5,7 @@
 #include <set>
 #include <stdexcept>
 
+#include "base/csv_field.hpp"
 #include "base/statistics.hpp"
 #include "base/utf8.hpp"
 
@@ -177,13 +178,6 @@ json mean_std_json(const std::vector<double>& xs) {
   if (xs.empty()) return json();
   const auto [mean, sd] = mean_std(xs);
   return {{"mean", mean}, {"std", sd}};
-}
-
-std::string csv_field(const std::string& s) {
-  if (s.find_first_of(",\"\n") == std::string::npos) return s;
-  std::string out = "\"";
-  for (char c : s) out += c == '"' ? std::string("\"\"") : std::string(1, c);
-  return out + "\"";
 }
 
 std::string number(double x) {

@@ -7,6 +7,7 @@
 #include <Eigen/Core>
 #include <opencv2/imgproc.hpp>
 
+#include "base/csv_field.hpp"
 #include "base/errors.hpp"
 #include "nodes/eval/hungarian.hpp"
 
@@ -85,6 +86,21 @@ InstanceScores score_label_maps(const LabelMapSet& predictions, const Capture& c
     }
   }
   return score_instances_hungarian(gt, pred);
+}
+
+std::string instance_matches_csv(const InstanceScores& s, const Capture& capture) {
+  std::string csv = "gt_label,class,matched_pred,iou\n";
+  for (size_t k = 0; k < s.gt_ids.size(); ++k) {
+    std::string name;
+    const auto instance = capture.instance_class.find(s.gt_ids[k]);
+    if (s.gt_ids[k] != 0 && instance != capture.instance_class.end()) {
+      const auto cls = capture.classes.find(instance->second);
+      name = cls != capture.classes.end() ? cls->second : std::to_string(instance->second);
+    }
+    csv += std::to_string(s.gt_ids[k]) + "," + csv_field(name) + "," +
+           std::to_string(s.matched_pred[k]) + "," + std::to_string(s.matched_iou[k]) + "\n";
+  }
+  return csv;
 }
 
 }  // namespace gslift

@@ -13,6 +13,7 @@
 // predicted labels (precision), exactly as Gaga's Replica protocol scores them.
 #pragma once
 
+#include <string>
 #include <vector>
 
 #include <opencv2/core.hpp>
@@ -40,5 +41,10 @@ InstanceScores score_instances_hungarian(const std::vector<cv::Mat1i>& gt,
 // Predictions of another size are resized nearest-neighbour (Gaga). Throws InputError when a
 // view is missing from the capture or has no ground-truth instance map.
 InstanceScores score_label_maps(const LabelMapSet& predictions, const Capture& capture);
+
+// matches.csv: per ground-truth label, `gt_label,class,matched_pred,iou`, with the class name the
+// capture gives the instance (Capture::instance_class, classes), empty for label 0 and for an
+// instance without one, so results can be broken down per class across runs.
+std::string instance_matches_csv(const InstanceScores& s, const Capture& capture);
 
 }  // namespace gslift

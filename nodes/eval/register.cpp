@@ -134,11 +134,7 @@ void run_instance_hungarian(NodeContext& ctx, const InstanceEvalOptions&) {
   }
   const auto dir = ctx.out_dir();
   if (dir.empty()) return;
-  std::string csv = "gt_label,matched_pred,iou\n";
-  for (size_t k = 0; k < s.gt_ids.size(); ++k)
-    csv += std::to_string(s.gt_ids[k]) + "," + std::to_string(s.matched_pred[k]) + "," +
-           std::to_string(s.matched_iou[k]) + "\n";
-  write_file_atomically(dir / "matches.csv", csv);
+  write_file_atomically(dir / "matches.csv", instance_matches_csv(s, *capture));
   if (ctx.has_input("model"))
     write_instance_pictures(*ctx.input<GaussianModel>("model"), *capture, *predictions, s, dir);
 }

@@ -4,22 +4,12 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include "base/csv_field.hpp"
 #include "base/errors.hpp"
 #include "base/fixed_point.hpp"
 #include "nodes/scene/caption_strip.hpp"
 
 namespace gslift {
-namespace {
-
-// CSV field: quoted when it holds a comma or a quote.
-std::string field(const std::string& s) {
-  if (s.find_first_of(",\"") == std::string::npos) return s;
-  std::string q = "\"";
-  for (char c : s) q += c == '"' ? std::string("\"\"") : std::string(1, c);
-  return q + "\"";
-}
-
-}  // namespace
 
 SemanticEvaluation evaluate_semantics(const SemanticMaps& predictions, const Capture& capture,
                                       const SemanticEvalOptions& options) {
@@ -54,7 +44,7 @@ std::string semantic_class_csv(const SemanticScores& s, const std::vector<std::s
   std::string out = "class,tp,fn,fp,recall,precision,present\n";
   for (size_t i = 0; i < s.classes.size(); ++i) {
     const SemanticClassScore& k = s.classes[i];
-    out += field(i < names.size() ? names[i] : std::to_string(i)) + "," + std::to_string(k.tp) +
+    out += csv_field(i < names.size() ? names[i] : std::to_string(i)) + "," + std::to_string(k.tp) +
            "," + std::to_string(k.fn) + "," + std::to_string(k.fp) + "," + fixed2(100 * k.recall) +
            "," + fixed2(100 * k.precision) + "," + (k.present ? "1" : "0") + "\n";
   }
@@ -64,7 +54,9 @@ std::string semantic_class_csv(const SemanticScores& s, const std::vector<std::s
 }
 
 std::string confusion_csv(const Confusion& m, const std::vector<std::string>& names) {
-  auto name = [&](int i) { return field(i < int(names.size()) ? names[i] : std::to_string(i)); };
+  auto name = [&](int i) {
+    return csv_field(i < int(names.size()) ? names[i] : std::to_string(i));
+  };
   std::string out = "ground truth \\ predicted";
   for (int j = 0; j < m.classes; ++j) out += "," + name(j);
   out += ",unlabelled\n";

@@ -56,6 +56,25 @@ TEST_CASE("score_instances_hungarian: rectangular cases") {
   CHECK_THROWS(score_instances_hungarian({cv::Mat1i::zeros(2, 2)}, {cv::Mat1i::zeros(2, 3)}));
 }
 
+// matches.csv names each ground-truth instance's class from the capture: the hand-computed case
+// above, where instance 1 is of class 3 ("table, instrument": a name that needs quoting) and
+// instance 2 has no class in the capture; label 0 is the background.
+TEST_CASE("instance_matches_csv: the class of each ground-truth instance") {
+  const InstanceScores s =
+      score_instances_hungarian({(cv::Mat1i(2, 2) << 1, 1, 2, 0), (cv::Mat1i(2, 2) << 1, 1, 0, 0)},
+                                {(cv::Mat1i(2, 2) << 5, 5, 5, 0), (cv::Mat1i(2, 2) << 7, 7, 0, 0)});
+  Capture capture;
+  capture.classes = {{0, "background"}, {3, "table, instrument"}};
+  capture.instance_class = {{1, 3}};
+  CHECK(instance_matches_csv(s, capture) ==
+        "gt_label,class,matched_pred,iou\n"
+        "0,,0,1.000000\n"
+        "1,\"table, instrument\",7,0.500000\n"
+        "2,,5,0.333333\n");
+  capture.instance_class[2] = 9;  // a class id the vocabulary lacks: written as the id
+  CHECK(instance_matches_csv(s, capture).find("\n2,9,5,") != std::string::npos);
+}
+
 // The assignment's total against brute force over every permutation of a 4x4 matrix.
 TEST_CASE("max_score_assignment: optimal against brute force") {
   Eigen::MatrixXd m(4, 4);
