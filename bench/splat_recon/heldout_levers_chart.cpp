@@ -16,32 +16,14 @@
 
 #include "base/atomic_file.hpp"
 #include "base/statistics.hpp"
+#include "bench/common/csv_line.hpp"
 #include "report/charts.hpp"
 
 using namespace gslift;
+using bench::csv_fields;
 using nlohmann::json;
 
 namespace {
-
-// One CSV line: fields split at commas outside double quotes ("" is a quote), CR dropped.
-std::vector<std::string> csv_fields(const std::string& line) {
-  std::vector<std::string> out(1);
-  bool quoted = false;
-  for (size_t i = 0; i < line.size(); ++i) {
-    const char c = line[i];
-    if (c == '"' && quoted && i + 1 < line.size() && line[i + 1] == '"') {
-      out.back() += '"';
-      ++i;
-    } else if (c == '"') {
-      quoted = !quoted;
-    } else if (c == ',' && !quoted) {
-      out.emplace_back();
-    } else if (c != '\r') {
-      out.back() += c;
-    }
-  }
-  return out;
-}
 
 // The figures summarised per variant: CSV column, name in the JSON, scale (fractions to %).
 struct Figure {
