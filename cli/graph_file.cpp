@@ -12,17 +12,21 @@ namespace gslift {
 
 namespace {
 
-void print_diagnostics(const std::vector<Diagnostic>& diagnostics) {
-  for (const auto& d : diagnostics) std::fprintf(stderr, "%s\n", terminal_safe(d.str()).c_str());
+void print_diagnostics(const std::vector<Diagnostic>& diagnostics, std::set<std::string>* printed) {
+  for (const auto& d : diagnostics) {
+    const std::string text = d.str();
+    if (printed && !printed->insert(text).second) continue;
+    std::fprintf(stderr, "%s\n", terminal_safe(text).c_str());
+  }
 }
 
 }  // namespace
 
 std::optional<Graph> load_checked(const std::string& file, const Registry& registry,
-                                  const LoadOptions& opt) {
+                                  const LoadOptions& opt, std::set<std::string>* printed) {
   require_regular_file(file, "graph file");  // a directory, FIFO or symlink loop: exit 4
   LoadResult loaded = load_graph(file, registry, opt);
-  print_diagnostics(loaded.diagnostics);
+  print_diagnostics(loaded.diagnostics, printed);
   if (!loaded.ok()) {
     size_t errors = 0;
     for (const auto& d : loaded.diagnostics) errors += d.severity == Diagnostic::Severity::Error;

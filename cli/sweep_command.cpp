@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
+#include <set>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -135,9 +136,10 @@ int cmd_sweep(int argc, char** argv, const Registry& registry) {
   } catch (const std::invalid_argument& e) {
     throw UsageError(e.what());
   }
+  std::set<std::string> printed;  // each warning once, not once per combination
   for (const auto& p : points) {
     if (p.seed != seeds.front()) continue;
-    const auto graph = load_checked(graph_file, registry, combination_options(p));
+    const auto graph = load_checked(graph_file, registry, combination_options(p), &printed);
     if (!graph) return exit_code::kInvalidGraph;
     // Each capture of a set is checked as `gslift validate --input` would, before the first run:
     // a misspelt line of the set is one error now, not a failed room an hour in.

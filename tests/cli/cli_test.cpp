@@ -398,4 +398,20 @@ nodes:
   // Without --dry-run, --out stays required.
   CHECK(run_command(kBinary + " sweep " + shell_quoted(graph) + " --inputs " + shell_quoted(set))
             .code == exit_code::kUsage);
+  // A warning every combination shares is printed once, not once per combination.
+  const fs::path partly = write_file_text(dir / "partly.yaml", R"(graph: partly
+params: {input: ""}
+nodes:
+  capture: {type: ingest.capture, params: {path: "${input}"}}
+  recon: {type: splat.reconstruct, in: {capture: capture.capture}}
+  render: {type: splat.render, in: {model: recon.model, capture: capture.capture}}
+)");
+  const auto warned = run_command(kBinary + " sweep " + shell_quoted(partly) + " --inputs " +
+                                  shell_quoted(set) + " --seeds 0-1 --dry-run");
+  INFO(warned.output);
+  CHECK(warned.code == exit_code::kOk);
+  const std::string warning = "warning[unused-output]";
+  const size_t first = warned.output.find(warning);
+  CHECK(first != std::string::npos);
+  CHECK(warned.output.find(warning, first + 1) == std::string::npos);
 }
