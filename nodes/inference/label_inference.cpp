@@ -25,7 +25,8 @@ FeatureMap render_feature_map(const GaussianModel& model, const View& view) {
 
 LabelMapSet infer_labels_by_prototypes(const GaussianModel& model, const Capture& capture,
                                        const LabelMapSet& consistent, const std::vector<int>& views,
-                                       PrototypeClassifier kind, uint64_t seed, double min_area) {
+                                       PrototypeClassifier kind, uint64_t seed, double min_area,
+                                       double min_feature_norm) {
   if (model.feature_dim < 1) throw InputError("inference: the model has no feature channels");
   std::vector<FeatureMap> maps;
   std::vector<cv::Mat1i> labels;
@@ -47,12 +48,15 @@ LabelMapSet infer_labels_by_prototypes(const GaussianModel& model, const Capture
     ids.resize(classifier.rows());
     for (size_t c = 0; c < ids.size(); ++c) ids[c] = static_cast<int>(c) + 1;
   }
+  const double min_norm = min_feature_norm > 0 ? min_feature_norm * median_feature_norm(maps) : 0;
   LabelMapSet out;
   out.labels = ids.empty() ? 0 : *std::max_element(ids.begin(), ids.end());
-  for (const int v : views)
-    out.views.push_back({capture.views[v].name,
-                         nearest_prototype_labels(render_feature_map(model, capture.views[v]),
-                                                  classifier, ids, min_area)});
+  for (const int v : views) {
+    const FeatureMap f = render_feature_map(model, capture.views[v]);
+    cv::Mat1i labels = nearest_prototype_labels(f, classifier, ids, min_area);
+    if (min_norm > 0) label_faint_features(f, min_norm, labels);
+    out.views.push_back({capture.views[v].name, labels});
+  }
   return out;
 }
 

@@ -1,5 +1,6 @@
 #include "nodes/inference/prototypes.hpp"
 
+#include <algorithm>
 #include <map>
 
 #include <tbb/parallel_for.h>
@@ -70,6 +71,31 @@ cv::Mat1i nearest_prototype_labels(const FeatureMap& map, const Eigen::MatrixXf&
           unit * Eigen::Map<const Eigen::VectorXf>(map.at(x, y), map.dim);
   });
   return argmax_labels(scores, map.width, map.height, ids, min_area);
+}
+
+double median_feature_norm(const std::vector<FeatureMap>& maps) {
+  std::vector<float> norms;
+  for (const FeatureMap& m : maps)
+    for (int y = 0; y < m.height; ++y)
+      for (int x = 0; x < m.width; ++x)
+        norms.push_back(Eigen::Map<const Eigen::VectorXf>(m.at(x, y), m.dim).norm());
+  if (norms.empty()) return 0;
+  const auto mid = norms.begin() + norms.size() / 2;  // the upper middle for an even count
+  std::nth_element(norms.begin(), mid, norms.end());
+  return *mid;
+}
+
+size_t label_faint_features(const FeatureMap& map, double min_norm, cv::Mat1i& labels) {
+  if (labels.cols != map.width || labels.rows != map.height)
+    throw InputError("inference: a label map differs in size from its feature map");
+  size_t set = 0;
+  for (int y = 0; y < map.height; ++y)
+    for (int x = 0; x < map.width; ++x)
+      if (Eigen::Map<const Eigen::VectorXf>(map.at(x, y), map.dim).norm() < min_norm) {
+        labels(y, x) = 0;
+        ++set;
+      }
+  return set;
 }
 
 }  // namespace gslift

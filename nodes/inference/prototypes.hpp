@@ -32,4 +32,14 @@ LabelPrototypes label_prototypes(const std::vector<FeatureMap>& maps,
 cv::Mat1i nearest_prototype_labels(const FeatureMap& map, const Eigen::MatrixXf& prototypes,
                                    const std::vector<int>& ids, double min_area = 0);
 
+// The median length of the rendered feature over every pixel of `maps`, the upper of the two
+// middle values for an even count (0 when they are empty).
+double median_feature_norm(const std::vector<FeatureMap>& maps);
+
+// Label 0 (no SAM mask) where the rendered feature is shorter than min_norm; returns how many
+// pixels were set. Eq. 19's cosine ignores a feature's length, but a short one is a pixel the
+// trained features barely reach (open space at silhouettes, Gaussians no training pixel trained,
+// which keep their small random start), and its direction picks a label at random.
+size_t label_faint_features(const FeatureMap& map, double min_norm, cv::Mat1i& labels);
+
 }  // namespace gslift

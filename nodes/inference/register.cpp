@@ -527,6 +527,23 @@ const ParamTable<LabelInferenceOptions>& label_inference_param_table() {
   return table;
 }
 
+struct PrototypeInferenceOptions {
+  LabelInferenceOptions common;
+  double min_feature_norm = 0;  // label_faint_features
+};
+
+const ParamTable<PrototypeInferenceOptions>& prototype_inference_param_table() {
+  static const ParamTable<PrototypeInferenceOptions> table =
+      ParamTable<PrototypeInferenceOptions>()
+          .nest(&PrototypeInferenceOptions::common, label_inference_param_table())
+          .add("min_feature_norm", &PrototypeInferenceOptions::min_feature_norm,
+               "pixels whose rendered feature is shorter than this fraction of the training "
+               "views' median length get label 0 (no SAM mask): the cosine ignores length, and a "
+               "faint feature's direction picks a label at random; 0 = off",
+               0, 10);
+  return table;
+}
+
 // Each label map moved by the shift registering the model's render in its view to the photo.
 void output_labels(NodeContext& ctx, const Capture& capture, LabelMapSet labels,
                    const MaskAlignment& align) {
@@ -575,13 +592,15 @@ void add_label_inference(Registry& registry) {
                   "labels), argmax cosine to a centre",
             {model, capture, consistent},
             {out}},
-        label_inference_param_table(), [kind](NodeContext& ctx, const LabelInferenceOptions& o) {
+        prototype_inference_param_table(),
+        [kind](NodeContext& ctx, const PrototypeInferenceOptions& p) {
+          const LabelInferenceOptions& o = p.common;
           const auto c = ctx.input<Capture>("capture");
           output_labels(
               ctx, *c,
               infer_labels_by_prototypes(*ctx.input<GaussianModel>("model"), *c,
                                          *ctx.input<LabelMapSet>("labels"), c->views_named(o.views),
-                                         kind, ctx.seed(), o.min_area),
+                                         kind, ctx.seed(), o.min_area, p.min_feature_norm),
               o.align);
         });
   registry.add(

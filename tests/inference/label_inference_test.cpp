@@ -44,6 +44,27 @@ TEST_CASE("label_prototypes and nearest_prototype_labels: Eq. 17-19 by hand") {
   CHECK(out(0, 2) == 2);
 }
 
+// The maps above have feature lengths 2, 2, 1 and sqrt10, 1, sqrt5: sorted 1 1 2 2 2.24 3.16, the
+// upper middle 2. A novel view of lengths 0.1, 1, 1.56 (features (0.06,0.08) (1,0) (1,1.2)) at
+// 0.6 x 2 = 1.2 keeps only its last label; the pixels below it take label 0.
+TEST_CASE("label_faint_features: label 0 below a fraction of the training views' median length") {
+  const std::vector<FeatureMap> maps{map_of(3, {2, 0, 0, 2, 0, 1}), map_of(3, {3, 1, 1, 0, 1, 2})};
+  CHECK(median_feature_norm(maps) == Approx(2.0));
+  CHECK(median_feature_norm({map_of(3, {2, 0, 0, 2, 0, 1})}) == Approx(2.0));  // 1 2 2
+  CHECK(median_feature_norm({}) == 0.0);
+  const FeatureMap novel = map_of(3, {0.06f, 0.08f, 1, 0, 1, 1.2f});
+  cv::Mat1i labels = (cv::Mat1i(1, 3) << 1, 2, 2);
+  CHECK(label_faint_features(novel, 0.6 * median_feature_norm(maps), labels) == 2);
+  CHECK(labels(0, 0) == 0);
+  CHECK(labels(0, 1) == 0);
+  CHECK(labels(0, 2) == 2);
+  labels = (cv::Mat1i(1, 3) << 1, 2, 2);
+  CHECK(label_faint_features(novel, 0.0, labels) == 0);  // off
+  CHECK(labels(0, 0) == 1);
+  cv::Mat1i wrong(1, 2, 1);
+  CHECK_THROWS(label_faint_features(novel, 1.0, wrong));
+}
+
 // Six pixels (3 x 2), candidates ids 1, 2, 3, argmax areas 2, 3, 1 pixels. min_area 0.2 (1.2
 // pixels) drops label 3: its pixel (0.2, 0.6, 0.9) takes 2, the better of the rest. min_area 0.5
 // (3 pixels) also drops label 1 (2 pixels): every pixel becomes 2.
