@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 
 #include <spdlog/spdlog.h>
@@ -12,6 +13,7 @@
 #include "nodes/inference/filter_3d.hpp"
 #include "nodes/inference/growth_exclusion.hpp"
 #include "nodes/inference/label_inference.hpp"
+#include "nodes/inference/label_pieces.hpp"
 #include "nodes/inference/mask_carry.hpp"
 #include "nodes/inference/mask_vote_lifting.hpp"
 #include "nodes/inference/prompt_io.hpp"
@@ -511,8 +513,9 @@ void add_render_selection(Registry& registry) {
 // The views the label-inference nodes answer in.
 struct LabelInferenceOptions {
   ViewSet views = ViewSet::Test;
-  double min_area = 0;  // label_argmax.hpp
-  MaskAlignment align;  // [off by default; docs/protosaga.md]
+  double min_area = 0;   // label_argmax.hpp
+  double min_piece = 0;  // label_pieces.hpp
+  MaskAlignment align;   // [off by default; docs/protosaga.md]
 };
 
 const ParamTable<LabelInferenceOptions>& label_inference_param_table() {
@@ -522,6 +525,10 @@ const ParamTable<LabelInferenceOptions>& label_inference_param_table() {
           .add("min_area", &LabelInferenceOptions::min_area,
                "labels covering less than this fraction of a view are dropped there, their "
                "pixels taking the next best label (speckle labels); 0 = off",
+               0, 1)
+          .add("min_piece", &LabelInferenceOptions::min_piece,
+               "connected pieces of a label smaller than this fraction of the view take the "
+               "labels around them (speckle pieces; a small object in one piece stays); 0 = off",
                0, 1)
           .nest(&LabelInferenceOptions::align, mask_alignment_param_table());
   return table;
@@ -544,9 +551,18 @@ const ParamTable<PrototypeInferenceOptions>& prototype_inference_param_table() {
   return table;
 }
 
-// Each label map moved by the shift registering the model's render in its view to the photo.
+// Each label map rid of its pieces below min_piece, then moved by the shift registering the
+// model's render in its view to the photo.
 void output_labels(NodeContext& ctx, const Capture& capture, LabelMapSet labels,
-                   const MaskAlignment& align) {
+                   const LabelInferenceOptions& o) {
+  if (o.min_piece > 0) {
+    size_t relabelled = 0;
+    for (LabelMap& m : labels.views)
+      relabelled += absorb_small_pieces(
+          m.labels, static_cast<int>(std::ceil(o.min_piece * m.labels.total())));
+    ctx.record("piece_pixels", static_cast<double>(relabelled));
+  }
+  const MaskAlignment& align = o.align;
   if (align.to_photo) {
     const auto model = ctx.input<GaussianModel>("model");
     std::vector<std::string> names;
@@ -601,7 +617,7 @@ void add_label_inference(Registry& registry) {
               infer_labels_by_prototypes(*ctx.input<GaussianModel>("model"), *c,
                                          *ctx.input<LabelMapSet>("labels"), c->views_named(o.views),
                                          kind, ctx.seed(), o.min_area, p.min_feature_norm),
-              o.align);
+              o);
         });
   registry.add(
       NodeSpec{"inference.classifier",
@@ -616,7 +632,7 @@ void add_label_inference(Registry& registry) {
                       infer_labels_by_classifier(*ctx.input<GaussianModel>("model"), *c,
                                                  *ctx.input<LabelClassifier>("classifier"),
                                                  c->views_named(o.views), o.min_area),
-                      o.align);
+                      o);
       });
 }
 

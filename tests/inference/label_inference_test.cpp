@@ -3,6 +3,7 @@
 #include <catch2/catch.hpp>
 
 #include "nodes/inference/label_argmax.hpp"
+#include "nodes/inference/label_pieces.hpp"
 #include "nodes/inference/prototype_kmeans.hpp"
 #include "nodes/inference/prototypes.hpp"
 
@@ -96,4 +97,30 @@ TEST_CASE("spherical_kmeans: separates two bundles of directions") {
     CHECK(c.row(ix).norm() == Approx(1.f));
   }
   CHECK(spherical_kmeans(x, 10, 0).rows() == 6);
+}
+
+// A 4 x 5 map of label 1 with a 2-pixel piece of label 3 in a corner, a lone pixel of 2 inside and
+// a 3-pixel piece of 4 connected only diagonally. min 3 pixels: the pieces of 3 and 2 take label 1
+// around them; the diagonal piece of 4 counts as one piece of 3 and stays.
+TEST_CASE("absorb_small_pieces: pieces below the minimum take the labels around them") {
+  auto flat = [](const cv::Mat1i& m) { return std::vector<int>(m.begin(), m.end()); };
+  cv::Mat1i m = (cv::Mat1i(4, 5) << 3, 3, 1, 1, 4,  //
+                 1, 1, 1, 4, 1,                     //
+                 1, 2, 4, 1, 1,                     //
+                 1, 1, 1, 1, 1);
+  CHECK(absorb_small_pieces(m, 3) == 3);
+  CHECK(flat(m) == std::vector<int>{1, 1, 1, 1, 4, 1, 1, 1, 4, 1, 1, 1, 4, 1, 1, 1, 1, 1, 1, 1});
+  // A pixel between two kept pieces takes the one the raster-order fill reaches first (the left).
+  cv::Mat1i row = (cv::Mat1i(1, 5) << 1, 1, 7, 2, 2);
+  CHECK(absorb_small_pieces(row, 2) == 1);
+  CHECK(flat(row) == std::vector<int>{1, 1, 1, 2, 2});
+  // A two-pixel piece between two kept ones is filled from both sides, a pixel from each.
+  row = (cv::Mat1i(1, 8) << 1, 1, 1, 7, 7, 2, 2, 2);
+  CHECK(absorb_small_pieces(row, 3) == 2);
+  CHECK(flat(row) == std::vector<int>{1, 1, 1, 1, 2, 2, 2, 2});
+  // No piece reaches the minimum: nothing to fill from, the map stays; 0 or 1 = off.
+  cv::Mat1i specks = (cv::Mat1i(1, 3) << 1, 2, 3);
+  CHECK(absorb_small_pieces(specks, 2) == 0);
+  CHECK(flat(specks) == std::vector<int>{1, 2, 3});
+  CHECK(absorb_small_pieces(row, 1) == 0);
 }
