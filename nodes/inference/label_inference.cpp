@@ -25,7 +25,7 @@ FeatureMap render_feature_map(const GaussianModel& model, const View& view) {
 
 LabelMapSet infer_labels_by_prototypes(const GaussianModel& model, const Capture& capture,
                                        const LabelMapSet& consistent, const std::vector<int>& views,
-                                       PrototypeClassifier kind, uint64_t seed, double min_area,
+                                       PrototypeClassifier kind, uint64_t seed,
                                        double min_feature_norm) {
   if (model.feature_dim < 1) throw InputError("inference: the model has no feature channels");
   std::vector<FeatureMap> maps;
@@ -53,7 +53,7 @@ LabelMapSet infer_labels_by_prototypes(const GaussianModel& model, const Capture
   out.labels = ids.empty() ? 0 : *std::max_element(ids.begin(), ids.end());
   for (const int v : views) {
     const FeatureMap f = render_feature_map(model, capture.views[v]);
-    cv::Mat1i labels = nearest_prototype_labels(f, classifier, ids, min_area);
+    cv::Mat1i labels = nearest_prototype_labels(f, classifier, ids);
     if (min_norm > 0) label_faint_features(f, min_norm, labels);
     out.views.push_back({capture.views[v].name, labels});
   }
@@ -61,8 +61,7 @@ LabelMapSet infer_labels_by_prototypes(const GaussianModel& model, const Capture
 }
 
 LabelMapSet infer_labels_by_classifier(const GaussianModel& model, const Capture& capture,
-                                       const LabelClassifier& c, const std::vector<int>& views,
-                                       double min_area) {
+                                       const LabelClassifier& c, const std::vector<int>& views) {
   if (model.feature_dim != c.dim)
     throw InputError("inference.classifier: the classifier expects " + std::to_string(c.dim) +
                      " feature channels, the model has " + std::to_string(model.feature_dim));
@@ -81,8 +80,7 @@ LabelMapSet infer_labels_by_classifier(const GaussianModel& model, const Capture
                                     c.classes) =
             w.transpose() * Eigen::Map<const Eigen::VectorXf>(f.at(x, y), f.dim) + b;
     });
-    out.views.push_back(
-        {capture.views[v].name, argmax_labels(scores, f.width, f.height, ids, min_area)});
+    out.views.push_back({capture.views[v].name, argmax_labels(scores, f.width, f.height, ids)});
   }
   return out;
 }

@@ -22,19 +22,18 @@ FeatureMap render_feature_map(const GaussianModel& model, const View& view);
 
 enum class PrototypeClassifier { Averaged, KMeans };
 
-// Prototypes from the training views of `consistent`, answered in capture views `views`; labels
-// below min_area of a view dropped there (label_argmax.hpp); pixels whose rendered feature is
-// shorter than min_feature_norm x the training views' median length labelled 0
-// (label_faint_features). Throws InputError when the model has no features or no training view
-// has a consistent map.
+// Prototypes from the training views of `consistent`, answered in capture views `views`; pixels
+// whose rendered feature is shorter than min_feature_norm x the training views' median length
+// labelled 0 (label_faint_features). Throws InputError when the model has no features or no
+// training view has a consistent map.
 LabelMapSet infer_labels_by_prototypes(const GaussianModel& model, const Capture& capture,
                                        const LabelMapSet& consistent, const std::vector<int>& views,
-                                       PrototypeClassifier kind, uint64_t seed, double min_area = 0,
+                                       PrototypeClassifier kind, uint64_t seed,
                                        double min_feature_norm = 0);
 
-// argmax_c (W F(p) + b)_c in capture views `views`, min_area as above.
+// argmax_c (W F(p) + b)_c in capture views `views`.
 LabelMapSet infer_labels_by_classifier(const GaussianModel& model, const Capture& capture,
                                        const LabelClassifier& classifier,
-                                       const std::vector<int>& views, double min_area = 0);
+                                       const std::vector<int>& views);
 
 }  // namespace gslift

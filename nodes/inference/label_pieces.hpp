@@ -3,9 +3,10 @@
 // [decision, measured in docs/protosaga.md] Gaga's evaluation counts every label present anywhere
 // in a test view as a predicted label (precision = hits / predicted labels), and a novel view's
 // per-pixel argmax scatters small islands of a label over the regions of others: Gaussians seen by
-// few training pixels, the borders between two instances. min_area (label_argmax.hpp) drops a
-// label by its total area in the view and so also drops small whole objects; this drops pieces by
-// their own size, whatever label they carry, and keeps a small object that is one coherent piece.
+// few training pixels, the borders between two instances. Pieces are judged by their own size,
+// whatever label they carry, so a small object that is one coherent piece stays (a rule on a
+// label's total area in the view, measured before, also dropped small whole objects and lost mIoU
+// for its precision: docs/protosaga.md).
 // The same step is a param of every label-inference node, so Gaga and Proto-SaGa are compared with
 // it on equal terms.
 #pragma once

@@ -53,7 +53,7 @@ LabelPrototypes label_prototypes(const std::vector<FeatureMap>& maps,
 }
 
 cv::Mat1i nearest_prototype_labels(const FeatureMap& map, const Eigen::MatrixXf& prototypes,
-                                   const std::vector<int>& ids, double min_area) {
+                                   const std::vector<int>& ids) {
   if (prototypes.rows() == 0 || prototypes.cols() != map.dim ||
       size_t(prototypes.rows()) != ids.size())
     throw InputError("inference: prototypes do not match the rendered features");
@@ -70,7 +70,7 @@ cv::Mat1i nearest_prototype_labels(const FeatureMap& map, const Eigen::MatrixXf&
       Eigen::Map<Eigen::VectorXf>(scores.data() + (size_t(y) * map.width + x) * rows, rows) =
           unit * Eigen::Map<const Eigen::VectorXf>(map.at(x, y), map.dim);
   });
-  return argmax_labels(scores, map.width, map.height, ids, min_area);
+  return argmax_labels(scores, map.width, map.height, ids);
 }
 
 double median_feature_norm(const std::vector<FeatureMap>& maps) {

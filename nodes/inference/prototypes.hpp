@@ -28,9 +28,8 @@ LabelPrototypes label_prototypes(const std::vector<FeatureMap>& maps,
                                  const std::vector<cv::Mat1i>& labels);
 
 // Eq. 19: per pixel, ids[argmax_r cos(prototypes.row(r), F(p))]. Ties keep the lower row.
-// min_area > 0 drops the labels that would cover less of the view (label_argmax.hpp).
 cv::Mat1i nearest_prototype_labels(const FeatureMap& map, const Eigen::MatrixXf& prototypes,
-                                   const std::vector<int>& ids, double min_area = 0);
+                                   const std::vector<int>& ids);
 
 // The median length of the rendered feature over every pixel of `maps`, the upper of the two
 // middle values for an even count (0 when they are empty).

@@ -513,7 +513,6 @@ void add_render_selection(Registry& registry) {
 // The views the label-inference nodes answer in.
 struct LabelInferenceOptions {
   ViewSet views = ViewSet::Test;
-  double min_area = 0;   // label_argmax.hpp
   double min_piece = 0;  // label_pieces.hpp
   MaskAlignment align;   // [off by default; docs/protosaga.md]
 };
@@ -522,10 +521,6 @@ const ParamTable<LabelInferenceOptions>& label_inference_param_table() {
   static const ParamTable<LabelInferenceOptions> table =
       ParamTable<LabelInferenceOptions>()
           .add("views", &LabelInferenceOptions::views, view_set_names(), "views to label")
-          .add("min_area", &LabelInferenceOptions::min_area,
-               "labels covering less than this fraction of a view are dropped there, their "
-               "pixels taking the next best label (speckle labels); 0 = off",
-               0, 1)
           .add("min_piece", &LabelInferenceOptions::min_piece,
                "connected pieces of a label smaller than this fraction of the view take the "
                "labels around them (speckle pieces; a small object in one piece stays); 0 = off",
@@ -616,7 +611,7 @@ void add_label_inference(Registry& registry) {
               ctx, *c,
               infer_labels_by_prototypes(*ctx.input<GaussianModel>("model"), *c,
                                          *ctx.input<LabelMapSet>("labels"), c->views_named(o.views),
-                                         kind, ctx.seed(), o.min_area, p.min_feature_norm),
+                                         kind, ctx.seed(), p.min_feature_norm),
               o);
         });
   registry.add(
@@ -631,7 +626,7 @@ void add_label_inference(Registry& registry) {
         output_labels(ctx, *c,
                       infer_labels_by_classifier(*ctx.input<GaussianModel>("model"), *c,
                                                  *ctx.input<LabelClassifier>("classifier"),
-                                                 c->views_named(o.views), o.min_area),
+                                                 c->views_named(o.views)),
                       o);
       });
 }

@@ -66,20 +66,16 @@ TEST_CASE("label_faint_features: label 0 below a fraction of the training views'
   CHECK_THROWS(label_faint_features(novel, 1.0, wrong));
 }
 
-// Six pixels (3 x 2), candidates ids 1, 2, 3, argmax areas 2, 3, 1 pixels. min_area 0.2 (1.2
-// pixels) drops label 3: its pixel (0.2, 0.6, 0.9) takes 2, the better of the rest. min_area 0.5
-// (3 pixels) also drops label 1 (2 pixels): every pixel becomes 2.
-TEST_CASE("argmax_labels: labels below the minimum area give their pixels to the next best") {
-  const std::vector<float> scores = {1, 0, 0,    1,    0,    0,    0, 1, 0,
+// Six pixels (3 x 2), candidates ids 1, 2, 3: per pixel the highest score's id; a tie (the
+// second pixel's 0.5 against 0.5) keeps the lower candidate.
+TEST_CASE("argmax_labels: the best candidate per pixel, ties to the lower") {
+  const std::vector<float> scores = {1, 0, 0,    0.5f, 0.5f, 0,    0, 1, 0,
                                      0, 1, 0.5f, 0.2f, 0.6f, 0.9f, 0, 1, 0};
   const std::vector<int> ids = {1, 2, 3};
-  auto flat = [](const cv::Mat1i& m) { return std::vector<int>(m.begin(), m.end()); };
-  const cv::Mat1i plain = argmax_labels(scores, 3, 2, ids, 0);
-  CHECK(plain.cols == 3);
-  CHECK(flat(plain) == std::vector<int>{1, 1, 2, 2, 3, 2});
-  CHECK(flat(argmax_labels(scores, 3, 2, ids, 0.2)) == std::vector<int>{1, 1, 2, 2, 2, 2});
-  CHECK(flat(argmax_labels(scores, 3, 2, ids, 0.5)) == std::vector<int>{2, 2, 2, 2, 2, 2});
-  CHECK(flat(argmax_labels(scores, 3, 2, ids, 1.0)) == std::vector<int>{2, 2, 2, 2, 2, 2});
+  const cv::Mat1i out = argmax_labels(scores, 3, 2, ids);
+  CHECK(out.cols == 3);
+  CHECK(std::vector<int>(out.begin(), out.end()) == std::vector<int>{1, 1, 2, 2, 3, 2});
+  CHECK_THROWS(argmax_labels(scores, 3, 1, ids));  // scores for six pixels, a view of three
 }
 
 // Two tight bundles of directions: K-means with k = 2 finds one centre in each, whatever the
