@@ -125,8 +125,9 @@ int cmd_sweep(int argc, char** argv, const Registry& registry) {
     if (args.has("input") || !p.input.empty()) lopt.vars["input"] = input_of(p);
     return lopt;
   };
+  std::set<std::string> printed;  // each warning once, not once per combination
   if (seeds.empty()) {
-    const auto graph = load_checked(graph_file, registry, load_options(args));
+    const auto graph = load_checked(graph_file, registry, load_options(args), &printed);
     if (!graph) return exit_code::kInvalidGraph;
     seeds = {run_seed(*graph)};
   }
@@ -136,7 +137,6 @@ int cmd_sweep(int argc, char** argv, const Registry& registry) {
   } catch (const std::invalid_argument& e) {
     throw UsageError(e.what());
   }
-  std::set<std::string> printed;  // each warning once, not once per combination
   for (const auto& p : points) {
     if (p.seed != seeds.front()) continue;
     const auto graph = load_checked(graph_file, registry, combination_options(p), &printed);
