@@ -53,9 +53,9 @@ LabelMapSet infer_labels_by_prototypes(const GaussianModel& model, const Capture
   out.labels = ids.empty() ? 0 : *std::max_element(ids.begin(), ids.end());
   for (const int v : views) {
     const FeatureMap f = render_feature_map(model, capture.views[v]);
-    cv::Mat1i labels = nearest_prototype_labels(f, classifier, ids);
-    if (min_norm > 0) label_faint_features(f, min_norm, labels);
-    out.views.push_back({capture.views[v].name, labels});
+    cv::Mat1i view_labels = nearest_prototype_labels(f, classifier, ids);
+    if (min_norm > 0) label_faint_features(f, min_norm, view_labels);
+    out.views.push_back({capture.views[v].name, view_labels});
   }
   return out;
 }
