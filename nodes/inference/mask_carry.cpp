@@ -203,6 +203,24 @@ std::vector<std::vector<cv::Mat1b>> masks_by_training_view(const Capture& captur
   return out;
 }
 
+std::vector<std::vector<cv::Mat1b>> labelled_masks_by_training_view(
+    const Capture& capture, const MaskSet& masks, const std::vector<std::string>& labels) {
+  std::vector<std::vector<cv::Mat1b>> out(capture.views.size(),
+                                          std::vector<cv::Mat1b>(labels.size()));
+  for (const MaskView& mv : training_mask_views(capture, masks)) {
+    const ViewMasks& vm = masks.views[mv.mask_view];
+    if (vm.masks.empty()) continue;
+    const Camera& camera = capture.views[mv.capture_view].camera;
+    for (size_t k = 0; k < labels.size(); ++k) {
+      cv::Mat1b& union_k = out[mv.capture_view][k];
+      union_k = cv::Mat1b::zeros(camera.height, camera.width);
+      for (const Mask& m : vm.masks)
+        if (m.label == labels[k]) union_k |= m.pixels;
+    }
+  }
+  return out;
+}
+
 std::vector<std::vector<uint8_t>> lift_in_own_views(const GaussianModel& model,
                                                     const Capture& capture,
                                                     const std::vector<int>& view,

@@ -16,6 +16,7 @@
 // (mask_vote_lifting.hpp).
 #pragma once
 
+#include <string>
 #include <vector>
 
 #include <opencv2/core.hpp>
@@ -76,6 +77,15 @@ cv::Mat1b carried_masks(const std::vector<cv::Mat1b>& candidates,
 // otherwise). Throws InputError as training_mask_views does.
 std::vector<std::vector<cv::Mat1b>> masks_by_training_view(const Capture& capture,
                                                            const MaskSet& masks);
+
+// Per capture view and per label of `labels`, the union of the masks of `masks` with that label in
+// that view, when it is a training view that `masks` has masks for: an all-zero mask where the
+// view has masks but none with the label (the object is not in sight there, so the whole view
+// votes against it), an empty Mat where the view is held out or has no masks (it does not vote).
+// The carry for masks given in every view, e.g. tracked through a video by a 2D segmenter, which
+// is what FlashSplat lifts. Throws InputError as training_mask_views does.
+std::vector<std::vector<cv::Mat1b>> labelled_masks_by_training_view(
+    const Capture& capture, const MaskSet& masks, const std::vector<std::string>& labels);
 
 // Per prompt k, its mask `own[k]` lifted by FlashSplat's vote in its view `view[k]` alone (1 =
 // the object's), with background bias `bias` (mask_vote_lifting.hpp).

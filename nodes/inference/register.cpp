@@ -306,10 +306,11 @@ std::vector<cv::Point> other_clicks(const PromptSet& prompts, const std::vector<
   return out;
 }
 
-enum class CarriedBy { Features, Masks };
+enum class CarriedBy { Features, Masks, Reference };
 const EnumNames<CarriedBy>& carried_by_names() {
   static const EnumNames<CarriedBy> names = {{CarriedBy::Features, "features"},
-                                             {CarriedBy::Masks, "masks"}};
+                                             {CarriedBy::Masks, "masks"},
+                                             {CarriedBy::Reference, "reference"}};
   return names;
 }
 
@@ -336,8 +337,9 @@ const ParamTable<PromptLiftNodeOptions>& prompt_lift_node_table() {
                "less)",
                -1, 1)
           .add("carry", &O::carry, carried_by_names(),
-               "the prompt's mask in the other views: the features' per-pixel answer, or the "
-               "automatic masks (port 'automatic') that the prompt view's lifted mask covers")
+               "the prompt's mask in the other views: the features' per-pixel answer, the "
+               "automatic masks (port 'automatic') that the prompt view's lifted mask covers, or "
+               "the reference masks of the prompt's name there (masks given in every view)")
           .add("coverage", &O::coverage,
                "carry masks: share of an automatic mask the lifted selection must cover", 0, 1)
           .add("containment", &O::containment,
@@ -378,11 +380,24 @@ void run_prompt_lift(NodeContext& ctx, PromptLiftNodeOptions o) {
           "e.g. ingest.sam_masks with kind auto)");
     automatic = masks_by_training_view(*capture, *ctx.input<MaskSet>("automatic"));
   }
+  // carry: reference: per view, the reference masks named as each prompt.
+  std::vector<std::vector<cv::Mat1b>> given(capture->views.size(), std::vector<cv::Mat1b>(count));
+  if (o.carry == CarriedBy::Reference) {
+    if (!ctx.has_input("reference"))
+      throw InputError(
+          "inference.prompt_lift: carry: reference needs port 'reference' wired (masks of the "
+          "prompted objects in the training views, labelled with the prompts' names)");
+    std::vector<std::string> names;
+    for (const Prompt& p : prompts.prompts) names.push_back(p.name);
+    given = labelled_masks_by_training_view(*capture, *ctx.input<MaskSet>("reference"), names);
+  }
   std::vector<cv::Mat1b> own(count);
   for (size_t k = 0; k < count; ++k) {
     const Prompt& p = prompts.prompts[k];
     if (p.kind == PromptKind::Mask || p.kind == PromptKind::Sam)
       own[k] = p.mask;
+    else if (o.carry == CarriedBy::Reference && !given[prompt_view[k]][k].empty())
+      own[k] = given[prompt_view[k]][k];
     else if (o.carry == CarriedBy::Masks)
       own[k] = clicked_mask(automatic[prompt_view[k]], p.positive,
                             segmenter.view_mask(selections[k], prompt_view[k]),
@@ -413,6 +428,8 @@ void run_prompt_lift(NodeContext& ctx, PromptLiftNodeOptions o) {
         continue;
       else if (o.carry == CarriedBy::Masks)
         masks[k] = carried_masks(automatic[v], rendered, k, o.coverage, o.containment);
+      else if (o.carry == CarriedBy::Reference)
+        masks[k] = given[v][k];
       else
         masks[k] = segmenter.view_mask(selections[k], v);
     }

@@ -221,3 +221,35 @@ TEST_CASE("masks carried: the prompt view's mask lifted there alone, masks by tr
   masks.views.push_back({"nowhere", {{left, "a"}}});
   CHECK_THROWS_AS(masks_by_training_view(capture, masks), InputError);
 }
+
+TEST_CASE("reference masks by label: the union per label, all-zero where absent, none held out",
+          "[inference][mask_carry]") {
+  Capture capture;
+  for (const char* name : {"a", "b", "held", "bare"}) {
+    View v;
+    v.name = name;
+    v.camera = test::query_camera();
+    v.held_out = std::string(name) == "held";
+    capture.views.push_back(v);
+  }
+  const cv::Size size(capture.views[0].camera.width, capture.views[0].camera.height);
+  const cv::Mat1b left = box(size, {0, 0, 4, 3}), right = box(size, {10, 2, 5, 5});
+  MaskSet masks;
+  // View a: the fox in two pieces (a tracker's mask split by an occluder) and a chair; view b: the
+  // chair alone (the fox out of sight); the held-out view's fox never votes; view 'bare' has none.
+  masks.views.push_back({"a", {{left, "fox"}, {right, "fox"}, {right, "chair"}}});
+  masks.views.push_back({"b", {{left, "chair"}}});
+  masks.views.push_back({"held", {{left, "fox"}}});
+  const auto given = labelled_masks_by_training_view(capture, masks, {"fox", "chair"});
+  REQUIRE(given.size() == 4);
+  CHECK(cv::countNonZero(given[0][0] != (left | right)) == 0);
+  CHECK(cv::countNonZero(given[0][1] != right) == 0);
+  REQUIRE(given[1][0].size() == size);
+  CHECK(cv::countNonZero(given[1][0]) == 0);
+  CHECK(cv::countNonZero(given[1][1] != left) == 0);
+  CHECK(given[2][0].empty());
+  CHECK(given[3][0].empty());
+  CHECK(given[3][1].empty());
+  masks.views.push_back({"nowhere", {{left, "fox"}}});
+  CHECK_THROWS_AS(labelled_masks_by_training_view(capture, masks, {"fox"}), InputError);
+}
