@@ -18,6 +18,19 @@ cv::Mat1b box(cv::Size size, cv::Rect r) {
   return m;
 }
 
+// Views named `names` with the query camera at the identity pose; the one named `held` held out.
+Capture query_capture(std::initializer_list<const char*> names, const std::string& held) {
+  Capture capture;
+  for (const char* name : names) {
+    View v;
+    v.name = name;
+    v.camera = test::query_camera();
+    v.held_out = name == held;
+    capture.views.push_back(v);
+  }
+  return capture;
+}
+
 }  // namespace
 
 TEST_CASE("clicked mask: the mask holding the click that agrees best with the features' answer",
@@ -186,14 +199,7 @@ TEST_CASE("containing masks: a mask holding the selection, and no other's, is th
 TEST_CASE("masks carried: the prompt view's mask lifted there alone, masks by training view",
           "[inference][mask_carry]") {
   const GaussianModel model = test::two_blobs();
-  Capture capture;
-  for (const char* name : {"train", "test"}) {
-    View v;
-    v.name = name;
-    v.camera = test::query_camera();
-    v.held_out = std::string(name) == "test";
-    capture.views.push_back(v);
-  }
+  const Capture capture = query_capture({"train", "test"}, "test");
   const cv::Size size(capture.views[0].camera.width, capture.views[0].camera.height);
   // Prompt 0 = the left half of the training view, prompt 1 = the right half of it.
   const cv::Mat1b left = box(size, {0, 0, size.width / 2, size.height});
@@ -224,14 +230,7 @@ TEST_CASE("masks carried: the prompt view's mask lifted there alone, masks by tr
 
 TEST_CASE("reference masks by label: the union per label, all-zero where absent, none held out",
           "[inference][mask_carry]") {
-  Capture capture;
-  for (const char* name : {"a", "b", "held", "bare"}) {
-    View v;
-    v.name = name;
-    v.camera = test::query_camera();
-    v.held_out = std::string(name) == "held";
-    capture.views.push_back(v);
-  }
+  const Capture capture = query_capture({"a", "b", "held", "bare"}, "held");
   const cv::Size size(capture.views[0].camera.width, capture.views[0].camera.height);
   const cv::Mat1b left = box(size, {0, 0, 4, 3}), right = box(size, {10, 2, 5, 5});
   MaskSet masks;
