@@ -218,6 +218,15 @@ std::vector<std::vector<cv::Mat1b>> labelled_masks_by_training_view(
         if (m.label == labels[k]) union_k |= m.pixels;
     }
   }
+  // A label no training view shows would vote "not the object" everywhere and lift to an empty
+  // selection: that is a misnamed prompt or mask file, so say so before any lifting.
+  for (size_t k = 0; k < labels.size(); ++k) {
+    bool shown = false;
+    for (const auto& view : out) shown = shown || (!view[k].empty() && cv::countNonZero(view[k]));
+    if (!shown)
+      throw InputError("no training view has a mask labelled '" + labels[k] +
+                       "' (the labels given are the masks' names; held-out views do not count)");
+  }
   return out;
 }
 

@@ -83,7 +83,8 @@ std::vector<std::vector<cv::Mat1b>> masks_by_training_view(const Capture& captur
 // view has masks but none with the label (the object is not in sight there, so the whole view
 // votes against it), an empty Mat where the view is held out or has no masks (it does not vote).
 // The carry for masks given in every view, e.g. tracked through a video by a 2D segmenter, which
-// is what FlashSplat lifts. Throws InputError as training_mask_views does.
+// is what FlashSplat lifts. Throws InputError as training_mask_views does, and when a label has
+// no pixel in any training view.
 std::vector<std::vector<cv::Mat1b>> labelled_masks_by_training_view(
     const Capture& capture, const MaskSet& masks, const std::vector<std::string>& labels);
 

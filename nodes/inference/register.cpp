@@ -389,7 +389,11 @@ void run_prompt_lift(NodeContext& ctx, PromptLiftNodeOptions o) {
           "prompted objects in the training views, labelled with the prompts' names)");
     std::vector<std::string> names;
     for (const Prompt& p : prompts.prompts) names.push_back(p.name);
-    given = labelled_masks_by_training_view(*capture, *ctx.input<MaskSet>("reference"), names);
+    try {
+      given = labelled_masks_by_training_view(*capture, *ctx.input<MaskSet>("reference"), names);
+    } catch (const InputError& e) {
+      throw InputError("inference.prompt_lift: port 'reference': " + std::string(e.what()));
+    }
   }
   std::vector<cv::Mat1b> own(count);
   for (size_t k = 0; k < count; ++k) {

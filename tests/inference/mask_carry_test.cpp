@@ -249,6 +249,14 @@ TEST_CASE("reference masks by label: the union per label, all-zero where absent,
   CHECK(given[2][0].empty());
   CHECK(given[3][0].empty());
   CHECK(given[3][1].empty());
+  // A label shown only in the held-out view, or nowhere, is a misnamed prompt: an error, not an
+  // empty selection.
+  CHECK_THROWS_WITH(labelled_masks_by_training_view(capture, masks, {"fox", "dog"}),
+                    Catch::Contains("'dog'"));
+  masks.views[0].masks.resize(1);
+  masks.views[0].masks[0].label = "chair";
+  CHECK_THROWS_WITH(labelled_masks_by_training_view(capture, masks, {"fox"}),
+                    Catch::Contains("'fox'"));
   masks.views.push_back({"nowhere", {{left, "fox"}}});
-  CHECK_THROWS_AS(labelled_masks_by_training_view(capture, masks, {"fox"}), InputError);
+  CHECK_THROWS_AS(labelled_masks_by_training_view(capture, masks, {"chair"}), InputError);
 }
