@@ -314,6 +314,20 @@ std::vector<int32_t> selection_instance_ids(const std::vector<PromptSelection>& 
   return ids;
 }
 
+PromptSet prompt_named(const PromptSet& set, const std::string& name) {
+  std::string names;
+  for (const Prompt& p : set.prompts) {
+    if (p.name == name) {
+      PromptSet out;
+      out.prompts = {p};
+      return out;
+    }
+    names += (names.empty() ? "'" : ", '") + p.name + "'";
+  }
+  throw InputError("no prompt is named '" + name +
+                   "' (the prompts: " + (names.empty() ? std::string("none") : names) + ")");
+}
+
 PromptSet prompts_from_masks(const MaskSet& reference, const std::string& view, PromptKind kind) {
   if (kind == PromptKind::Scribble)
     throw InputError("inference.prompt: scribble prompts come from a prompt file, not from masks");

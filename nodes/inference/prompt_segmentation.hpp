@@ -131,4 +131,9 @@ std::vector<int32_t> selection_instance_ids(const std::vector<PromptSelection>& 
 // view without masks.
 PromptSet prompts_from_masks(const MaskSet& reference, const std::string& view, PromptKind kind);
 
+// The prompt of `set` named `name` alone, as a user who clicks one object gives it: no other
+// prompt's click or selection then shapes its answer (the rules that keep prompts given together
+// apart do not apply). Throws InputError naming the prompts there are when none has that name.
+PromptSet prompt_named(const PromptSet& set, const std::string& name);
+
 }  // namespace gslift

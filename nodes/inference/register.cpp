@@ -229,6 +229,7 @@ struct PromptNodeOptions {
   std::string file;  // a prompt file (prompt_io.hpp); empty = prompts from the reference masks
   std::string view;  // reference masks: the view they are taken from; empty = first training view
   PromptKind kind = PromptKind::Point;  // reference masks: the prompt each mask becomes
+  std::string only;                     // empty = every prompt
   PromptOptions answer;
 };
 
@@ -242,12 +243,15 @@ const ParamTable<PromptNodeOptions>& prompt_node_table() {
                "reference masks: the view the prompts are given in (empty = first training view)")
           .add("kind", &O::kind, prompt_kind_names(),
                "reference masks: point (centre pixel), mask or sam (the mask itself)")
+          .add("only", &O::only,
+               "answer only the prompt of this name, as if it were given alone (one click on "
+               "one object); empty = every prompt, kept apart from each other")
           .nest(&O::answer, prompt_param_table());
   return table;
 }
 
-// The prompts of a prompt node: its file, or one per reference mask.
-PromptSet node_prompts(NodeContext& ctx, PromptNodeOptions& o, const Capture& capture) {
+// The prompts of a prompt node: its file, or one per reference mask ...
+PromptSet all_node_prompts(NodeContext& ctx, PromptNodeOptions& o, const Capture& capture) {
   if (!o.file.empty()) return read_prompt_file(o.file);
   if (!ctx.has_input("reference"))
     throw InputError("inference.prompt: give a prompt file (param 'file') or wire 'reference'");
@@ -257,6 +261,17 @@ PromptSet node_prompts(NodeContext& ctx, PromptNodeOptions& o, const Capture& ca
     o.view = capture.views[train[0]].name;
   }
   return prompts_from_masks(*ctx.input<MaskSet>("reference"), o.view, o.kind);
+}
+
+// ... and with `only`, the one of that name.
+PromptSet node_prompts(NodeContext& ctx, PromptNodeOptions& o, const Capture& capture) {
+  PromptSet all = all_node_prompts(ctx, o, capture);
+  if (o.only.empty()) return all;
+  try {
+    return prompt_named(all, o.only);
+  } catch (const InputError& e) {
+    throw InputError(std::string("inference.prompt: param 'only': ") + e.what());
+  }
 }
 
 void run_prompt(NodeContext& ctx, PromptNodeOptions o) {

@@ -190,6 +190,24 @@ TEST_CASE("prompts from reference masks: a point inside even a non-convex mask")
   CHECK_THROWS_AS(prompts_from_masks(ref, "v0", PromptKind::Scribble), InputError);
 }
 
+TEST_CASE("one prompt by name: the one click of a user, or an error naming the prompts there are") {
+  PromptSet set;
+  for (const char* name : {"table", "lamp"}) {
+    Prompt p;
+    p.name = name;
+    p.positive = {cv::Point(int(set.prompts.size()), 3)};
+    set.prompts.push_back(p);
+  }
+  set.vote_balance = {{0.5f}, {-0.5f}};
+  const PromptSet lamp = prompt_named(set, "lamp");
+  REQUIRE(lamp.prompts.size() == 1);
+  CHECK(lamp.prompts[0].positive[0] == cv::Point(1, 3));
+  CHECK(lamp.vote_balance.empty());
+  CHECK_THROWS_WITH(prompt_named(set, "bed"),
+                    Catch::Contains("'bed'") && Catch::Contains("'table', 'lamp'"));
+  CHECK_THROWS_AS(prompt_named(PromptSet{}, "bed"), InputError);
+}
+
 TEST_CASE("prompts in a free camera select as prompts in the capture's view do") {
   const GaussianModel model = feature_scene();
   const Capture capture = one_view();
