@@ -5,7 +5,8 @@
 //    every other record of the graph (per-view and per-item ones left out), failed rooms, the
 //    median time and peak memory of a room and the median wall time of each node; and the paired
 //    comparisons of the pairs.tsv beside the table: first minus second, room by room (the same
-//    capture and seed), with the mean's 95% t interval;
+//    capture and seed), with the mean's 95% t interval; a room a line runs several times (a
+//    `--grid` in its sweep arguments) has the mean of those runs;
 //  - <table>.svg: per line a dev bar and a test bar (mean, whiskers one std), each room a dot;
 //  - a markdown table on stdout, as the READMEs show it.
 // A line with no sweep folder under SWEEPS_DIR keeps the set <table>.json already holds for it.
@@ -52,6 +53,9 @@ SetResult read_set(const fs::path& dir, const std::vector<std::string>& row) {
   const json sweep = read_json_or_discarded(dir / "sweep.json");
   if (!sweep.is_object()) return r;
   const std::string node = r.headline.substr(0, r.headline.find('.') + 1);
+  // A room with several runs (a line's `--grid`, e.g. prompt.only over the instances: one click
+  // at a time) is scored by their mean.
+  std::map<std::pair<std::string, uint64_t>, std::pair<double, int>> per_room;
   for (const auto& run : sweep["runs"]) {
     if (run["status"] != "ok") {
       ++r.failed;
@@ -62,7 +66,9 @@ SetResult read_set(const fs::path& dir, const std::vector<std::string>& row) {
     const auto& metrics = run["metrics"];
     if (!metrics.contains(r.headline)) continue;
     const std::string input = run["input"].is_string() ? run["input"].get<std::string>() : "";
-    r.rooms[{input, run["seed"].get<uint64_t>()}] = metrics[r.headline].get<double>();
+    auto& [sum, runs] = per_room[{input, run["seed"].get<uint64_t>()}];
+    sum += metrics[r.headline].get<double>();
+    ++runs;
     for (const auto& [k, v] : metrics.items())
       if (k.rfind(node, 0) == 0 && k != r.headline && k.find('/') == std::string::npos)
         r.others[k.substr(node.size())].push_back(v.get<double>());
@@ -75,6 +81,7 @@ SetResult read_set(const fs::path& dir, const std::vector<std::string>& row) {
     r.times.push_back(run["total_s"].get<double>());
     r.peak_mb.push_back(run["peak_rss_mb"].get<double>());
   }
+  for (const auto& [room, sum_runs] : per_room) r.rooms[room] = sum_runs.first / sum_runs.second;
   return r;
 }
 

@@ -73,8 +73,9 @@ elif ! grep -q "sigmaa" "$tmp/bad.out"; then
   fail "the misspelt table's error does not name the param:"
   sed 's|^|    |' "$tmp/bad.out"
 fi
-# protocol_chart reads a line's sweep where it is here, and keeps the stored result of a line
-# whose sweep is not (a refresh of some lines on a machine without the others' sweeps).
+# protocol_chart reads a line's sweep where it is here (a room run several times scored by the
+# mean of its runs), and keeps the stored result of a line whose sweep is not (a refresh of some
+# lines on a machine without the others' sweeps).
 chart="$(dirname "$GSLIFT")/bench/protocol/protocol_chart"
 if [ -x "$chart" ]; then
   c="$tmp/chart"
@@ -85,6 +86,8 @@ if [ -x "$chart" ]; then
   {"status": "ok", "input": "r1", "seed": 0, "metrics": {"eval.mIoU": 40}, "total_s": 10,
    "peak_rss_mb": 100},
   {"status": "ok", "input": "r2", "seed": 0, "metrics": {"eval.mIoU": 60}, "total_s": 12,
+   "peak_rss_mb": 100},
+  {"status": "ok", "input": "r1", "seed": 0, "metrics": {"eval.mIoU": 20}, "total_s": 10,
    "peak_rss_mb": 100}]}
 EOF
   cat > "$c/results/t.json" << 'EOF'
@@ -98,7 +101,8 @@ EOF
    "median_node_s": {"recon": 7}, "median_time_s": 8, "median_peak_mb": 50}]}
 EOF
   "$chart" "$c/sweeps" "$c/t.tsv" "$c/results" > "$c/out.txt" 2>&1 || fail "protocol_chart failed"
-  grep -q '^| a | dev | 2 | eval.mIoU | 50.0 ' "$c/out.txt" ||
+  # Room r1 ran twice (a --grid line): its value is their mean, 30; the line's mean (30 + 60) / 2.
+  grep -q '^| a | dev | 2 | eval.mIoU | 45.0 ' "$c/out.txt" ||
     fail "protocol_chart did not read line a from its sweep: $(cat "$c/out.txt")"
   grep -q '^| b | dev | 2 | eval.mIoU | 33.0 .* | 8 s |$' "$c/out.txt" ||
     fail "protocol_chart did not keep line b's stored result: $(cat "$c/out.txt")"
