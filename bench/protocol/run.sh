@@ -17,9 +17,9 @@
 # Sweep folders go to $PROTOCOL_DIR (default build/<table name>), one per line; a finished one
 # (its .done) is not redone: delete the folder to redo it. A line with no sweep folder here keeps
 # the result the results file already holds for it, so some lines can be refreshed on a machine
-# that does not have the others' sweeps. Each sweep runs without the stage
-# cache, so every run's time is a cold run's. About 1-2 minutes per room on 2 cores: the 20 test
-# rooms of one method take 20-40 minutes.
+# that does not have the others' sweeps. Each sweep runs without the stage cache, so every run's
+# time is a cold run's, unless its line names one (`--cache-dir`). About 1-2 minutes per room on
+# 2 cores: the 20 test rooms of one method take 20-40 minutes.
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 table=bench/protocol/protocol.tsv
@@ -74,7 +74,11 @@ while IFS=$'\t' read -r method set graph _ inputs extra; do
   [[ -f "$out/$name/.done" ]] && { echo "$stem: $name done already" >&2; continue; }
   rm -rf "${out:?}/$name"
   echo "$stem: $name ($graph over $inputs)" >&2
-  "$gslift" sweep "$graph" "${args[@]}" --no-cache --threads 2 --log-level warn \
+  # Cold runs, unless the line names a stage cache: a line that runs each room many times (a
+  # --grid over prompt.only) would otherwise rebuild the reconstruction for every run.
+  cache=(--no-cache)
+  [[ " ${args[*]} " == *" --cache-dir "* ]] && cache=()
+  "$gslift" sweep "$graph" "${args[@]}" "${cache[@]}" --threads 2 --log-level warn \
     --out "$out/$name" > "$out/$name.txt" || true
   touch "$out/$name/.done"
 done < "$table"
