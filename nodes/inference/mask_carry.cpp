@@ -181,17 +181,24 @@ cv::Mat1b containing_masks(const std::vector<cv::Mat1b>& candidates, const cv::M
   return out;
 }
 
-cv::Mat1b carried_masks(const std::vector<cv::Mat1b>& candidates,
-                        const std::vector<cv::Mat1b>& rendered, size_t k, double coverage,
-                        double containment) {
-  cv::Mat1b out = covered_masks(candidates, rendered[k], coverage);
+cv::Mat1b carried_masks(const std::vector<cv::Mat1b>& candidates, const cv::Mat1b& own,
+                        const std::vector<cv::Mat1b>& others, double coverage, double containment) {
+  cv::Mat1b out = covered_masks(candidates, own, coverage);
   if (containment <= 0) return out;
-  std::vector<cv::Mat1b> others;
-  for (size_t j = 0; j < rendered.size(); ++j)
-    if (j != k) others.push_back(rendered[j]);
-  const cv::Mat1b holding = containing_masks(candidates, rendered[k], others, containment);
+  const cv::Mat1b holding = containing_masks(candidates, own, others, containment);
   if (out.empty()) return holding;
   if (!holding.empty()) out |= holding;
+  return out;
+}
+
+std::vector<size_t> stand_in_masks(const std::vector<cv::Mat1b>& candidates, const cv::Mat1b& own,
+                                   const std::vector<cv::Point>& clicks) {
+  cv::Mat1b taken = own.clone();
+  for (const cv::Mat1b& m : candidates)
+    if (holds_any(m, clicks)) taken |= m;
+  std::vector<size_t> out;
+  for (size_t i = 0; i < candidates.size(); ++i)
+    if (cv::countNonZero(candidates[i] & taken) == 0) out.push_back(i);
   return out;
 }
 

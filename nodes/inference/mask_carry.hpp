@@ -66,12 +66,22 @@ cv::Mat1b covered_masks(const std::vector<cv::Mat1b>& candidates, const cv::Mat1
 cv::Mat1b containing_masks(const std::vector<cv::Mat1b>& candidates, const cv::Mat1b& own,
                            const std::vector<cv::Mat1b>& others, double containment);
 
-// Prompt k's masks in a view other than its own, from `rendered` (every prompt's rendered
-// selection there): the masks its selection covers (covered_masks, `coverage`) and, when
+// A prompt's masks in a view other than its own, from its selection rendered there (`own`) and
+// the selections that are not its object (`others`: the other prompts' and its stand-ins', see
+// stand_in_masks): the masks its selection covers (covered_masks, `coverage`) and, when
 // `containment` > 0, those holding its selection (containing_masks); empty when none.
-cv::Mat1b carried_masks(const std::vector<cv::Mat1b>& candidates,
-                        const std::vector<cv::Mat1b>& rendered, size_t k, double coverage,
-                        double containment);
+cv::Mat1b carried_masks(const std::vector<cv::Mat1b>& candidates, const cv::Mat1b& own,
+                        const std::vector<cv::Mat1b>& others, double coverage, double containment);
+
+// The indices of the masks of a click's view (`candidates`) that stand in for the clicks a user did
+// not give: those sharing no pixel with `own` (the click's mask there) or with any mask holding a
+// click of `clicks`. They are other objects at every granularity the view's masks offer; lifted
+// and rendered in the other views, they bound the containment rule as other prompts' selections
+// do (a mask holding one of them merges the clicked object with it). Without them one click alone
+// lets every mask holding its selection in, the whole table with the patient on it
+// (docs/saga.md, "One click alone").
+std::vector<size_t> stand_in_masks(const std::vector<cv::Mat1b>& candidates, const cv::Mat1b& own,
+                                   const std::vector<cv::Point>& clicks);
 
 // Per capture view, the masks of `masks` given for it if it is a training view (empty
 // otherwise). Throws InputError as training_mask_views does.

@@ -186,14 +186,45 @@ TEST_CASE("containing masks: a mask holding the selection, and no other's, is th
 
   // Carried: covered_masks takes the leg (40 of its 50 pixels covered) and not the table (40 of
   // 100); containment adds the table.
-  const std::vector<cv::Mat1b> rendered = {own, other};
   const std::vector<cv::Mat1b> candidates = {table, leg, patient, merged};
-  CHECK(cv::countNonZero(carried_masks(candidates, rendered, 0, 0.5, 0) != leg) == 0);
-  CHECK(cv::countNonZero(carried_masks(candidates, rendered, 0, 0.5, 0.5) != table) == 0);
+  CHECK(cv::countNonZero(carried_masks(candidates, own, {other}, 0.5, 0) != leg) == 0);
+  CHECK(cv::countNonZero(carried_masks(candidates, own, {other}, 0.5, 0.5) != table) == 0);
   // The patient's prompt: its selection covers 60 of the patient's 100 pixels, and the merged
   // mask holds the table's selection too.
-  CHECK(cv::countNonZero(carried_masks(candidates, rendered, 1, 0.5, 0.5) != patient) == 0);
-  CHECK(carried_masks(candidates, {cv::Mat1b::zeros(size), other}, 0, 0.5, 0.5).empty());
+  CHECK(cv::countNonZero(carried_masks(candidates, other, {own}, 0.5, 0.5) != patient) == 0);
+  CHECK(carried_masks(candidates, cv::Mat1b::zeros(size), {other}, 0.5, 0.5).empty());
+  // Alone (no other selection), the leg's click takes the merged mask too.
+  CHECK(cv::countNonZero(carried_masks(candidates, own, {}, 0.5, 0.5) != merged) == 0);
+}
+
+TEST_CASE("stand-in masks: the click's view's masks that share no pixel with its own masks",
+          "[inference][mask_carry]") {
+  const cv::Size size(30, 10);
+  // A table (columns 0-9) with its leg (columns 0-4), a patient (10-19) merged with the table by
+  // a coarse mask, a lamp (22-29) alone, and a fragment on the lamp (24-25, rows 2-3). The click
+  // is on the leg, whose mask is the click's own.
+  const cv::Mat1b table = box(size, {0, 0, 10, 10}), leg = box(size, {0, 0, 5, 10}),
+                  patient = box(size, {10, 0, 10, 10}), merged = box(size, {0, 0, 20, 10}),
+                  lamp = box(size, {22, 0, 8, 10}), fragment = box(size, {24, 2, 2, 2});
+  const std::vector<cv::Mat1b> candidates = {table, leg, patient, merged, lamp, fragment};
+  // The merged mask holds the click, so the patient (part of it) is no stand-in: only the lamp
+  // and the fragment on it are.
+  CHECK(stand_in_masks(candidates, leg, {{2, 5}}) == std::vector<size_t>{4, 5});
+  // Without the merged mask the patient is another object too.
+  CHECK(stand_in_masks({table, leg, patient, lamp}, leg, {{2, 5}}) == std::vector<size_t>{2, 3});
+  // The click's own mask counts even where no candidate holds the click (a gap click answered
+  // at the nearest mask): the lamp's pixels are taken by it here.
+  CHECK(stand_in_masks({table, lamp}, lamp, {{20, 5}}) == std::vector<size_t>{0});
+
+  // Carried in another view where the leg's selection is columns 1-4 and the lamp's columns
+  // 23-28: alone, the merged mask there holds the leg's selection and is taken; the lamp's
+  // stand-in does not stop it (the merged mask holds none of the lamp), the patient's would.
+  const cv::Mat1b own = box(size, {1, 0, 4, 10}), lamp_seen = box(size, {23, 0, 6, 10}),
+                  patient_seen = box(size, {12, 0, 6, 10});
+  CHECK(cv::countNonZero(carried_masks({table, merged}, own, {lamp_seen}, 0.5, 0.5) != merged) ==
+        0);
+  CHECK(cv::countNonZero(carried_masks({table, merged}, own, {patient_seen}, 0.5, 0.5) != table) ==
+        0);
 }
 
 TEST_CASE("masks carried: the prompt view's mask lifted there alone, masks by training view",
