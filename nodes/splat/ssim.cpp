@@ -1,5 +1,6 @@
 #include "nodes/splat/ssim.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <stdexcept>
@@ -35,39 +36,85 @@ void require_ssim_inputs(const cv::Mat& x, const cv::Mat& y) {
     throw std::invalid_argument("ssim: images must be CV_32F of the same size and channels");
 }
 
-// Rows [begin, end) of the separable window: per row, the vertical pass into a buffer with kRadius
-// zero pixels either side (the zero padding), then the horizontal pass. Tap-outer loops, so both
-// passes are contiguous multiply-adds over the row.
-void window_rows(const cv::Mat& in, cv::Mat& out, int begin, int end) {
+// The window's weights as a plain array (the vector loops below read them as constants).
+const float* taps() {
   static const std::array<float, kTaps> w = window_taps();
-  const int channels = in.channels(), width = in.cols * channels;
-  std::vector<float> buffer((in.cols + 2 * kRadius) * channels, 0.f);
-  float* padded = buffer.data() + kRadius * channels;
-  for (int r = begin; r < end; ++r) {
-    std::fill_n(padded, width, 0.f);
-    for (int k = 0; k < kTaps; ++k) {
-      const int source = r + k - kRadius;
-      if (source < 0 || source >= in.rows) continue;
-      const float* src = in.ptr<float>(source);
-      const float wk = w[k];
-      for (int i = 0; i < width; ++i) padded[i] += wk * src[i];
-    }
-    float* dst = out.ptr<float>(r);
-    std::fill_n(dst, width, 0.f);
-    for (int k = 0; k < kTaps; ++k) {
-      const float* src = padded + (k - kRadius) * channels;
-      const float wk = w[k];
-      for (int i = 0; i < width; ++i) dst[i] += wk * src[i];
-    }
+  return w.data();
+}
+
+// The horizontal pass of one row: out[i] = sum_k w[k] col[i + (k - kRadius) channels], summed in
+// tap order from zero, col having kRadius zero pixels either side (the zero padding). Tap-inner,
+// so each sum stays in a register.
+void horizontal_pass(const float* __restrict col, int width, int channels, float* __restrict out) {
+  const float* w = taps();
+  for (int i = 0; i < width; ++i) {
+    float acc = 0.f;
+    for (int k = 0; k < kTaps; ++k) acc += w[k] * col[i + (k - kRadius) * channels];
+    out[i] = acc;
   }
 }
+
+// dst[i] += wk x value(i) over a row: one contiguous multiply-add loop (dst does not alias the
+// rows value reads, which lets it vectorise without runtime overlap checks).
+template <class Value>
+void accumulate(float* __restrict dst, float wk, int width, Value&& value) {
+  for (int i = 0; i < width; ++i) dst[i] += wk * value(i);
+}
+
+// Window row r (of an image of `rows` rows) for N images at once: add_row(source, wk, padded)
+// adds wk x source row `source` of every image into padded[n] (the vertical pass, tap by tap, each
+// a contiguous multiply-add over the row: accumulate), then the horizontal pass into out[n].
+// Windowing the images a loss needs together keeps each row's sums in row buffers instead of
+// image-sized temporaries (written once and read once per step, and freshly mapped memory at
+// every step).
+template <int N, class AddRow>
+void window_row(int r, int rows, int width, int channels, AddRow&& add_row, float* const padded[N],
+                float* const out[N]) {
+  const float* w = taps();
+  for (int n = 0; n < N; ++n) std::fill_n(padded[n], width, 0.f);
+  for (int k = 0; k < kTaps; ++k) {
+    const int source = r + k - kRadius;
+    if (source < 0 || source >= rows) continue;
+    add_row(source, w[k], padded);
+  }
+  for (int n = 0; n < N; ++n) horizontal_pass(padded[n], width, channels, out[n]);
+}
+
+// Per-thread buffers of window_row's vertical pass for N images, with kRadius zero pixels either
+// side of each row (the zero padding), and N output rows.
+template <int N>
+struct WindowRows {
+  WindowRows(int cols, int channels)
+      : width(cols * channels),
+        stride((cols + 2 * kRadius) * channels),
+        padded_buffer(N * stride, 0.f),
+        out_buffer(N * width) {
+    for (int n = 0; n < N; ++n) {
+      padded[n] = padded_buffer.data() + n * stride + kRadius * channels;
+      out[n] = out_buffer.data() + n * width;
+    }
+  }
+  int width, stride;
+  std::vector<float> padded_buffer, out_buffer;
+  float* padded[N];
+  float* out[N];
+};
 
 }  // namespace
 
 cv::Mat ssim_window(const cv::Mat& image) {
   cv::Mat out(image.size(), image.type());
+  const int channels = image.channels();
   tbb::parallel_for(tbb::blocked_range<int>(0, image.rows, 16), [&](const auto& range) {
-    window_rows(image, out, range.begin(), range.end());
+    WindowRows<1> rows(image.cols, channels);
+    const auto add_row = [&](int source, float wk, float* const padded[1]) {
+      const float* src = image.ptr<float>(source);
+      accumulate(padded[0], wk, rows.width, [src](int i) { return src[i]; });
+    };
+    for (int r = range.begin(); r < range.end(); ++r) {
+      float* const out_row[1] = {out.ptr<float>(r)};
+      window_row<1>(r, image.rows, rows.width, channels, add_row, rows.padded, out_row);
+    }
   });
   return out;
 }
@@ -78,10 +125,6 @@ SsimTarget::SsimTarget(const cv::Mat& target)
 double ssim(const cv::Mat& x, const SsimTarget& target, cv::Mat* grad_x) {
   const cv::Mat& y = target.image;
   require_ssim_inputs(x, y);
-  const cv::Mat mu_x = ssim_window(x);
-  const cv::Mat e_xx = ssim_window(x.mul(x));
-  const cv::Mat e_xy = ssim_window(x.mul(y));
-
   const int channels = x.channels(), width = x.cols * channels;
   const size_t count = x.total() * channels;
   cv::Mat d_mu, d_exx, d_exy;  // dSSIM/d(windowed means), per pixel
@@ -95,13 +138,23 @@ double ssim(const cv::Mat& x, const SsimTarget& target, cv::Mat* grad_x) {
   // Row sums are reduced in a fixed row order (deterministic at any thread count).
   std::vector<double> row_sum(x.rows, 0.0);
   tbb::parallel_for(tbb::blocked_range<int>(0, x.rows, 16), [&](const tbb::blocked_range<int>& rr) {
+    // Each row's windowed x, x^2 and x y (the products formed as the window reads them).
+    WindowRows<3> windowed(x.cols, channels);
+    const auto add_row = [&](int source, float wk, float* const padded[3]) {
+      const float* xs = x.ptr<float>(source);
+      const float* ys = y.ptr<float>(source);
+      accumulate(padded[0], wk, width, [xs](int i) { return xs[i]; });
+      accumulate(padded[1], wk, width, [xs](int i) { return xs[i] * xs[i]; });
+      accumulate(padded[2], wk, width, [xs, ys](int i) { return xs[i] * ys[i]; });
+    };
     std::vector<float> row_ssim(width);
     for (int r = rr.begin(); r < rr.end(); ++r) {
-      const float* mx = mu_x.ptr<float>(r);
+      window_row<3>(r, x.rows, width, channels, add_row, windowed.padded, windowed.out);
+      const float* mx = windowed.out[0];
       const float* my = target.mean.ptr<float>(r);
-      const float* xx = e_xx.ptr<float>(r);
+      const float* xx = windowed.out[1];
       const float* yy = target.mean_sq.ptr<float>(r);
-      const float* xy = e_xy.ptr<float>(r);
+      const float* xy = windowed.out[2];
       float* dmu = grad_x ? d_mu.ptr<float>(r) : nullptr;
       float* dxx = grad_x ? d_exx.ptr<float>(r) : nullptr;
       float* dxy = grad_x ? d_exy.ptr<float>(r) : nullptr;
@@ -135,13 +188,20 @@ double ssim(const cv::Mat& x, const SsimTarget& target, cv::Mat* grad_x) {
   });
   if (grad_x) {
     // d/dx of window(x) is window^T = window; of window(x^2) adds 2x; of window(x y) adds y.
-    const cv::Mat w_mu = ssim_window(d_mu);
-    const cv::Mat w_xx = ssim_window(d_exx);
-    const cv::Mat w_xy = ssim_window(d_exy);
     grad_x->create(x.size(), x.type());
     tbb::parallel_for(tbb::blocked_range<int>(0, x.rows, 16), [&](const auto& rows) {
+      WindowRows<3> windowed(x.cols, channels);
+      const auto add_row = [&](int source, float wk, float* const padded[3]) {
+        const float* a = d_mu.ptr<float>(source);
+        const float* b = d_exx.ptr<float>(source);
+        const float* c = d_exy.ptr<float>(source);
+        accumulate(padded[0], wk, width, [a](int i) { return a[i]; });
+        accumulate(padded[1], wk, width, [b](int i) { return b[i]; });
+        accumulate(padded[2], wk, width, [c](int i) { return c[i]; });
+      };
       for (int r = rows.begin(); r < rows.end(); ++r) {
-        const float *a = w_mu.ptr<float>(r), *b = w_xx.ptr<float>(r), *c = w_xy.ptr<float>(r);
+        window_row<3>(r, x.rows, width, channels, add_row, windowed.padded, windowed.out);
+        const float *a = windowed.out[0], *b = windowed.out[1], *c = windowed.out[2];
         const float *px = x.ptr<float>(r), *py = y.ptr<float>(r);
         float* out = grad_x->ptr<float>(r);
         for (int i = 0; i < width; ++i) out[i] = a[i] + 2 * px[i] * b[i] + py[i] * c[i];
