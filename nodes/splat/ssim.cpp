@@ -7,6 +7,7 @@
 #include <vector>
 
 #include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
 namespace gslift {
@@ -137,9 +138,13 @@ double ssim(const cv::Mat& x, const SsimTarget& target, cv::Mat* grad_x) {
   const float c1 = static_cast<float>(kC1), c2 = static_cast<float>(kC2);
   // Row sums are reduced in a fixed row order (deterministic at any thread count).
   std::vector<double> row_sum(x.rows, 0.0);
+  // One set of row buffers per thread for the call, not per task: a set per task (30 a call)
+  // had the allocator hand out freshly mapped pages at every step (the main job's page faults
+  // doubled and SSIM ran slower than with the image temporaries).
+  tbb::enumerable_thread_specific<WindowRows<3>> buffers(x.cols, channels);
   tbb::parallel_for(tbb::blocked_range<int>(0, x.rows, 16), [&](const tbb::blocked_range<int>& rr) {
     // Each row's windowed x, x^2 and x y (the products formed as the window reads them).
-    WindowRows<3> windowed(x.cols, channels);
+    WindowRows<3>& windowed = buffers.local();
     const auto add_row = [&](int source, float wk, float* const padded[3]) {
       const float* xs = x.ptr<float>(source);
       const float* ys = y.ptr<float>(source);
@@ -190,7 +195,7 @@ double ssim(const cv::Mat& x, const SsimTarget& target, cv::Mat* grad_x) {
     // d/dx of window(x) is window^T = window; of window(x^2) adds 2x; of window(x y) adds y.
     grad_x->create(x.size(), x.type());
     tbb::parallel_for(tbb::blocked_range<int>(0, x.rows, 16), [&](const auto& rows) {
-      WindowRows<3> windowed(x.cols, channels);
+      WindowRows<3>& windowed = buffers.local();
       const auto add_row = [&](int source, float wk, float* const padded[3]) {
         const float* a = d_mu.ptr<float>(source);
         const float* b = d_exx.ptr<float>(source);
