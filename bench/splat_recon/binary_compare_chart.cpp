@@ -36,6 +36,7 @@ const std::vector<std::pair<std::string, std::string>> kMetrics = {
     {"backward_seconds", "  backward (s)"},
     {"density_seconds", "  density control (s)"},
     {"adam_seconds", "  Adam (s)"},
+    {"held_out_poses_seconds", "  held-out poses (s)"},
     {"peak_rss_mb", "peak memory (MB)"}};
 
 struct Run {

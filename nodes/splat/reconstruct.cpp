@@ -417,8 +417,11 @@ ReconstructResult reconstruct(const Capture& capture, const ReconstructOptions& 
   training.finish(result);
   result.final_loss = tail_mean(history);
   result.poses = training.poses();
+  const auto registration = std::chrono::steady_clock::now();
   refine_held_out_poses(training.model(), capture, options.poses, training.background(),
                         result.scene_extent, result.poses);
+  result.phases.held_out_poses =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - registration).count();
   result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   // The records see the views where the poses put them.
   Capture posed = capture;

@@ -158,6 +158,7 @@ struct PhaseSeconds {
   double backward = 0;  // rasterizer backward
   double adam = 0;      // parameter updates
   double density = 0;   // density statistics and densify/prune rounds
+  double held_out_poses = 0;  // registering the held-out views' poses after training
   // Each loss term's share of `losses` (its evaluate(), gradient included; a ray term's own pass
   // over the tile lists too), by name in the terms' order: which term a step's time goes to.
   std::vector<std::pair<std::string, double>> terms;

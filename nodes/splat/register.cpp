@@ -145,6 +145,7 @@ void run_reconstruct(NodeContext& ctx, ReconstructNodeParams p) {
   ctx.record("backward_seconds", r.phases.backward);
   ctx.record("adam_seconds", r.phases.adam);
   ctx.record("density_seconds", r.phases.density);
+  if (o.poses.refine) ctx.record("held_out_poses_seconds", r.phases.held_out_poses);
   for (const auto& [term, seconds] : r.phases.terms) ctx.record("term_seconds/" + term, seconds);
   ctx.record("scene_extent", r.scene_extent);
   record_losses_and_geometry(ctx, r);

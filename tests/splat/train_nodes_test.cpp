@@ -190,6 +190,10 @@ nodes:
   // The true poses move a little (the model is wrong early on); each record is a real change.
   CHECK(std::get<double>(records.at("pose_change/train/degrees_mean")) > 0);
   CHECK(std::get<double>(records.at("pose_change/held_out/centre_max")) > 0);
+  // The registration's time is its own record, within the reconstruction's.
+  const double registration = std::get<double>(records.at("held_out_poses_seconds"));
+  CHECK(registration > 0);
+  CHECK(registration < std::get<double>(records.at("seconds")));
   std::ifstream poses(options.out_dir / "recon" / "refined_poses.txt");
   std::string line;
   int views = 0;
