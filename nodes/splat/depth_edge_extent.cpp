@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 #include <tbb/parallel_for.h>
 
@@ -9,18 +10,39 @@
 
 namespace gslift {
 
-std::vector<cv::Mat1b> depth_edge_masks(const std::vector<DepthObservation>& views, double jump,
-                                        int radius) {
-  std::vector<cv::Mat1b> edges;
-  for (const DepthObservation& v : views)
-    edges.push_back(depth_discontinuities(v.depth, jump, radius));
+std::vector<DepthEdgeView> depth_edges(const std::vector<DepthObservation>& views, double jump,
+                                       int radius) {
+  std::vector<DepthEdgeView> edges;
+  for (const DepthObservation& v : views) {
+    const cv::Mat1b mask = depth_discontinuities(v.depth, jump, radius);
+    DepthEdgeView e;
+    e.nearest = cv::Mat1f::zeros(v.depth.size());
+    e.bits.assign((v.depth.total() + 63) / 64, 0);
+    for (int iw = 0; iw < v.depth.rows; ++iw)
+      for (int iu = 0; iu < v.depth.cols; ++iu) {
+        if (!mask(iw, iu)) continue;
+        float nearest = 0;
+        for (int y = std::max(0, iw - 1); y <= std::min(v.depth.rows - 1, iw + 1); ++y)
+          for (int x = std::max(0, iu - 1); x <= std::min(v.depth.cols - 1, iu + 1); ++x) {
+            const float d = v.depth(y, x);
+            if (d > 0 && std::isfinite(d) && (nearest == 0 || d < nearest)) nearest = d;
+          }
+        if (!(nearest > 0)) continue;
+        e.nearest(iw, iu) = nearest;
+        const size_t i = size_t(iw) * size_t(v.depth.cols) + size_t(iu);
+        e.bits[i >> 6] |= uint64_t{1} << (i & 63);
+      }
+    edges.push_back(std::move(e));
+  }
   return edges;
 }
 
 double depth_edge_extent_loss(const GaussianModel& model,
                               const std::vector<DepthObservation>& views,
-                              const std::vector<cv::Mat1b>& edges, double tolerance,
+                              const std::vector<DepthEdgeView>& edges, double tolerance,
                               std::vector<float>* grad) {
+  if (edges.size() != views.size())
+    throw std::invalid_argument("depth_edge_extent_loss: the edges are not the views'");
   const size_t n = model.size();
   if (grad) grad->assign(n * 3, 0.f);
   if (n == 0) return 0;
@@ -39,14 +61,9 @@ double depth_edge_extent_loss(const GaussianModel& model,
       const double u = c.fx * p.x() / p.z() + c.cx, w = c.fy * p.y() / p.z() + c.cy;
       if (!(u >= 0 && w >= 0 && u < v.depth.cols && w < v.depth.rows)) continue;
       const int iu = static_cast<int>(u), iw = static_cast<int>(w);
-      if (!edges[k](iw, iu)) continue;
-      float nearest = 0;
-      for (int y = std::max(0, iw - 1); y <= std::min(v.depth.rows - 1, iw + 1); ++y)
-        for (int x = std::max(0, iu - 1); x <= std::min(v.depth.cols - 1, iu + 1); ++x) {
-          const float d = v.depth(y, x);
-          if (d > 0 && std::isfinite(d) && (nearest == 0 || d < nearest)) nearest = d;
-        }
-      if (!(nearest > 0) || std::abs(p.z() - nearest) > tolerance * nearest) continue;
+      if (!edges[k].at(iu, iw)) continue;
+      const float nearest = edges[k].nearest(iw, iu);
+      if (std::abs(p.z() - nearest) > tolerance * nearest) continue;
       if (!rotated) {
         R = model.rotation(i);
         rotated = true;

@@ -13,7 +13,7 @@ class EdgeExtentTerm : public LossTerm {
       : LossTerm(weight, {}),
         observations_(observations),
         // Where the priors jump by more than 10%: the training views' silhouettes.
-        edges_(depth_edge_masks(observations, 0.1, kDiscontinuityRadius)),
+        edges_(depth_edges(observations, 0.1, kDiscontinuityRadius)),
         tolerance_(tolerance) {}
   const char* name() const override { return "edge_extent"; }
   TermStage stage() const override { return TermStage::Model; }
@@ -25,7 +25,7 @@ class EdgeExtentTerm : public LossTerm {
 
  private:
   const std::vector<DepthObservation>& observations_;
-  std::vector<cv::Mat1b> edges_;
+  std::vector<DepthEdgeView> edges_;
   double tolerance_;
   std::vector<float> grad_;
 };

@@ -17,8 +17,19 @@ TEST_CASE("edge extent: the ray extent of Gaussians on the near side of a depth 
   cv::Mat1f depth(100, 100, 10.f);
   depth(cv::Rect(0, 0, 50, 100)) = 5.f;
   const std::vector<DepthObservation> views = {{&cam, &pose, depth}};
-  const std::vector<cv::Mat1b> edges = depth_edge_masks(views, 0.1, 2);
-  CHECK(cv::countNonZero(edges[0]) == 6 * 100);
+  const std::vector<DepthEdgeView> edges = depth_edges(views, 0.1, 2);
+  int set = 0;
+  for (int y = 0; y < 100; ++y)
+    for (int x = 0; x < 100; ++x) set += edges[0].at(x, y);
+  CHECK(set == 6 * 100);
+  CHECK(cv::countNonZero(edges[0].nearest) == 6 * 100);
+  // The nearest depth in each edge pixel's 3x3 window: the object's 5 m up to column 50 (whose
+  // window reaches column 49), the wall's 10 m beyond; off the edges 0.
+  CHECK(edges[0].nearest(10, 47) == 5.f);
+  CHECK(edges[0].nearest(10, 50) == 5.f);
+  CHECK(edges[0].nearest(10, 51) == 10.f);
+  CHECK(edges[0].nearest(10, 30) == 0.f);
+  CHECK_FALSE(edges[0].at(30, 10));
 
   GaussianModel m;
   m.resize(4);
