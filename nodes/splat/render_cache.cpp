@@ -273,4 +273,31 @@ void RenderCache::backward(const float* grad_out, int channels, float* grad_attr
                     });
 }
 
+void add_blend_weights(const RenderOutput& forward, float* per_gaussian) {
+  if (!forward.state) throw InputError("add_blend_weights: the forward output has no raster state");
+  const RasterState& s = *forward.state;
+  // One sum per tile-list entry, at its slot: a Gaussian's slots run in tile order.
+  std::vector<float> slot_sums(s.slot_offsets.back(), 0.f);
+  tbb::parallel_for(tbb::blocked_range<int>(0, s.tile_count()),
+                    [&](const tbb::blocked_range<int>& r) {
+                      TileBlend blend;
+                      for (int t = r.begin(); t != r.end(); ++t) {
+                        const TileGaussian* list = s.tile_gaussians.data() + s.tile_offsets[t];
+                        // w is 0 in the lanes where entry j does not blend, and adding 0 leaves a
+                        // sum as it is.
+                        blend_tile(s, t, blend, [&](uint32_t j, int, const float* w) {
+                          float& sum = slot_sums[list[j].slot];
+                          for (int x = 0; x < kLanes; ++x) sum += w[x];
+                        });
+                      }
+                    });
+  const size_t n = s.slot_offsets.size() - 1;
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 1024),
+                    [&](const tbb::blocked_range<size_t>& r) {
+                      for (size_t g = r.begin(); g != r.end(); ++g)
+                        for (uint32_t k = s.slot_offsets[g]; k < s.slot_offsets[g + 1]; ++k)
+                          per_gaussian[g] += slot_sums[k];
+                    });
+}
+
 }  // namespace gslift

@@ -28,10 +28,7 @@ TrainingFeatureMaps render_training_feature_maps(const GaussianModel& model, con
   for (const int index : out.capture_views) {
     const View& view = capture.views[index];
     RenderOutput rendered = render(model, view.camera, view.pose, settings);
-    if (with_contribution) {
-      const std::vector<float> ones(static_cast<size_t>(rendered.width) * rendered.height, 1.f);
-      RenderCache(rendered).backward(ones.data(), 1, out.contribution.data());
-    }
+    if (with_contribution) add_blend_weights(rendered, out.contribution.data());
     FeatureMap map;
     map.width = rendered.width;
     map.height = rendered.height;

@@ -26,7 +26,7 @@ struct TrainingFeatureMaps {
 
 // Keeps the views of `masks` that are training views of `capture` (training_mask_views, which
 // also checks the masks against the capture) and renders the model's features there
-// (F(p) = sum_i w_i f_i, Eq. 1); the contribution comes from each view's render cache (W^T 1).
+// (F(p) = sum_i w_i f_i, Eq. 1); the contribution is each view's W^T 1 (add_blend_weights).
 // Throws InputError when the model has no feature channels or training_mask_views does.
 TrainingFeatureMaps render_training_feature_maps(const GaussianModel& model, const Capture& capture,
                                                  const MaskSet& masks, bool with_contribution);

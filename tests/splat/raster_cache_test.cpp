@@ -114,3 +114,37 @@ TEST_CASE("raster: render cache with a tile list over 2^16 Gaussians (32-bit lis
   // 2^16 overlapping terms (1.1e-5 under clang's rounding, below 1e-5 under g++'s).
   CHECK(err < 4e-5 * norm);
 }
+
+TEST_CASE("raster: add_blend_weights is the render cache's W^T 1 bit for bit, and sums to 1 - T",
+          "[splat][raster]") {
+  const test::RasterScene scene = test::random_raster_scene(400, 0, 4, 12, 96, 64);
+  RenderSettings s;
+  s.rgb = false;
+  s.features = true;
+  s.alpha = true;
+  const RenderOutput out = render(scene.model, scene.camera, scene.pose, s);
+  const std::vector<float> ones(96 * 64, 1.f);
+  // Added onto earlier views' sums, as association accumulates its training views.
+  std::vector<float> earlier(400);
+  for (size_t g = 0; g < earlier.size(); ++g) earlier[g] = 0.01f * float(g % 7);
+  std::vector<float> from_cache = earlier, direct = earlier;
+  RenderCache(out).backward(ones.data(), 1, from_cache.data());
+  add_blend_weights(out, direct.data());
+  CHECK(direct == from_cache);
+  // Every pixel's weights sum to its alpha, 1 - T: the Gaussians' sums hold the whole image's.
+  double added = 0, alpha = 0;
+  for (size_t g = 0; g < direct.size(); ++g) added += double(direct[g]) - earlier[g];
+  for (const float a : out.alpha) alpha += a;
+  REQUIRE(alpha > 100);
+  CHECK(added == Approx(alpha).epsilon(1e-5));
+  int seen = 0;
+  for (size_t g = 0; g < direct.size(); ++g) seen += direct[g] > earlier[g];
+  CHECK(seen > 100);
+  // The same at one thread.
+  std::vector<float> one_thread = earlier;
+  {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 1);
+    add_blend_weights(out, one_thread.data());
+  }
+  CHECK(one_thread == direct);
+}
