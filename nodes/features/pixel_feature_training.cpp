@@ -6,7 +6,7 @@
 
 #include "nodes/splat/adam.hpp"
 #include "nodes/splat/rasterizer.hpp"
-#include "nodes/splat/render_cache.hpp"
+#include "nodes/splat/pixel_rows.hpp"
 
 namespace gslift {
 
@@ -15,7 +15,7 @@ PixelRows render_pixel_rows(const GaussianModel& model, const Camera& camera, co
   RenderSettings weights_only;
   weights_only.rgb = false;
   weights_only.alpha = true;
-  return PixelRows(RenderCache(render(model, camera, pose, weights_only)), min_weight);
+  return PixelRows(render(model, camera, pose, weights_only), min_weight);
 }
 
 PixelTrainingLoss train_pixel_features(const std::vector<PixelRows>& rows, size_t batches,

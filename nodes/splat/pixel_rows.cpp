@@ -1,8 +1,18 @@
+// Vector width of the blending loops it shares with the rasterizer: see rasterizer_forward.cpp.
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC target("prefer-vector-width=512")
+#endif
 #include "nodes/splat/pixel_rows.hpp"
 
 #include <algorithm>
+#include <limits>
 
-#include "nodes/splat/render_cache.hpp"
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include "base/errors.hpp"
+#include "nodes/splat/raster_state.hpp"
+#include "nodes/splat/rasterizer.hpp"
 
 namespace gslift {
 
@@ -31,22 +41,84 @@ void backward_sampled_pixels(const PixelRowsView& rows, const std::vector<uint32
   }
 }
 
-PixelRows::PixelRows(const RenderCache& cache, float min_weight) {
-  const auto& off = cache.pixel_offsets();
-  const auto& ids = cache.ids();
-  const auto& w = cache.weights();
-  offsets_.reserve(off.size());
-  offsets_.push_back(0);
-  for (size_t p = 0; p + 1 < off.size(); ++p) {
-    for (uint32_t e = off[p]; e < off[p + 1]; ++e)
-      if (w[e] >= min_weight) {
-        ids_.push_back(ids[e]);
-        weights_.push_back(w[e]);
+PixelRows::PixelRows(const RenderOutput& forward, float min_weight) {
+  if (!forward.state) throw InputError("PixelRows: the forward output has no raster state");
+  const RasterState& s = *forward.state;
+  const int tiles = s.tile_count();
+  // One blending pass: each tile's kept pairs, sorted by tile pixel (stable, so each pixel's stay
+  // front to back), then copied to the image's rows. A count pass and a fill pass would be two
+  // instantiations of the blending loop, which the compiler may round differently (FMA
+  // contraction) and so disagree on a weight at min_weight.
+  struct TilePairs {
+    uint32_t offsets[kTilePixels + 1];
+    std::vector<uint32_t> ids;
+    std::vector<float> weights;
+  };
+  std::vector<TilePairs> per_tile(tiles);
+  tbb::parallel_for(tbb::blocked_range<int>(0, tiles), [&](const tbb::blocked_range<int>& r) {
+    TileBlend blend;
+    std::vector<uint8_t> pixel;
+    std::vector<uint32_t> ids;
+    std::vector<float> weights;
+    for (int t = r.begin(); t != r.end(); ++t) {
+      const TileGaussian* list = s.tile_gaussians.data() + s.tile_offsets[t];
+      pixel.clear();
+      ids.clear();
+      weights.clear();
+      blend_tile(s, t, blend, [&](uint32_t j, int at, const float* w) {
+        for (int x = 0; x < kLanes; ++x)
+          if (blend.last[at + x] == j + 1 && w[x] >= min_weight) {
+            pixel.push_back(uint8_t(at + x));
+            ids.push_back(list[j].id);
+            weights.push_back(w[x]);
+          }
+      });
+      TilePairs& out = per_tile[t];
+      std::fill(std::begin(out.offsets), std::end(out.offsets), 0u);
+      for (const uint8_t p : pixel) ++out.offsets[p + 1];
+      for (int p = 0; p < kTilePixels; ++p) out.offsets[p + 1] += out.offsets[p];
+      uint32_t cursor[kTilePixels];
+      std::copy_n(out.offsets, kTilePixels, cursor);
+      out.ids.resize(ids.size());
+      out.weights.resize(ids.size());
+      for (size_t k = 0; k < pixel.size(); ++k) {
+        const uint32_t to = cursor[pixel[k]]++;
+        out.ids[to] = ids[k];
+        out.weights[to] = weights[k];
       }
-    offsets_.push_back(static_cast<uint32_t>(ids_.size()));
-  }
-  ids_.shrink_to_fit();
-  weights_.shrink_to_fit();
+    }
+  });
+  const size_t pixels = size_t(s.width) * s.height;
+  offsets_.assign(pixels + 1, 0);
+  for (int y = 0; y < s.height; ++y)
+    for (int x = 0; x < s.width; ++x) {
+      const TilePairs& tile = per_tile[(y / kTileSize) * s.tiles_x + x / kTileSize];
+      const int p = (y % kTileSize) * kTileSize + x % kTileSize;
+      const size_t pix = size_t(y) * s.width + x;
+      const uint32_t count = tile.offsets[p + 1] - tile.offsets[p];
+      if (uint64_t(offsets_[pix]) + count >= std::numeric_limits<uint32_t>::max())
+        throw InputError("PixelRows: more than 2^32 (pixel, Gaussian) pairs in one view");
+      offsets_[pix + 1] = offsets_[pix] + count;
+    }
+  ids_.resize(offsets_[pixels]);
+  weights_.resize(offsets_[pixels]);
+  tbb::parallel_for(tbb::blocked_range<int>(0, tiles), [&](const tbb::blocked_range<int>& r) {
+    for (int t = r.begin(); t != r.end(); ++t) {
+      const TilePairs& tile = per_tile[t];
+      const PixelRect rect = tile_pixels(s, t);
+      for (int y = rect.y0; y < rect.y1; ++y)
+        for (int x = rect.x0; x < rect.x1; ++x) {
+          const int p = (y - rect.y0) * kTileSize + (x - rect.x0);
+          const size_t to = offsets_[size_t(y) * s.width + x];
+          std::copy(tile.ids.begin() + tile.offsets[p], tile.ids.begin() + tile.offsets[p + 1],
+                    ids_.begin() + to);
+          std::copy(tile.weights.begin() + tile.offsets[p],
+                    tile.weights.begin() + tile.offsets[p + 1], weights_.begin() + to);
+        }
+      std::vector<uint32_t>().swap(per_tile[t].ids);
+      std::vector<float>().swap(per_tile[t].weights);
+    }
+  });
 }
 
 }  // namespace gslift

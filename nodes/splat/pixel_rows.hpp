@@ -11,7 +11,7 @@
 
 namespace gslift {
 
-class RenderCache;
+struct RenderOutput;
 
 // The CSR arrays of some view's per-pixel blend weights, borrowed.
 struct PixelRowsView {
@@ -29,13 +29,16 @@ void render_sampled_pixels(const PixelRowsView& rows, const float* attributes, i
 void backward_sampled_pixels(const PixelRowsView& rows, const std::vector<uint32_t>& pixels,
                              const float* grad, int channels, float* grad_attributes);
 
-// A compact copy of a RenderCache's per-pixel rows without the pairs below `min_weight` and
-// without the cache's tile lists and per-Gaussian transpose, which sampled-pixel training never
-// needs: dropping them and the faint tail of each blend list cuts the memory several times
-// (measured for LangOR's features in nodes/features/contrastive_features.hpp).
+// A view's per-pixel blend weights without the pairs below `min_weight` and without a render
+// cache's tile lists and per-Gaussian transpose, which sampled-pixel training never needs:
+// dropping them and the faint tail of each blend list cuts the memory several times (measured for
+// LangOR's features in nodes/features/contrastive_features.hpp).
 class PixelRows {
  public:
-  explicit PixelRows(const RenderCache& cache, float min_weight = 0.f);
+  // From a forward render's raster state, in one blending pass, without building a RenderCache:
+  // its pixel rows' pairs at or above min_weight in the same front-to-back order. Deterministic at
+  // any thread count. Throws InputError when forward has no raster state.
+  explicit PixelRows(const RenderOutput& forward, float min_weight = 0.f);
 
   size_t pixel_count() const { return offsets_.size() - 1; }
   size_t entries() const { return ids_.size(); }

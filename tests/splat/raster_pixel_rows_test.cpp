@@ -1,8 +1,12 @@
 // Sampled-pixel rendering from the render cache and its adjoint (nodes/splat/pixel_rows.hpp).
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <vector>
 
+#include <tbb/global_control.h>
+
+#include "nodes/splat/pixel_rows.hpp"
 #include "nodes/splat/render_cache.hpp"
 #include "tests/splat/raster_scene.hpp"
 #include "tests/test_support.hpp"
@@ -13,12 +17,13 @@ namespace {
 
 struct SampledCase {
   test::RasterScene scene = test::random_raster_scene(300, 0, 4, 21, 80, 48);
-  RenderCache cache{[this] {
+  RenderOutput forward = [this] {
     RenderSettings s;
     s.rgb = false;
     s.alpha = true;
     return render(scene.model, scene.camera, scene.pose, s);
-  }()};
+  }();
+  RenderCache cache{forward};
   std::vector<uint32_t> pixels;
   std::mt19937 rng{5};
 
@@ -109,11 +114,21 @@ TEST_CASE("raster: sampled-pixel gradient matches finite differences of <R x, y>
   CHECK(checked >= 10);
 }
 
-TEST_CASE("raster: PixelRows drops faint pairs and renders what the kept pairs sum to",
+TEST_CASE("raster: PixelRows keeps the render cache's pairs at or above min_weight, in its order",
           "[splat][raster]") {
   SampledCase c;
+  // With no threshold, the cache's pixel rows bit for bit.
+  const PixelRows all(c.forward);
+  const auto& off = c.cache.pixel_offsets();
+  CHECK(all.entries() == c.cache.entries());
+  REQUIRE(all.pixel_count() == size_t(80 * 48));
+  const PixelRowsView v = all.view();
+  CHECK(std::equal(off.begin(), off.end(), v.offsets));
+  CHECK(std::equal(c.cache.ids().begin(), c.cache.ids().end(), v.ids));
+  CHECK(std::equal(c.cache.weights().begin(), c.cache.weights().end(), v.weights));
+
   const float min_weight = 0.05f;
-  const PixelRows rows(c.cache, min_weight);
+  const PixelRows rows(c.forward, min_weight);
   CHECK(rows.pixel_count() == size_t(80 * 48));
   CHECK(rows.entries() < c.cache.entries());
   CHECK(rows.entries() > 0u);
@@ -121,11 +136,17 @@ TEST_CASE("raster: PixelRows drops faint pairs and renders what the kept pairs s
   const std::vector<float> ones(c.cache.gaussian_count(), 1.f);
   std::vector<float> sums(c.pixels.size());
   rows.render(ones.data(), 1, c.pixels, sums.data());
-  const auto& off = c.cache.pixel_offsets();
   for (size_t k = 0; k < c.pixels.size(); ++k) {
     double expected = 0;
     for (uint32_t e = off[c.pixels[k]]; e < off[c.pixels[k] + 1]; ++e)
       if (c.cache.weights()[e] >= min_weight) expected += c.cache.weights()[e];
     CHECK(std::abs(sums[k] - expected) < 1e-5);
   }
+  // The same rows at one thread.
+  std::vector<float> one_thread(c.pixels.size());
+  {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 1);
+    PixelRows(c.forward, min_weight).render(ones.data(), 1, c.pixels, one_thread.data());
+  }
+  CHECK(one_thread == sums);
 }
