@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <limits>
+#include <stdexcept>
 #include <string>
 #include <type_traits>
 
@@ -122,6 +123,11 @@ RenderCache::RenderCache(const RenderOutput& forward) {
       for (uint32_t j = 0; j < s.tile_offsets[t + 1] - s.tile_offsets[t]; ++j)
         if (pos[j] != kUnused) entry_ids_[tile_offsets_[t] + pos[j]] = list[j].id;
       visit_tile(s, t, blend, [&](size_t pix, uint32_t j, float w) {
+        // The two passes are two compilations of the blending loop; were their roundings ever
+        // to differ (FMA contraction) on whether a pair blends, this one must not write past
+        // what the first counted (PixelRows blends once for that reason).
+        if (counts[pix] == 0 || pos[j] == kUnused)
+          throw std::logic_error("RenderCache: the blending passes disagree on a pixel's pairs");
         const uint32_t k = pixel_offsets_[pix + 1] - counts[pix]--;
         ids_[k] = list[j].id;
         weights_[k] = w;
