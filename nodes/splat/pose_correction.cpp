@@ -1,6 +1,9 @@
 #include "nodes/splat/pose_correction.hpp"
 
+#include <algorithm>
 #include <cmath>
+
+#include <opencv2/imgproc.hpp>
 
 #include <Eigen/Geometry>
 
@@ -45,7 +48,7 @@ void PoseOptimiser::step(Pose& pose, const PoseGradient& grad) {
 
 Pose refine_pose_to_photo(const GaussianModel& model, const Camera& camera, const Pose& pose,
                           const cv::Mat& photo, const Eigen::Vector3f& background, int steps,
-                          double rotation_rate, double translation_rate) {
+                          double rotation_rate, double translation_rate, int coarse_steps) {
   Pose refined = pose;
   if (steps <= 0 || model.size() == 0) return refined;
   cv::Mat target;
@@ -54,20 +57,31 @@ Pose refine_pose_to_photo(const GaussianModel& model, const Camera& camera, cons
   settings.background = background;
   PoseOptimiser optimiser(rotation_rate, translation_rate);
   ModelGrads unused;
-  const size_t values = size_t(camera.width) * camera.height * 3;
-  RenderGrads grads;
-  grads.rgb.resize(values);
-  const float* t = target.ptr<float>();
-  for (int step = 0; step < steps; ++step) {
-    const RenderOutput out = render(model, camera, refined, settings);
-    // L1: robust to what the training views never saw (the held-out view's uncovered surfaces).
-    for (size_t i = 0; i < values; ++i)
-      grads.rgb[i] = out.rgb[i] > t[i] ? 1.f / values : (out.rgb[i] < t[i] ? -1.f / values : 0.f);
-    unused.reset(model);
-    PoseGradient grad;
-    render_backward(model, camera, refined, settings, out, grads, unused, &grad);
-    optimiser.step(refined, grad);
+  // Steps [begin, end) against `photo_at` seen through `cam`.
+  auto run = [&](const Camera& cam, const cv::Mat& photo_at, int begin, int end) {
+    const size_t values = size_t(cam.width) * cam.height * 3;
+    RenderGrads grads;
+    grads.rgb.resize(values);
+    const float* t = photo_at.ptr<float>();
+    for (int step = begin; step < end; ++step) {
+      const RenderOutput out = render(model, cam, refined, settings);
+      // L1: robust to what the training views never saw (the held-out view's uncovered surfaces).
+      for (size_t i = 0; i < values; ++i)
+        grads.rgb[i] = out.rgb[i] > t[i] ? 1.f / values : (out.rgb[i] < t[i] ? -1.f / values : 0.f);
+      unused.reset(model);
+      PoseGradient grad;
+      render_backward(model, cam, refined, settings, out, grads, unused, &grad);
+      optimiser.step(refined, grad);
+    }
+  };
+  const int coarse = std::clamp(coarse_steps, 0, steps);
+  if (coarse > 0) {
+    const Camera half = camera.scaled(0.5);
+    cv::Mat small;
+    cv::resize(target, small, cv::Size(half.width, half.height), 0, 0, cv::INTER_AREA);
+    run(half, small, 0, coarse);
   }
+  run(camera, target, coarse, steps);
   return refined;
 }
 

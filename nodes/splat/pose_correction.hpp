@@ -28,6 +28,10 @@ struct PoseRefinementOptions {
   double rotation_lr = 2e-4;       // Adam rate of the rotation, radians per step
   double translation_lr = 1.5e-4;  // Adam rate of the translation, scene extents per step
   int held_out_steps = 120;        // steps per held-out view against its photo; 0 = keep its pose
+  // The first fraction of held_out_steps at half resolution (a quarter of the pixels): the photo's
+  // coarse shift needs no fine detail (bench/splat_recon/README.md, "Poses refined with the
+  // scene").
+  double held_out_coarse = 0;
 };
 
 // The pose moved by the correction `delta` (w in 0-2, dt in 3-5; see above).
@@ -56,9 +60,10 @@ class PoseOptimiser {
 
 // The held-out view's pose registered to its photo (CV_8UC3 RGB of the camera's size) with the
 // model fixed: `steps` Adam updates of the L1 photometric error of the RGB render over
-// `background`. Returns the refined pose; the written one when steps is 0.
+// `background`, the first coarse_steps of them at half resolution (Camera::scaled, the photo
+// area-averaged). Returns the refined pose; the written one when steps is 0.
 Pose refine_pose_to_photo(const GaussianModel& model, const Camera& camera, const Pose& pose,
                           const cv::Mat& photo, const Eigen::Vector3f& background, int steps,
-                          double rotation_rate, double translation_rate);
+                          double rotation_rate, double translation_rate, int coarse_steps = 0);
 
 }  // namespace gslift

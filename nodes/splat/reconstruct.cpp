@@ -328,7 +328,8 @@ void refine_held_out_poses(const GaussianModel& model, const Capture& capture,
   for (int v : capture.test_views()) {
     const View& view = capture.views[v];
     poses[v] = refine_pose_to_photo(model, view.camera, poses[v], load_view_rgb(view), background,
-                                    o.held_out_steps, o.rotation_lr, o.translation_lr * extent);
+                                    o.held_out_steps, o.rotation_lr, o.translation_lr * extent,
+                                    int(std::lround(o.held_out_coarse * o.held_out_steps)));
   }
 }
 

@@ -130,7 +130,11 @@ ParamTable<PoseRefinementOptions> pose_refinement_param_table() {
       .add("pose_held_out_steps", &P::held_out_steps,
            "steps registering each held-out view's pose to its photo after training; 0 = keep "
            "its written pose",
-           0, 10000);
+           0, 10000)
+      .add("pose_held_out_coarse", &P::held_out_coarse,
+           "fraction of pose_held_out_steps run at half resolution (a quarter of the pixels) "
+           "before the rest at full",
+           0, 1);
 }
 
 }  // namespace

@@ -49,6 +49,15 @@ TEST_CASE("a held-out view's pose registers to its photo against the model") {
                          << before.centre << " -> " << after.centre);
   CHECK(after.degrees < 0.25 * before.degrees);
   CHECK(after.centre < 0.25 * before.centre);
+  // The first half of the steps at half resolution (a quarter of the pixels) registers as well,
+  // on its own path (its pose is not the full-resolution one).
+  const Pose coarse = refine_pose_to_photo(truth, view.camera, start, load_view_rgb(view),
+                                           Eigen::Vector3f::Zero(), 150, 2e-3, 1e-3, 75);
+  const PoseChange coarse_after = pose_change(view.pose, coarse);
+  INFO("coarse to fine: " << coarse_after.degrees << " deg, centre " << coarse_after.centre);
+  CHECK(coarse_after.degrees < 0.25 * before.degrees);
+  CHECK(coarse_after.centre < 0.25 * before.centre);
+  CHECK(pose_change(refined, coarse).degrees > 1e-6);
   // No steps: the written pose comes back untouched.
   const Pose kept = refine_pose_to_photo(truth, view.camera, start, load_view_rgb(view),
                                          Eigen::Vector3f::Zero(), 0, 2e-3, 1e-3);
