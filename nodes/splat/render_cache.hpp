@@ -23,8 +23,9 @@ namespace gslift {
 
 // Adds to per_gaussian[g] (one value per Gaussian of the rendered model) Gaussian g's blend
 // weights w = alpha T summed over the pixels of `forward`: how much of the view it explains, W^T 1.
-// The same sums as RenderCache(forward).backward(ones, 1, per_gaussian) bit for bit (each tile
-// list entry's pixels in row-major order, then a Gaussian's entries in tile order), from one
+// The sums of RenderCache(forward).backward(ones, 1, per_gaussian) in its order (each tile list
+// entry's pixels in row-major order, then a Gaussian's entries in tile order; bit for bit on the
+// tests and the main job, as long as the compiler rounds both blending loops alike), from one
 // blending pass with one float per tile-list entry instead of the cache's per-pixel rows (about 10
 // bytes per (pixel, Gaussian) pair: 100 MB for a 640x480 view of 50k Gaussians). Deterministic at
 // any thread count. Throws InputError when forward has no raster state.
