@@ -5,8 +5,8 @@
 #include <tbb/parallel_for.h>
 
 #include "nodes/splat/adam.hpp"
-#include "nodes/splat/rasterizer.hpp"
 #include "nodes/splat/pixel_rows.hpp"
+#include "nodes/splat/rasterizer.hpp"
 
 namespace gslift {
 
