@@ -259,8 +259,10 @@ struct CentreDepth {
 // agree bit for bit.
 // With `cut` (kTilePixels camera depths), tile pixel p blends only the entries whose depth there
 // (EntryDepth::row) lies in front of cut[p] (the line-of-sight loss's opacity in front of a depth
-// prior); an entry or row whose nearest depth is behind every cut it meets is skipped, and the
-// pass ends at the first entry that EntryDepth::nearest_at_centre_depth puts behind every cut.
+// prior); an entry or row whose nearest depth is behind every cut it meets is skipped, so is a
+// row where no pixel still blending has the entry in front of its cut (on_row is not called for
+// either), and the pass ends at the first entry that EntryDepth::nearest_at_centre_depth puts
+// behind every cut.
 template <class OnRow, class EntryDepth>
 inline void blend_tile(const RasterState& s, int t, TileBlend& out, OnRow&& on_row,
                        const float* cut, const EntryDepth& depth) {
@@ -292,9 +294,22 @@ inline void blend_tile(const RasterState& s, int t, TileBlend& out, OnRow&& on_r
     for (int y = r.y0; y < r.y1; ++y) {
       if (cut && !(z < row_cut[y - tile.y0])) continue;
       alignas(64) float gaussian[kLanes], alpha[kLanes], w[kLanes], entry_depth[kLanes];
-      if (cut) depth.row(e.id, y, tile.x0, entry_depth);
-      blend_row(e, y, tile.x0, tile.x0 + kLanes, s.min_alpha, gaussian, alpha);
       const int at = (y - tile.y0) * kTileSize;
+      if (cut) {
+        // A row with no live lane in front of its cut changes nothing: skipped before its alphas
+        // (many rows of the entries near the surface: their nearest depth passes the row's
+        // furthest cut, their depth at each pixel does not).
+        depth.row(e.id, y, tile.x0, entry_depth);
+        int any = 0;
+#pragma GCC unroll 1  // one vector loop, not kLanes scalar copies
+        for (int x = 0; x < kLanes; ++x) {
+          const int px = tile.x0 + x;
+          any |=
+              (px >= r.x0) & (px < r.x1) & (done[at + x] == 0.f) & (entry_depth[x] < cut[at + x]);
+        }
+        if (!any) continue;
+      }
+      blend_row(e, y, tile.x0, tile.x0 + kLanes, s.min_alpha, gaussian, alpha);
 #pragma GCC unroll 1  // one vector loop, not kLanes scalar copies
       for (int x = 0; x < kLanes; ++x) {
         const int px = tile.x0 + x;

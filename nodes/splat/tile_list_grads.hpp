@@ -1,6 +1,6 @@
-// What the training losses that walk a render's tile lists again share (line_of_sight_loss.hpp,
-// depth_distortion_loss.hpp): where each tile row's blending stopped, and the way from per-entry
-// partials (one slot per (Gaussian, tile) pair, raster_state.hpp) to the model's gradients.
+// What the training losses that walk a render's tile lists again share (line_of_sight_loss.hpp):
+// where each tile row's blending stopped, and the way from per-entry partials (one slot per
+// (Gaussian, tile) pair, raster_state.hpp) to the model's gradients.
 #pragma once
 
 #include <algorithm>

@@ -154,3 +154,39 @@ TEST_CASE(
   for (size_t k = 0; k < 2; ++k)
     CHECK(by_ray.opacity_logits[k] == Approx(by_centre.opacity_logits[k]).epsilon(1e-5));
 }
+
+TEST_CASE(
+    "ray depth: a slanted disc that crosses a wall's cut draws its opacity in front of it only "
+    "where its ray depth is nearer than the cut",
+    "[splat][geometry]") {
+  const test::PinholeScene scene;
+  // The disc leans back to the right (z = 4 + 0.5 x); a fronto-parallel wall at 4 m, cut 3% in
+  // front of it: the disc's left part is in front of the cut, its right part behind it, and the
+  // tile rows of the middle tile hold both (the line-of-sight pass skips rows with neither lane
+  // in front, and must keep the others).
+  const GaussianModel disc = disc_on_plane(0.3);
+  const cv::Mat1f wall(scene.cam.height, scene.cam.width, 4.f);
+  const RenderOutput out = scene.forward(disc);
+  const RayDepths ray(disc, scene.cam, scene.pose, out.state->projections);
+  // One Gaussian: the opacity drawn in front of pixel p's cut is its alpha there (the render's
+  // alpha) where its ray depth is nearer than the cut, else nothing.
+  double expected = 0;
+  int in_front = 0, behind = 0;
+  alignas(64) float z[kLanes];
+  for (int y = 0; y < wall.rows; ++y)
+    for (int x0 = 0; x0 < wall.cols; x0 += kLanes) {
+      ray.row(0, y, x0, z);
+      for (int x = x0; x < std::min(x0 + kLanes, wall.cols); ++x) {
+        const float a = out.alpha[size_t(y) * wall.cols + x];
+        if (a <= 0) continue;
+        const bool front = z[x - x0] < 0.97f * 4.f;
+        expected += front ? a : 0.0;
+        (front ? in_front : behind) += 1;
+      }
+    }
+  REQUIRE(in_front > 20);
+  REQUIRE(behind > 20);
+  const double loss =
+      line_of_sight_loss(disc, scene.cam, scene.pose, wall, out, 0.03, 1.0, nullptr, true);
+  CHECK(loss == Approx(expected / (wall.rows * wall.cols)).epsilon(1e-5));
+}
