@@ -6,7 +6,6 @@
 
 #include <algorithm>
 #include <limits>
-#include <stdexcept>
 #include <string>
 #include <type_traits>
 
@@ -23,19 +22,34 @@ namespace {
 
 constexpr uint32_t kUnused = std::numeric_limits<uint32_t>::max();
 
-// Calls visit(pixel, j, w) for every contribution of every pixel of tile t, j the position of the
-// Gaussian in the tile's raster list; each pixel's contributions come front to back (blend_tile,
-// the forward pass's blending).
-template <class Visit>
-void visit_tile(const RasterState& s, int t, TileBlend& blend, Visit&& visit) {
-  const PixelRect tile = tile_pixels(s, t);
+// One contribution of a tile's blend: the entry's position j in the tile's raster list, the tile
+// pixel and its weight.
+struct Contribution {
+  uint32_t j;
+  uint32_t p;
+  float w;
+};
+
+// Every contribution of every pixel of tile t into `out` (replacing what it held), in blending
+// order: entry by entry, front to back (blend_tile, the forward pass's blending), so each pixel's
+// come front to back. Both passes of the cache read a tile's contributions from here, so both
+// run one compiled blending loop: with a loop of its own each (two instantiations), they can
+// round differently (FMA contraction) and disagree on whether a pair blends, which the main job
+// with `line_of_sight_weight: 0` met in its held-out evaluation. Out of line, so that no caller
+// gets a copy of its own. Blending once and keeping every tile's contributions for the second
+// pass instead raised the main job's peak memory by 60 MB.
+__attribute__((noinline)) void tile_contributions(const RasterState& s, int t, TileBlend& blend,
+                                                  std::vector<Contribution>& out) {
+  out.clear();
   blend_tile(s, t, blend, [&](uint32_t j, int at, const float* w) {
     for (int x = 0; x < kLanes; ++x)
-      if (blend.last[at + x] == j + 1) {
-        const int p = at + x;
-        visit(size_t(tile.y0 + p / kTileSize) * s.width + tile.x0 + x, j, w[x]);
-      }
+      if (blend.last[at + x] == j + 1) out.push_back({j, uint32_t(at + x), w[x]});
   });
+}
+
+// Image pixel of tile pixel p of a tile.
+size_t image_pixel(const RasterState& s, const PixelRect& tile, uint32_t p) {
+  return size_t(tile.y0 + int(p / kTileSize)) * s.width + size_t(tile.x0 + int(p % kTileSize));
 }
 
 // Calls f(Index{}, std::integral_constant<int, K>{}) with the pair index type and the channel
@@ -83,12 +97,15 @@ RenderCache::RenderCache(const RenderOutput& forward) {
   std::vector<uint32_t> tile_counts(tiles);
   tbb::parallel_for(tbb::blocked_range<int>(0, tiles), [&](const tbb::blocked_range<int>& r) {
     TileBlend blend;
+    std::vector<Contribution> contributions;
     for (int t = r.begin(); t != r.end(); ++t) {
       uint32_t* pos = position.data() + s.tile_offsets[t];
-      visit_tile(s, t, blend, [&](size_t pix, uint32_t j, float) {
-        ++counts[pix];
-        pos[j] = 0;
-      });
+      tile_contributions(s, t, blend, contributions);
+      const PixelRect tile = tile_pixels(s, t);
+      for (const Contribution& c : contributions) {
+        ++counts[image_pixel(s, tile, c.p)];
+        pos[c.j] = 0;
+      }
       uint32_t next = 0;
       for (uint32_t j = 0; j < s.tile_offsets[t + 1] - s.tile_offsets[t]; ++j)
         if (pos[j] != kUnused) pos[j] = next++;
@@ -117,25 +134,24 @@ RenderCache::RenderCache(const RenderOutput& forward) {
   // Pass 2: fill the tile lists, and the rows at their offsets.
   tbb::parallel_for(tbb::blocked_range<int>(0, tiles), [&](const tbb::blocked_range<int>& r) {
     TileBlend blend;
+    std::vector<Contribution> contributions;
     for (int t = r.begin(); t != r.end(); ++t) {
       const TileGaussian* list = s.tile_gaussians.data() + s.tile_offsets[t];
       const uint32_t* pos = position.data() + s.tile_offsets[t];
       for (uint32_t j = 0; j < s.tile_offsets[t + 1] - s.tile_offsets[t]; ++j)
         if (pos[j] != kUnused) entry_ids_[tile_offsets_[t] + pos[j]] = list[j].id;
-      visit_tile(s, t, blend, [&](size_t pix, uint32_t j, float w) {
-        // The two passes are two compilations of the blending loop; were their roundings ever
-        // to differ (FMA contraction) on whether a pair blends, this one must not write past
-        // what the first counted (PixelRows blends once for that reason).
-        if (counts[pix] == 0 || pos[j] == kUnused)
-          throw std::logic_error("RenderCache: the blending passes disagree on a pixel's pairs");
+      tile_contributions(s, t, blend, contributions);
+      const PixelRect tile = tile_pixels(s, t);
+      for (const Contribution& c : contributions) {
+        const size_t pix = image_pixel(s, tile, c.p);
         const uint32_t k = pixel_offsets_[pix + 1] - counts[pix]--;
-        ids_[k] = list[j].id;
-        weights_[k] = w;
+        ids_[k] = list[c.j].id;
+        weights_[k] = c.w;
         if (wide)
-          local32_[k] = pos[j];
+          local32_[k] = pos[c.j];
         else
-          local16_[k] = uint16_t(pos[j]);
-      });
+          local16_[k] = uint16_t(pos[c.j]);
+      }
     }
   });
 
