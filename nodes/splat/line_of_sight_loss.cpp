@@ -85,7 +85,7 @@ double opacity_before_prior(const GaussianModel& model, const Camera& camera, co
               const float dy = e.my - (float(y) + 0.5f);
               // In front of the cut: implied by j < last for centre depths (the lists' order),
               // not for ray depths.
-              alignas(64) float z[kLanes];
+              alignas(64) float z[kLanes], dx[kLanes], d_power[kLanes], d_opacity[kLanes];
               depth.row(e.id, y, tile.x0, z);
 #pragma GCC unroll 1  // one vector loop, not kLanes scalar copies
               for (int x = 0; x < kLanes; ++x) {
@@ -95,10 +95,11 @@ double opacity_before_prior(const GaussianModel& model, const Camera& camera, co
                                     (alpha[x] < kMaxAlpha);
                 const float a = active ? alpha[x] : 0.f;
                 const float dF_da = front.T[at + x] / (1.f - a);
-                const float dx = e.mx - (float(px) + 0.5f);
-                moments.add(x, dx, dy, active ? dF_da * a : 0.f,
-                            active ? dF_da * gaussian[x] : 0.f);
+                dx[x] = e.mx - (float(px) + 0.5f);
+                d_power[x] = active ? dF_da * a : 0.f;
+                d_opacity[x] = active ? dF_da * gaussian[x] : 0.f;
               }
+              moments.add(dx, dy, d_power, d_opacity);
             },
             [](uint32_t, const TileGaussian&) {});
       }

@@ -203,31 +203,33 @@ inline void store_lanes(float* p, const LaneVector& v) {
 // Shared by the rasterizer's backward pass and the line-of-sight loss.
 struct GeometryMoments {
   static constexpr int kOutputs = 6;  // what reduce() writes
-  alignas(64) float x[kLanes], y[kLanes], xx[kLanes], xy[kLanes], yy[kLanes], opacity[kLanes];
-  // Zeroed as one vector store per array: value-initialised arrays compile to `rep stos`, whose
-  // start-up cost, paid once per list entry, was 1/20 of the backward pass.
-  GeometryMoments() {
-    for (float* a : {x, y, xx, xy, yy, opacity}) store_lanes(a, LaneVector{});
-  }
-  // Lane `lane`: pixel offset (dx, dy), dL/dpower, dL/dopacity (0 where masked out).
-  void add(int lane, float dx, float dy, float d_power, float d_opacity) {
-    const float p_dx = d_power * dx;
-    x[lane] += p_dx;
-    y[lane] += d_power * dy;
-    xx[lane] += p_dx * dx;
-    xy[lane] += p_dx * dy;
-    yy[lane] += d_power * (dy * dy);
-    opacity[lane] += d_opacity;
+  // Vector values, kept in registers over an entry's rows: as arrays they were loaded and stored
+  // again in every row, a store-to-load chain per moment.
+  LaneVector x{}, y{}, xx{}, xy{}, yy{}, opacity{};
+  // One row's lanes: pixel offsets dx[lane] and dy, dL/dpower and dL/dopacity (0 where masked
+  // out), each array kLanes long.
+  void add(const float* dx, float dy, const float* d_power, const float* d_opacity) {
+    const LaneVector p = load_lanes(d_power), d = load_lanes(dx);
+    const LaneVector p_dx = p * d;
+    x += p_dx;
+    y += p * dy;
+    xx += p_dx * d;
+    xy += p_dx * dy;
+    yy += p * (dy * dy);
+    opacity += load_lanes(d_opacity);
   }
   // out[0..kOutputs) = dL/d(mean2d x, y), dL/d(A, B, C), dL/dopacity of entry e.
-  void reduce(const TileGaussian& e, float* out) {
-    const float sx = lane_sum(x), sy = lane_sum(y);
+  void reduce(const TileGaussian& e, float* out) const {
+    alignas(64) float lanes[kOutputs][kLanes];
+    const LaneVector* moments[kOutputs] = {&x, &y, &xx, &xy, &yy, &opacity};
+    for (int k = 0; k < kOutputs; ++k) store_lanes(lanes[k], *moments[k]);
+    const float sx = lane_sum(lanes[0]), sy = lane_sum(lanes[1]);
     out[0] = -(e.A * sx + e.B * sy);  // dL/dmean2d = sum p dpower/dd
     out[1] = -(e.B * sx + e.C * sy);
-    out[2] = -0.5f * lane_sum(xx);  // dL/dA, dL/dB, dL/dC
-    out[3] = -lane_sum(xy);
-    out[4] = -0.5f * lane_sum(yy);
-    out[5] = lane_sum(opacity);
+    out[2] = -0.5f * lane_sum(lanes[2]);  // dL/dA, dL/dB, dL/dC
+    out[3] = -lane_sum(lanes[3]);
+    out[4] = -0.5f * lane_sum(lanes[4]);
+    out[5] = lane_sum(lanes[5]);
   }
 };
 

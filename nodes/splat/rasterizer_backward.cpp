@@ -186,10 +186,16 @@ void backward_tile(const RasterState& s, int t, const PixelGrads& pixel_grads, f
     }
     const float* v = &scratch.values[size_t(j) * C];
     const float jf = float(j);
-    // Zeroed as one vector store per channel: a std::fill or a value-initialised struct of this
-    // size compiles to `rep stos`, whose start-up cost per entry was 1/20 of the backward pass.
-    for (int c = 0; c < C; ++c) store_lanes(d + c * kLanes, LaneVector{});
-    GeometryMoments moments;  // of dL/dpower and dL/dopacity over the entry's pixels
+    // The entry's lane sums: with a fixed channel count, vector values in registers (as arrays
+    // they were loaded and stored again in every row, a store-to-load chain per channel); else
+    // arrays zeroed as one vector store per channel (a std::fill or a value-initialised struct of
+    // this size compiles to `rep stos`, whose start-up cost per entry was 1/20 of the pass).
+    LaneVector d_lanes[kChannels > 0 ? kChannels : 1] = {};
+    if constexpr (kChannels == 0)
+      for (int c = 0; c < C; ++c) store_lanes(d + c * kLanes, LaneVector{});
+    GeometryMoments moments;       // of dL/dpower and dL/dopacity over the entry's pixels
+    alignas(64) float dx[kLanes];  // the lanes' pixel offsets from the entry's mean
+    for (int x = 0; x < kLanes; ++x) dx[x] = e.mx - (float(tile.x0 + x) + 0.5f);
     for (int y = rect.y0; y < rect.y1; ++y) {
       if (jf >= row_last[y - tile.y0]) continue;
       const float dy = e.my - (float(y) + 0.5f);
@@ -216,28 +222,40 @@ void backward_tile(const RasterState& s, int t, const PixelGrads& pixel_grads, f
       const int row_c = row_channels[y - tile.y0];
       LaneVector gv_lanes = load_lanes(gv);
       const LaneVector w_lanes = load_lanes(w);
+      if constexpr (kChannels > 0) {
 #pragma GCC unroll 16
-      for (int c = 0; c < row_c; ++c) {
-        const LaneVector gc = load_lanes(g + c * kTilePixels + at);
-        float* dc = d + c * kLanes;
-        gv_lanes += gc * v[c];
-        store_lanes(dc, load_lanes(dc) + w_lanes * gc);
+        for (int c = 0; c < kChannels; ++c)
+          if (c < row_c) {
+            const LaneVector gc = load_lanes(g + c * kTilePixels + at);
+            gv_lanes += gc * v[c];
+            d_lanes[c] += w_lanes * gc;
+          }
+      } else {
+        for (int c = 0; c < row_c; ++c) {
+          const LaneVector gc = load_lanes(g + c * kTilePixels + at);
+          float* dc = d + c * kLanes;
+          gv_lanes += gc * v[c];
+          store_lanes(dc, load_lanes(dc) + w_lanes * gc);
+        }
       }
       store_lanes(gv, gv_lanes);
       // alpha = o exp(power), power = -0.5 (A dx^2 + C dy^2) - B dx dy: the power's gradients
       // are linear in the moments (applied per entry below). A clamped alpha is constant, and a
       // masked lane has a = 0, so it adds nothing.
+      alignas(64) float d_power[kLanes], d_opacity[kLanes];
 #pragma GCC unroll 1  // one vector loop, not kLanes scalar copies
       for (int x = 0; x < kLanes; ++x) {
         const float d_alpha = gv[x] * Tj[x] - Q[at + x] * inv_keep[x];
         Q[at + x] += w[x] * gv[x];
         const bool free = e.opacity * gaussian[x] <= kMaxAlpha;
-        const float d_power = free ? d_alpha * a[x] : 0.f;
-        const float dx = e.mx - (float(tile.x0 + x) + 0.5f);
-        moments.add(x, dx, dy, d_power, free & (a[x] > 0.f) ? d_alpha * gaussian[x] : 0.f);
+        d_power[x] = free ? d_alpha * a[x] : 0.f;
+        d_opacity[x] = free & (a[x] > 0.f) ? d_alpha * gaussian[x] : 0.f;
       }
+      moments.add(dx, dy, d_power, d_opacity);
     }
     moments.reduce(e, slot);
+    if constexpr (kChannels > 0)
+      for (int c = 0; c < kChannels; ++c) store_lanes(d + c * kLanes, d_lanes[c]);
     for (int c = 0; c < C; ++c) slot[kSlotGeometry + c] = lane_sum(d + c * kLanes);
   }
 }
