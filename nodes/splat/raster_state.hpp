@@ -246,9 +246,10 @@ struct TileBlend {
 struct CentreDepth {
   const std::vector<ProjectedGaussian>& projections;
   float nearest(uint32_t id) const { return projections[id].depth; }
-  // The nearest depth an entry with this centre depth takes (increasing in it: the lists are
-  // sorted by centre depth, so the first entry whose bound lies behind every cut ends the pass).
-  static float nearest_at_centre_depth(float z) { return z; }
+  // The nearest depth any entry whose centre lies no nearer than this one's can take: the lists
+  // are sorted by centre depth, so the first entry whose bound lies behind every cut ends the
+  // pass.
+  float sorted_bound(uint32_t id) const { return projections[id].depth; }
   void row(uint32_t id, int, int, float* z) const { std::fill_n(z, kLanes, projections[id].depth); }
 };
 
@@ -263,8 +264,8 @@ struct CentreDepth {
 // (EntryDepth::row) lies in front of cut[p] (the line-of-sight loss's opacity in front of a depth
 // prior); an entry or row whose nearest depth is behind every cut it meets is skipped, so is a
 // row where no pixel still blending has the entry in front of its cut (on_row is not called for
-// either), and the pass ends at the first entry that EntryDepth::nearest_at_centre_depth puts
-// behind every cut.
+// either), and the pass ends at the first entry that EntryDepth::sorted_bound puts behind every
+// cut.
 template <class OnRow, class EntryDepth>
 inline void blend_tile(const RasterState& s, int t, TileBlend& out, OnRow&& on_row,
                        const float* cut, const EntryDepth& depth) {
@@ -286,7 +287,7 @@ inline void blend_tile(const RasterState& s, int t, TileBlend& out, OnRow&& on_r
   for (uint32_t j = 0; j < count && active > 0; ++j) {
     const TileGaussian& e = list[j];
     const float z = cut ? depth.nearest(e.id) : 0.f;
-    if (cut && !(depth.nearest_at_centre_depth(s.projections[e.id].depth) < tile_cut)) break;
+    if (cut && !(depth.sorted_bound(e.id) < tile_cut)) break;
     if (cut && !(z < tile_cut)) continue;
     const PixelRect r = clip(e, tile);
     if (r.y1 <= r.y0) continue;  // no row of this tile it can blend in

@@ -9,13 +9,17 @@ namespace gslift {
 
 RayDepths::RayDepths(const GaussianModel& model, const Camera& camera, const Pose& pose,
                      const std::vector<ProjectedGaussian>& projections)
-    : fx_(static_cast<float>(camera.fx)),
-      fy_(static_cast<float>(camera.fy)),
-      cx_(static_cast<float>(camera.cx)),
-      cy_(static_cast<float>(camera.cy)),
-      coeffs_(model.size() * kCoeffs, 0.f),
-      nearest_(model.size(), 0.f) {
+    : coeffs_(model.size() * kCoeffs, 0.f),
+      ray_x_(size_t((camera.width + kTileSize - 1) / kTileSize * kTileSize)),
+      ray_y_(size_t((camera.height + kTileSize - 1) / kTileSize * kTileSize)),
+      nearest_(model.size(), 0.f),
+      sorted_bound_(model.size(), 0.f) {
+  const float fx = static_cast<float>(camera.fx), fy = static_cast<float>(camera.fy);
+  const float cx = static_cast<float>(camera.cx), cy = static_cast<float>(camera.cy);
+  for (size_t x = 0; x < ray_x_.size(); ++x) ray_x_[x] = (float(x) + 0.5f - cx) / fx;
+  for (size_t y = 0; y < ray_y_.size(); ++y) ray_y_[y] = (float(y) + 0.5f - cy) / fy;
   tbb::parallel_for(size_t(0), model.size(), [&](size_t i) {
+    sorted_bound_[i] = (1 - kMaxRelative) * projections[i].depth;
     if (projections[i].radius == 0) return;
     const Eigen::Matrix3d R = pose.R * model.rotation(i);
     Eigen::Vector3d inv_var;

@@ -30,27 +30,32 @@ class RayDepths {
   static constexpr float kMaxRelative = 0.1f;
   // The nearest depth the Gaussian takes at any pixel.
   float nearest(uint32_t id) const { return nearest_[id]; }
-  static float nearest_at_centre_depth(float z) { return (1 - kMaxRelative) * z; }
+  // The nearest depth any Gaussian whose centre lies no nearer than this one's can take
+  // (blend_tile's EntryDepth::sorted_bound): (1 - kMaxRelative) x its centre depth.
+  float sorted_bound(uint32_t id) const { return sorted_bound_[id]; }
   // z[x] = the ray depth of Gaussian id at pixel (x0 + x, y), x < kLanes.
   void row(uint32_t id, int y, int x0, float* z) const {
     const float* c = &coeffs_[size_t(id) * kCoeffs];
-    const float ry = (float(y) + 0.5f - cy_) / fy_;
+    const float ry = ray_y_[size_t(y)];
+    const float* rx = &ray_x_[size_t(x0)];
     const float num0 = c[1] * ry + c[2], den0 = (c[5] * ry + c[7]) * ry + c[8];
     const float den1 = c[4] * ry + c[6];
     for (int x = 0; x < kLanes; ++x) {
-      const float rx = (float(x0 + x) + 0.5f - cx_) / fx_;
-      const float t = (c[0] * rx + num0) / ((c[3] * rx + den1) * rx + den0);
+      const float t = (c[0] * rx[x] + num0) / ((c[3] * rx[x] + den1) * rx[x] + den0);
       z[x] = std::min(std::max(t, c[9]), c[10]);
     }
   }
 
  private:
   static constexpr int kCoeffs = 11;  // P m (3), r . P r's six coefficients, the clamp (2)
-  float fx_, fy_, cx_, cy_;
   std::vector<float> coeffs_;
+  // The rays' (x + 0.5 - cx) / fx per image column and (y + 0.5 - cy) / fy per row, over whole
+  // tiles: a division per lane that row() did again for every entry row it was called for.
+  std::vector<float> ray_x_, ray_y_;
   // coeffs_[9] of each Gaussian again, contiguous: the passes with a cut test it for every list
   // entry they meet, most of which they skip, and a 44-byte stride made that a cache miss each.
-  std::vector<float> nearest_;
+  // Likewise the bound from the centre depth, which was read from the 52-byte projections.
+  std::vector<float> nearest_, sorted_bound_;
 };
 
 // Calls f(depth) with the depths of the entries of render state s (of `model` in this view) that
