@@ -2,19 +2,13 @@
 
 #include <algorithm>
 
-#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
-#include <tbb/partitioner.h>
 
 #include "nodes/splat/adam.hpp"
 #include "nodes/splat/pixel_rows.hpp"
 #include "nodes/splat/rasterizer.hpp"
 
 namespace gslift {
-
-namespace {
-constexpr int kChannelBlock = 8;  // feature channels per task of the gradient's sum
-}  // namespace
 
 PixelRows render_pixel_rows(const GaussianModel& model, const Camera& camera, const Pose& pose,
                             float min_weight) {
@@ -41,23 +35,14 @@ PixelTrainingLoss train_pixel_features(const std::vector<PixelRows>& rows, size_
   for (int it = 0; it < s.iterations; ++it) {
     tbb::parallel_for(size_t(0), batches,
                       [&](size_t b) { step(it, b, features.data(), extras.data(), out[b]); });
-    // Fixed batch order: the sums do not depend on the thread count. The feature gradient in
-    // blocks of channels on different threads, each block over every batch in that order (one
-    // thread over all of them kept the other idle: 1.4% of the main job).
-    std::fill(grad.begin(), grad.end(), 0.f);
-    tbb::parallel_for(
-        tbb::blocked_range<int>(0, dim, kChannelBlock),
-        [&](const tbb::blocked_range<int>& channels) {
-          for (size_t b = 0; b < batches; ++b)
-            rows[out[b].view].backward(out[b].pixels, out[b].grad.data(), dim, grad.data(),
-                                       channels.begin(), channels.end());
-        },
-        tbb::simple_partitioner());
+    // Fixed batch order: the sums do not depend on the thread count.
     double total = 0;
+    std::fill(grad.begin(), grad.end(), 0.f);
     std::fill(extra_grad.begin(), extra_grad.end(), 0.f);
     for (size_t b = 0; b < batches; ++b) {
       const PixelBatch& batch = out[b];
       total += batch.loss;
+      rows[batch.view].backward(batch.pixels, batch.grad.data(), dim, grad.data());
       for (size_t k = 0; k < batch.extra_grad.size(); ++k)
         extra_grad[batch.extra_offset + k] += batch.extra_grad[k];
     }

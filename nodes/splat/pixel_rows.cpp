@@ -30,15 +30,13 @@ void render_sampled_pixels(const PixelRowsView& rows, const float* attributes, i
 }
 
 void backward_sampled_pixels(const PixelRowsView& rows, const std::vector<uint32_t>& pixels,
-                             const float* grad, int channels, float* grad_attributes, int begin,
-                             int end) {
-  if (end < 0) end = channels;
+                             const float* grad, int channels, float* grad_attributes) {
   for (size_t k = 0; k < pixels.size(); ++k) {
     const float* g = grad + k * channels;
     for (uint32_t e = rows.offsets[pixels[k]]; e < rows.offsets[pixels[k] + 1]; ++e) {
       float* d = grad_attributes + size_t(rows.ids[e]) * channels;
       const float w = rows.weights[e];
-      for (int c = begin; c < end; ++c) d[c] += w * g[c];
+      for (int c = 0; c < channels; ++c) d[c] += w * g[c];
     }
   }
 }

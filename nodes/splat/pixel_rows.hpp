@@ -25,11 +25,9 @@ struct PixelRowsView {
 void render_sampled_pixels(const PixelRowsView& rows, const float* attributes, int channels,
                            const std::vector<uint32_t>& pixels, float* out);
 // The adjoint: grad_attributes (N x channels) += W_S^T grad (pixels.size() x channels), summed in
-// sample order (deterministic), in channels [begin, end) only (end -1: through the last), so that
-// a caller can give threads disjoint channels and keep each element's order of summation.
+// sample order (deterministic).
 void backward_sampled_pixels(const PixelRowsView& rows, const std::vector<uint32_t>& pixels,
-                             const float* grad, int channels, float* grad_attributes, int begin = 0,
-                             int end = -1);
+                             const float* grad, int channels, float* grad_attributes);
 
 // A view's per-pixel blend weights without the pairs below `min_weight` and without a render
 // cache's tile lists and per-Gaussian transpose, which sampled-pixel training never needs:
@@ -54,8 +52,8 @@ class PixelRows {
     render_sampled_pixels(view(), attributes, channels, pixels, out);
   }
   void backward(const std::vector<uint32_t>& pixels, const float* grad, int channels,
-                float* grad_attributes, int begin = 0, int end = -1) const {
-    backward_sampled_pixels(view(), pixels, grad, channels, grad_attributes, begin, end);
+                float* grad_attributes) const {
+    backward_sampled_pixels(view(), pixels, grad, channels, grad_attributes);
   }
 
  private:
