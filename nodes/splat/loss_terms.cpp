@@ -1,6 +1,21 @@
 #include "nodes/splat/loss_terms.hpp"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 namespace gslift {
+
+namespace {
+
+// f(begin, end) over [0, n) in parallel blocks: the element-wise sums below, which on one thread
+// kept the second core idle at every step.
+template <class F>
+void for_blocks(size_t n, F&& f) {
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 1 << 14),
+                    [&](const tbb::blocked_range<size_t>& r) { f(r.begin(), r.end()); });
+}
+
+}  // namespace
 
 void add_scaled(std::vector<float>& into, const cv::Mat& image, double weight) {
   const cv::Mat c = image.isContinuous() ? image : image.clone();
@@ -9,14 +24,20 @@ void add_scaled(std::vector<float>& into, const cv::Mat& image, double weight) {
   const float w = static_cast<float>(weight);
   if (into.empty()) {
     into.resize(n);
-    for (size_t i = 0; i < n; ++i) into[i] = w * p[i];
+    for_blocks(n, [&](size_t begin, size_t end) {
+      for (size_t i = begin; i < end; ++i) into[i] = w * p[i];
+    });
   } else {
-    for (size_t i = 0; i < n; ++i) into[i] += w * p[i];
+    for_blocks(n, [&](size_t begin, size_t end) {
+      for (size_t i = begin; i < end; ++i) into[i] += w * p[i];
+    });
   }
 }
 
 void add_scaled(std::vector<float>& into, const std::vector<float>& grad, double weight) {
-  for (size_t i = 0; i < grad.size(); ++i) into[i] += static_cast<float>(weight * grad[i]);
+  for_blocks(grad.size(), [&](size_t begin, size_t end) {
+    for (size_t i = begin; i < end; ++i) into[i] += static_cast<float>(weight * grad[i]);
+  });
 }
 
 LossTerms make_loss_terms(const ReconstructOptions& o, const TermSetup& s) {
