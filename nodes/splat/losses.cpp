@@ -1,6 +1,7 @@
 #include "nodes/splat/losses.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <stdexcept>
 #include <vector>
@@ -156,25 +157,29 @@ namespace {
 // Mean over the N Gaussians of a term of each one's three log-scales (log_scales is N x 3).
 // term(s, g) returns the Gaussian's term and writes its gradient with respect to s into g (three
 // values, zeroed); grad (resized to N x 3) receives the mean's gradient, g / N.
-// Parallel over Gaussians (a serial loop kept the second core idle at every step); the terms are
-// summed afterwards in Gaussian order, so the value does not depend on the thread count.
+// Parallel over Gaussians in a fixed number of blocks (a serial loop kept the second core idle at
+// every step); each block sums its terms in Gaussian order, and the blocks' sums are added in
+// block order, so the value does not depend on the thread count.
 template <class Term>
 double mean_scale_term(const std::vector<float>& log_scales, std::vector<float>* grad, Term term) {
   const size_t n = log_scales.size() / 3;
   if (grad) grad->resize(log_scales.size());
   if (n == 0) return 0;
-  std::vector<double> terms(n);
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 4096),
-                    [&](const tbb::blocked_range<size_t>& r) {
-                      for (size_t i = r.begin(); i != r.end(); ++i) {
-                        double g[3] = {0, 0, 0};
-                        terms[i] = term(&log_scales[i * 3], g);
-                        for (int k = 0; grad && k < 3; ++k)
-                          (*grad)[i * 3 + k] = static_cast<float>(g[k] / static_cast<double>(n));
-                      }
-                    });
+  constexpr size_t kBlocks = 64;
+  const size_t block_size = (n + kBlocks - 1) / kBlocks;
+  std::array<double, kBlocks> sums{};
+  tbb::parallel_for(size_t(0), kBlocks, [&](size_t b) {
+    double sum = 0;
+    for (size_t i = b * block_size; i < std::min(n, (b + 1) * block_size); ++i) {
+      double g[3] = {0, 0, 0};
+      sum += term(&log_scales[i * 3], g);
+      for (int k = 0; grad && k < 3; ++k)
+        (*grad)[i * 3 + k] = static_cast<float>(g[k] / static_cast<double>(n));
+    }
+    sums[b] = sum;
+  });
   double sum = 0;
-  for (const double t : terms) sum += t;
+  for (const double s : sums) sum += s;
   return sum / static_cast<double>(n);
 }
 
