@@ -67,9 +67,10 @@ struct RasterState {
   std::vector<uint32_t> slot_offsets;          // N + 1: Gaussian g owns slots [g], [g+1])
   std::vector<uint32_t> tile_offsets;          // tiles + 1
   UninitVector<TileGaussian> tile_gaussians;   // all tiles' lists, front to back
-  std::vector<float> final_transmittance;      // H x W
-  std::vector<uint32_t> contributors;          // H x W: last contributing list index + 1
-  std::vector<float> alpha_sum;  // H x W accumulated alpha, kept when the alpha block is rendered
+  // Per pixel, written for every pixel by the forward pass's tiles (so left uninitialised first):
+  UninitVector<float> final_transmittance;  // H x W
+  UninitVector<uint32_t> contributors;      // H x W: last contributing list index + 1
+  UninitVector<float> alpha_sum;  // H x W accumulated alpha, kept when the alpha block is rendered
 
   int tile_count() const { return tiles_x * tiles_y; }
 };

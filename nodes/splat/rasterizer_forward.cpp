@@ -428,9 +428,11 @@ RenderOutput render(const GaussianModel& model, const Camera& camera, const Pose
   if (settings.alpha) out.alpha.assign(pixels, 0.f);
   if (settings.features) out.features.assign(pixels * D, 0.f);
   const std::vector<uint8_t> feature_rows = feature_row_flags(s, settings);
-  s.final_transmittance.assign(pixels, 1.f);
-  s.contributors.assign(pixels, 0);
-  if (s.alpha_offset >= 0) s.alpha_sum.assign(pixels, 0.f);
+  // Every pixel lies in a tile, and store_tile writes each of them: no fill first (a serial pass
+  // taking the page faults on one thread).
+  s.final_transmittance.resize(pixels);
+  s.contributors.resize(pixels);
+  if (s.alpha_offset >= 0) s.alpha_sum.resize(pixels);
 
   tbb::parallel_for(
       tbb::blocked_range<int>(0, s.tile_count()), [&](const tbb::blocked_range<int>& r) {
