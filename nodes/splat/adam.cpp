@@ -34,7 +34,9 @@ void AdamGroup::step(float* params, const float* grads, size_t rows, const float
   // One flat loop over the elements of a range of rows, with each element's rate from a pattern
   // of the column rates repeated over a task's rows: a loop over the few columns of a row (1 to
   // 48) kept the update scalar.
-  constexpr size_t kRowsPerTask = 4096;  // simple_partitioner: ranges of at most this
+  // simple_partitioner: ranges of at most this many rows. 4096 left the main job's 45k rows in
+  // 11 tasks, and one thread ran the last alone at every step (perf samples matched in time).
+  constexpr size_t kRowsPerTask = 1024;
   const size_t width = static_cast<size_t>(width_);
   // Rebuilt each step (the means' rate decays), in the group's buffer, by doubling copies of the
   // first row.
