@@ -30,11 +30,14 @@ void render_sampled_pixels(const PixelRowsView& rows, const float* attributes, i
 }
 
 void backward_sampled_pixels(const PixelRowsView& rows, const std::vector<uint32_t>& pixels,
-                             const float* grad, int channels, float* grad_attributes) {
+                             const float* grad, int channels, float* grad_attributes,
+                             uint32_t id_begin, uint32_t id_end) {
   for (size_t k = 0; k < pixels.size(); ++k) {
     const float* g = grad + k * channels;
     for (uint32_t e = rows.offsets[pixels[k]]; e < rows.offsets[pixels[k] + 1]; ++e) {
-      float* d = grad_attributes + size_t(rows.ids[e]) * channels;
+      const uint32_t id = rows.ids[e];
+      if (id < id_begin || id >= id_end) continue;
+      float* d = grad_attributes + size_t(id) * channels;
       const float w = rows.weights[e];
       for (int c = 0; c < channels; ++c) d[c] += w * g[c];
     }

@@ -7,6 +7,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 namespace gslift {
@@ -25,9 +26,12 @@ struct PixelRowsView {
 void render_sampled_pixels(const PixelRowsView& rows, const float* attributes, int channels,
                            const std::vector<uint32_t>& pixels, float* out);
 // The adjoint: grad_attributes (N x channels) += W_S^T grad (pixels.size() x channels), summed in
-// sample order (deterministic).
+// sample order (deterministic); only the rows of the ids in [id_begin, id_end), so that tasks over
+// disjoint id ranges add in parallel, each row's sum in the same order as one pass over all.
 void backward_sampled_pixels(const PixelRowsView& rows, const std::vector<uint32_t>& pixels,
-                             const float* grad, int channels, float* grad_attributes);
+                             const float* grad, int channels, float* grad_attributes,
+                             uint32_t id_begin = 0,
+                             uint32_t id_end = std::numeric_limits<uint32_t>::max());
 
 // A view's per-pixel blend weights without the pairs below `min_weight` and without a render
 // cache's tile lists and per-Gaussian transpose, which sampled-pixel training never needs:
@@ -52,8 +56,9 @@ class PixelRows {
     render_sampled_pixels(view(), attributes, channels, pixels, out);
   }
   void backward(const std::vector<uint32_t>& pixels, const float* grad, int channels,
-                float* grad_attributes) const {
-    backward_sampled_pixels(view(), pixels, grad, channels, grad_attributes);
+                float* grad_attributes, uint32_t id_begin = 0,
+                uint32_t id_end = std::numeric_limits<uint32_t>::max()) const {
+    backward_sampled_pixels(view(), pixels, grad, channels, grad_attributes, id_begin, id_end);
   }
 
  private:

@@ -150,3 +150,34 @@ TEST_CASE("raster: PixelRows keeps the render cache's pairs at or above min_weig
   }
   CHECK(one_thread == sums);
 }
+
+// train_pixel_features sums the adjoint in blocks of Gaussian ids, one task each: the blocks
+// together must give the whole pass's gradient bit for bit, each writing only its own rows.
+TEST_CASE("raster: sampled-pixel backward over disjoint id ranges adds up to the whole pass",
+          "[splat][raster]") {
+  SampledCase c;
+  const PixelRows rows(c.forward, 0.01f);
+  const int C = 5;
+  const size_t n = c.cache.gaussian_count();
+  const std::vector<float> y = c.random_values(c.pixels.size() * C);
+  std::vector<float> whole(n * C, 0.f);
+  rows.backward(c.pixels, y.data(), C, whole.data());
+  const uint32_t cuts[] = {0, uint32_t(n / 3), uint32_t(2 * n / 3), uint32_t(n)};
+  std::vector<float> blocks(n * C, 0.f);
+  for (int b = 0; b < 3; ++b) {
+    std::vector<float> one(n * C, 0.f);
+    rows.backward(c.pixels, y.data(), C, one.data(), cuts[b], cuts[b + 1]);
+    size_t touched = 0;
+    for (size_t i = 0; i < n * C; ++i) {
+      const uint32_t id = uint32_t(i / C);
+      if (id < cuts[b] || id >= cuts[b + 1]) {
+        CHECK(one[i] == 0.f);  // not its row
+      } else {
+        touched += one[i] != 0.f;
+        blocks[i] = one[i];
+      }
+    }
+    CHECK(touched > 0u);  // every block has Gaussians the samples see
+  }
+  CHECK(blocks == whole);
+}
