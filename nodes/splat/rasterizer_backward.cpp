@@ -211,11 +211,17 @@ void backward_tile(const RasterState& s, int t, const PixelGrads& pixel_grads, f
     GeometryMoments moments;       // of dL/dpower and dL/dopacity over the entry's pixels
     alignas(64) float dx[kLanes];  // the lanes' pixel offsets from the entry's mean
     for (int x = 0; x < kLanes; ++x) dx[x] = e.mx - (float(tile.x0 + x) + 0.5f);
+    // The alphas of all the entry's rows first, as in blend_tile: their exp chains overlap.
+    alignas(64) float row_gaussian[kTileSize][kLanes], row_alpha[kTileSize][kLanes];
+    for (int y = rect.y0; y < rect.y1; ++y)
+      if (jf < row_last[y - tile.y0])
+        blend_row(e, y, tile.x0, tile.x0 + kLanes, s.min_alpha, row_gaussian[y - rect.y0],
+                  row_alpha[y - rect.y0]);
     for (int y = rect.y0; y < rect.y1; ++y) {
       if (jf >= row_last[y - tile.y0]) continue;
       const float dy = e.my - (float(y) + 0.5f);
-      alignas(64) float gaussian[kLanes], alpha[kLanes];
-      blend_row(e, y, tile.x0, tile.x0 + kLanes, s.min_alpha, gaussian, alpha);
+      const float* gaussian = row_gaussian[y - rect.y0];
+      const float* alpha = row_alpha[y - rect.y0];
       const int at = (y - tile.y0) * kTileSize;
       // Three passes over the lanes, each a loop without branches that compiles to vector code:
       // transmittance, then the channels one by one, then dL/dalpha and the geometry partials.
