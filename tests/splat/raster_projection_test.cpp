@@ -329,6 +329,24 @@ TEST_CASE("raster: the tightened pixel boxes give the 3DGS image", "[splat][rast
   CHECK(c.max_diff < 1e-5);
 }
 
+TEST_CASE("raster: Gaussians at the same depth are blended in index order", "[splat][raster]") {
+  // Two depths only, every Gaussian tied with a third or two thirds of the others: the image
+  // depends on how ties are broken, and the reference breaks them by index.
+  test::RasterScene scene = test::random_raster_scene(150, 0, 0, 23, 80, 56);
+  scene.pose.R.setIdentity();
+  scene.pose.t.setZero();  // depth = the mean's z, exactly
+  for (size_t i = 0; i < scene.model.size(); ++i) {
+    float* mean = &scene.model.means[3 * i];
+    const float z = i % 3 == 0 ? 2.5f : 3.f;
+    mean[0] = 0.4f * z * (float(i % 17) / 8.f - 1.f);
+    mean[1] = 0.3f * z * (float(i % 13) / 6.f - 1.f);
+    mean[2] = z;
+  }
+  const ReferenceComparison c = compare_with_per_pixel_reference(scene);
+  CHECK(c.drawn > 500);
+  CHECK(c.max_diff < 1e-5);
+}
+
 TEST_CASE("raster: a slanted Gaussian's tile entries keep the rows it can blend in, no others",
           "[splat][raster]") {
   // A thin Gaussian along the image diagonal (rotated 45 degrees about the optical axis), long
