@@ -77,7 +77,7 @@ void line_of_sight_tile(const RasterState& s, int t, const TilePrior& prior,
   blend_tile(s, t, blend, [&](uint32_t j, int at, const float* w) {
     alignas(64) float z[kLanes];
     entry_depth.row(list[j].id, tile.y0 + at / kTileSize, tile.x0, z);
-    // Per part, the row's lanes summed pairwise (lane_sum): a vector loop, where a running
+    // Per part, the row's lanes summed pairwise (lane_sums): a vector loop, where a running
     // scalar sum per part compiled to 16 scalar iterations with branches per entry row.
     alignas(64) float part[kWeightParts][kLanes];
 #pragma GCC unroll 1  // one vector loop, not kLanes scalar copies
@@ -88,8 +88,12 @@ void line_of_sight_tile(const RasterState& s, int t, const TilePrior& prior,
       part[kUnobserved][x] = has ? 0.f : w[x];
       part[kBehind][x] = z[x] > prior.upper[at + x] ? w[x] : 0.f;
     }
+    LaneVector parts[kWeightParts];
+    for (int k = 0; k < kWeightParts; ++k) parts[k] = load_lanes(part[k]);
+    float sums[kWeightParts];
+    lane_sums(parts, kWeightParts, sums);
     float* slot = &slots[size_t(list[j].slot) * kWeightParts];
-    for (int k = 0; k < kWeightParts; ++k) slot[k] += lane_sum(part[k]);
+    for (int k = 0; k < kWeightParts; ++k) slot[k] += sums[k];
   });
 }
 
@@ -106,7 +110,7 @@ void footprint_tile(const RasterState& s, int t, const TilePrior& prior,
   for (uint32_t j = 0; j < s.tile_offsets[t + 1] - s.tile_offsets[t]; ++j) {
     const TileGaussian& e = list[j];
     const PixelRect rect = clip(e, tile);
-    // Lane accumulators over the entry's rows, summed pairwise once per entry (lane_sum).
+    // Lane accumulators over the entry's rows, summed pairwise once per entry (lane_sums).
     alignas(64) float part[kFootprintParts][kLanes];
     for (auto& lanes : part) store_lanes(lanes, LaneVector{});
     for (int y = rect.y0; y < rect.y1; ++y) {
@@ -121,8 +125,9 @@ void footprint_tile(const RasterState& s, int t, const TilePrior& prior,
         part[kHidden][x] += z[x] > prior.upper[at + x] ? a : 0.f;
       }
     }
-    for (int k = 0; k < kFootprintParts; ++k)
-      slots[size_t(e.slot) * kFootprintParts + k] = lane_sum(part[k]);
+    LaneVector parts[kFootprintParts];
+    for (int k = 0; k < kFootprintParts; ++k) parts[k] = load_lanes(part[k]);
+    lane_sums(parts, kFootprintParts, &slots[size_t(e.slot) * kFootprintParts]);
   }
 }
 

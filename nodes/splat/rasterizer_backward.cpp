@@ -295,10 +295,24 @@ void backward_tile(const RasterState& s, int t, const PixelGrads& pixel_grads, f
       }
       moments.add(dx, dy, d_power, d_opacity);
     }
-    moments.reduce(e, slot);
-    if constexpr (kChannels > 0)
-      for (int c = 0; c < kChannels; ++c) store_lanes(d + c * kLanes, d_lanes[c]);
-    for (int c = 0; c < C; ++c) slot[kSlotGeometry + c] = lane_sum(d + c * kLanes);
+    // The entry's sums, its slot in order (the moments', then each channel's), in trees of up to
+    // kLanes vectors (lane_sums).
+    LaneVector geometry[kSlotGeometry];
+    moments.vectors(geometry);
+    auto lanes_of = [&](int k) {
+      if (k < kSlotGeometry) return geometry[k];
+      if constexpr (kChannels > 0) return d_lanes[k - kSlotGeometry];
+      return load_lanes(d + (k - kSlotGeometry) * kLanes);
+    };
+    for (int i = 0; i < stride; i += kLanes) {
+      const int n = std::min(kLanes, stride - i);
+      LaneVector chunk[kLanes];
+      for (int k = 0; k < n; ++k) chunk[k] = lanes_of(i + k);
+      alignas(64) float sums[kLanes];
+      lane_sums(chunk, n, sums);
+      if (i == 0) GeometryMoments::finish(e, sums, slot);
+      for (int k = std::max(i, kSlotGeometry); k < i + n; ++k) slot[k] = sums[k - i];
+    }
   }
 }
 
