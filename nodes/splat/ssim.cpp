@@ -101,6 +101,41 @@ struct WindowRows {
   float* out[N];
 };
 
+// One row's SSIM per value, s[i], and with kGrad the gradient of g x their sum with respect to
+// the windowed moments of x: dmu, dxx, dxy. Float arithmetic (as the 3DGS reference in torch
+// float32) in a loop over distinct arrays that vectorises: with the gradient as a branch inside
+// it and the rows reached through the caller's pointers, it stayed scalar (half of SSIM's
+// samples, perf annotate). The caller sums the row in double (a double sum inside kept it
+// scalar too).
+template <bool kGrad>
+void ssim_values(const float* __restrict mx, const float* __restrict my, const float* __restrict xx,
+                 const float* __restrict yy, const float* __restrict xy, int width, float c1,
+                 float c2, float g, float* __restrict s_out, float* __restrict dmu,
+                 float* __restrict dxx, float* __restrict dxy) {
+  for (int i = 0; i < width; ++i) {
+    // S = A B / (C D), A = 2 mx my + C1, B = 2 sxy + C2, C = mx^2 + my^2 + C1,
+    // D = sxx + syy + C2.
+    const float a_mx = mx[i], a_my = my[i];
+    const float sxx = xx[i] - a_mx * a_mx, syy = yy[i] - a_my * a_my;
+    const float sxy = xy[i] - a_mx * a_my;
+    const float A = 2 * a_mx * a_my + c1, B = 2 * sxy + c2;
+    const float C = a_mx * a_mx + a_my * a_my + c1, D = sxx + syy + c2;
+    const float inv_cd = 1.f / (C * D);
+    const float s = A * B * inv_cd;
+    s_out[i] = s;
+    if constexpr (kGrad) {
+      const float ds_dsxx = -s / D;
+      const float ds_dsxy = 2 * A * inv_cd;
+      // mx enters A, C directly and sxx, sxy through -mx^2 and -mx my.
+      const float ds_dmx =
+          2 * a_my * B * inv_cd - s * 2 * a_mx / C + ds_dsxx * (-2 * a_mx) + ds_dsxy * (-a_my);
+      dmu[i] = g * ds_dmx;
+      dxx[i] = g * ds_dsxx;
+      dxy[i] = g * ds_dsxy;
+    }
+  }
+}
+
 }  // namespace
 
 cv::Mat ssim_window(const cv::Mat& image) {
@@ -163,29 +198,11 @@ double ssim(const cv::Mat& x, const SsimTarget& target, cv::Mat* grad_x) {
       float* dmu = grad_x ? d_mu.ptr<float>(r) : nullptr;
       float* dxx = grad_x ? d_exx.ptr<float>(r) : nullptr;
       float* dxy = grad_x ? d_exy.ptr<float>(r) : nullptr;
-      // Float arithmetic (as the 3DGS reference in torch float32) so the loop vectorises; the
-      // row's sum is accumulated in double afterwards (a double sum inside kept it scalar).
-      for (int i = 0; i < width; ++i) {
-        // S = A B / (C D), A = 2 mx my + C1, B = 2 sxy + C2, C = mx^2 + my^2 + C1,
-        // D = sxx + syy + C2.
-        const float a_mx = mx[i], a_my = my[i];
-        const float sxx = xx[i] - a_mx * a_mx, syy = yy[i] - a_my * a_my;
-        const float sxy = xy[i] - a_mx * a_my;
-        const float A = 2 * a_mx * a_my + c1, B = 2 * sxy + c2;
-        const float C = a_mx * a_mx + a_my * a_my + c1, D = sxx + syy + c2;
-        const float inv_cd = 1.f / (C * D);
-        const float s = A * B * inv_cd;
-        row_ssim[i] = s;
-        if (!dmu) continue;
-        const float ds_dsxx = -s / D;
-        const float ds_dsxy = 2 * A * inv_cd;
-        // mx enters A, C directly and sxx, sxy through -mx^2 and -mx my.
-        const float ds_dmx =
-            2 * a_my * B * inv_cd - s * 2 * a_mx / C + ds_dsxx * (-2 * a_mx) + ds_dsxy * (-a_my);
-        dmu[i] = g * ds_dmx;
-        dxx[i] = g * ds_dsxx;
-        dxy[i] = g * ds_dsxy;
-      }
+      if (grad_x)
+        ssim_values<true>(mx, my, xx, yy, xy, width, c1, c2, g, row_ssim.data(), dmu, dxx, dxy);
+      else
+        ssim_values<false>(mx, my, xx, yy, xy, width, c1, c2, g, row_ssim.data(), nullptr, nullptr,
+                           nullptr);
       double sum = 0;
       for (int i = 0; i < width; ++i) sum += row_ssim[i];
       row_sum[r] = sum;
