@@ -106,10 +106,44 @@ double depth_log_l1_loss(const cv::Mat& rendered, const cv::Mat& target, cv::Mat
   return sum * inv;
 }
 
+namespace {
+
+// normal_cosine_loss's pixels in runs of this many: their terms kept, then added in order.
+constexpr int kCosineChunk = 64;
+constexpr double kMinNorm2 = 1e-12;  // a usable pixel's rendered normal: |n_hat| >= 1e-6
+
+// The terms 1 - cos(a, b) of `count` pixels of rendered normals a and target normals b (three
+// floats each), 0 where the pixel is not usable (no target, or |a| < 1e-6), and with kGrad their
+// gradients times inv into g (0 where not usable). Every pixel is computed and the unusable ones
+// selected away, over distinct arrays: a loop GCC vectorises, where the branch per pixel kept it
+// scalar (1.4% of the main job's samples).
+template <bool kGrad>
+void normal_cosine_terms(const float* __restrict a, const float* __restrict b, int count,
+                         double inv, double* __restrict terms, float* __restrict g) {
+  for (int c = 0; c < count; ++c) {
+    const double a0 = a[3 * c], a1 = a[3 * c + 1], a2 = a[3 * c + 2];
+    const double n2 = a0 * a0 + a1 * a1 + a2 * a2;
+    const bool use =
+        (b[3 * c] != 0.f || b[3 * c + 1] != 0.f || b[3 * c + 2] != 0.f) && n2 >= kMinNorm2;
+    const double len = std::sqrt(n2);
+    const double dot = a0 * b[3 * c] + a1 * b[3 * c + 1] + a2 * b[3 * c + 2];
+    const double cosine = dot / len;
+    terms[c] = use ? 1 - cosine : 0.0;
+    if constexpr (kGrad) {
+      // d cos / d a = b / |a| - (a.b) a / |a|^3
+      const double k = cosine / (len * len);
+      g[3 * c] = use ? static_cast<float>(-(b[3 * c] / len - k * a0) * inv) : 0.f;
+      g[3 * c + 1] = use ? static_cast<float>(-(b[3 * c + 1] / len - k * a1) * inv) : 0.f;
+      g[3 * c + 2] = use ? static_cast<float>(-(b[3 * c + 2] / len - k * a2) * inv) : 0.f;
+    }
+  }
+}
+
+}  // namespace
+
 double normal_cosine_loss(const cv::Mat& rendered, const cv::Mat& target, cv::Mat* grad) {
   require_same(rendered, target, CV_32FC3, "normal_cosine_loss");
   if (grad) *grad = cv::Mat::zeros(rendered.size(), CV_32FC3);
-  constexpr double kMinNorm2 = 1e-12;  // |n_hat| >= 1e-6
   auto usable = [&](const float* a, const float* b) {
     return (b[0] != 0 || b[1] != 0 || b[2] != 0) && static_cast<double>(a[0]) * a[0] +
                                                             static_cast<double>(a[1]) * a[1] +
@@ -127,25 +161,18 @@ double normal_cosine_loss(const cv::Mat& rendered, const cv::Mat& target, cv::Ma
   if (valid == 0) return 0;
   const double inv = 1.0 / valid;
   const double sum = sum_over_rows(rendered.rows, [&](int r) {
+    const float* a = rendered.ptr<float>(r);
+    const float* b = target.ptr<float>(r);
+    float* g = grad ? grad->ptr<float>(r) : nullptr;
     double row = 0;
-    const float* a_row = rendered.ptr<float>(r);
-    const float* b_row = target.ptr<float>(r);
-    float* g_row = grad ? grad->ptr<float>(r) : nullptr;
-    for (int c = 0; c < rendered.cols; ++c) {
-      const float* a = a_row + 3 * c;
-      const float* b = b_row + 3 * c;
-      if (!usable(a, b)) continue;
-      const double len =
-          std::sqrt(static_cast<double>(a[0]) * a[0] + static_cast<double>(a[1]) * a[1] +
-                    static_cast<double>(a[2]) * a[2]);
-      const double dot = static_cast<double>(a[0]) * b[0] + static_cast<double>(a[1]) * b[1] +
-                         static_cast<double>(a[2]) * b[2];
-      const double cosine = dot / len;
-      row += 1 - cosine;
-      if (!g_row) continue;
-      // d cos / d a = b / |a| - (a.b) a / |a|^3
-      for (int k = 0; k < 3; ++k)
-        g_row[3 * c + k] = static_cast<float>(-(b[k] / len - (cosine / (len * len)) * a[k]) * inv);
+    for (int c0 = 0; c0 < rendered.cols; c0 += kCosineChunk) {
+      const int count = std::min(kCosineChunk, rendered.cols - c0);
+      double terms[kCosineChunk];
+      if (g)
+        normal_cosine_terms<true>(a + 3 * c0, b + 3 * c0, count, inv, terms, g + 3 * c0);
+      else
+        normal_cosine_terms<false>(a + 3 * c0, b + 3 * c0, count, inv, terms, nullptr);
+      for (int c = 0; c < count; ++c) row += terms[c];  // 0 where not usable: the same sum
     }
     return row;
   });
