@@ -162,7 +162,6 @@ void backward_tile(const RasterState& s, int t, const PixelGrads& pixel_grads, f
   const TileGaussian* list = s.tile_gaussians.data() + s.tile_offsets[t];
   const uint32_t count = s.tile_offsets[t + 1] - s.tile_offsets[t];
   if (count == 0) return;
-  gather_values(s, list, count, scratch.values);
   float* g = scratch.g.data();  // dL/d(pixel channel), [c][p]
   float* d = scratch.d.data();  // lane accumulators of dL/d(entry value), [c][lane]
   alignas(64) float T[kTilePixels];
@@ -212,6 +211,9 @@ void backward_tile(const RasterState& s, int t, const PixelGrads& pixel_grads, f
   }
   for (uint32_t j = tile_last; j < count; ++j)
     std::fill_n(&slot_grads[size_t(list[j].slot) * stride], stride, 0.f);
+  // The values of the entries that reach a pixel only: behind the tile's last contributor most
+  // of a trained scene's list is never read.
+  gather_values(s, list, std::min(count, tile_last), scratch.values);
   for (uint32_t j = std::min(count, tile_last); j-- > 0;) {
     const TileGaussian& e = list[j];
     const PixelRect rect = clip(e, tile);
