@@ -205,6 +205,24 @@ inline void store_lanes(float* p, const LaneVector& v) {
 }
 #endif
 
+#if defined(__AVX512F__)
+// One level of lane_sums' tree: with lanes in groups of G, the pair's groups in order, each the
+// sum of a group and the group after it (output lane i: lane (i / G) * 2G + i % G of the pair
+// (a, b) plus the lane G further on).
+template <int G, int... I>
+inline LaneVector add_lane_groups(const LaneVector& a, const LaneVector& b,
+                                  std::integer_sequence<int, I...>) {
+  return __builtin_shufflevector(a, b, (I / G * 2 * G + I % G)...) +
+         __builtin_shufflevector(a, b, (I / G * 2 * G + I % G + G)...);
+}
+template <int G>
+inline void add_lane_groups(const LaneVector* in, int pairs, LaneVector* out) {
+  for (int i = 0; i < pairs; ++i)
+    out[i] =
+        add_lane_groups<G>(in[2 * i], in[2 * i + 1], std::make_integer_sequence<int, kLanes>{});
+}
+#endif
+
 // out[i] = lane_sum(v[i]) for i < n <= 16, the same additions in the same order, as one tree over
 // all the vectors: each level adds two shuffles of a pair of vectors, so that 16 sums take 15
 // vector adds and 30 two-vector shuffles. One lane_sum per vector (13 per backward list entry)
@@ -213,33 +231,15 @@ inline void lane_sums(const LaneVector* v, int n, float* out) {
 #if defined(__AVX512F__)
   LaneVector a[16];
   for (int i = 0; i < 16; ++i) a[i] = i < n ? v[i] : LaneVector{};
-  // h[i]: the eight half sums (lane x + lane x + 8) of a[2i], then those of a[2i + 1].
-  LaneVector h[8];
-  for (int i = 0; i < 8; ++i)
-    h[i] = __builtin_shufflevector(a[2 * i], a[2 * i + 1], 0, 1, 2, 3, 4, 5, 6, 7, 16, 17, 18, 19,
-                                   20, 21, 22, 23) +
-           __builtin_shufflevector(a[2 * i], a[2 * i + 1], 8, 9, 10, 11, 12, 13, 14, 15, 24, 25, 26,
-                                   27, 28, 29, 30, 31);
-  // q[i]: the four quarter sums (half x + half x + 4) of a[4i], ..., a[4i + 3].
-  LaneVector q[4];
-  for (int i = 0; i < 4; ++i)
-    q[i] = __builtin_shufflevector(h[2 * i], h[2 * i + 1], 0, 1, 2, 3, 8, 9, 10, 11, 16, 17, 18, 19,
-                                   24, 25, 26, 27) +
-           __builtin_shufflevector(h[2 * i], h[2 * i + 1], 4, 5, 6, 7, 12, 13, 14, 15, 20, 21, 22,
-                                   23, 28, 29, 30, 31);
-  // r[i]: quarter 0 + quarter 2 and quarter 1 + quarter 3 of a[8i], ..., a[8i + 7].
-  LaneVector r[2];
-  for (int i = 0; i < 2; ++i)
-    r[i] = __builtin_shufflevector(q[2 * i], q[2 * i + 1], 0, 1, 4, 5, 8, 9, 12, 13, 16, 17, 20, 21,
-                                   24, 25, 28, 29) +
-           __builtin_shufflevector(q[2 * i], q[2 * i + 1], 2, 3, 6, 7, 10, 11, 14, 15, 18, 19, 22,
-                                   23, 26, 27, 30, 31);
-  const LaneVector sums = __builtin_shufflevector(r[0], r[1], 0, 2, 4, 6, 8, 10, 12, 14, 16, 18, 20,
-                                                  22, 24, 26, 28, 30) +
-                          __builtin_shufflevector(r[0], r[1], 1, 3, 5, 7, 9, 11, 13, 15, 17, 19, 21,
-                                                  23, 25, 27, 29, 31);
+  // Half sums (lane x + lane x + 8) of each vector, then quarter sums (half x + half x + 4), then
+  // quarter 0 + 2 and 1 + 3, then the last pair: after the fourth level lane i holds a[i]'s sum.
+  LaneVector h[8], q[4], r[2], sums[1];
+  add_lane_groups<8>(a, 8, h);
+  add_lane_groups<4>(h, 4, q);
+  add_lane_groups<2>(q, 2, r);
+  add_lane_groups<1>(r, 1, sums);
   alignas(64) float lanes[kLanes];
-  store_lanes(lanes, sums);
+  store_lanes(lanes, sums[0]);
   std::copy_n(lanes, n, out);
 #else
   for (int i = 0; i < n; ++i) {
