@@ -61,7 +61,9 @@ struct RasterState {
       alpha_offset = -1;
   int sh_degree = 0;    // degree evaluated
   float min_alpha = 0;  // RenderSettings::min_alpha
-  std::vector<float> values;
+  // Written for every Gaussian in some tile list and read only through the lists: not zeroed
+  // (a serial pass per render).
+  UninitVector<float> values;
   std::vector<float> background;               // per channel: the RGB background, 0 elsewhere
   std::vector<ProjectedGaussian> projections;  // N; radius 0 = not in any tile
   std::vector<uint32_t> slot_offsets;          // N + 1: Gaussian g owns slots [g], [g+1])
