@@ -15,6 +15,8 @@
 namespace gslift {
 
 constexpr int kTileSize = 16;
+// gather_values copies a Gaussian's values in pieces of this many floats.
+constexpr int kValuePiece = 8;
 constexpr float kMaxAlpha = 0.99f;          // alpha clamp (3DGS)
 constexpr float kMinTransmittance = 1e-4f;  // stop blending below this
 
@@ -62,7 +64,7 @@ struct RasterState {
   int sh_degree = 0;    // degree evaluated
   float min_alpha = 0;  // RenderSettings::min_alpha
   // Written for every Gaussian in some tile list and read only through the lists: not zeroed
-  // (a serial pass per render).
+  // (a serial pass per render). kValuePiece floats of slack at the end (gather_values).
   UninitVector<float> values;
   std::vector<float> background;               // per channel: the RGB background, 0 elsewhere
   std::vector<ProjectedGaussian> projections;  // N; radius 0 = not in any tile

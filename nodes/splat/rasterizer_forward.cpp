@@ -275,7 +275,7 @@ void bin_gaussians(const GaussianModel& model, const ViewTransform& view,
                    const RenderSettings& settings, RasterState& s) {
   const size_t n = model.size();
   s.projections.resize(n);
-  s.values.resize(n * s.channels);
+  s.values.resize(n * s.channels + kValuePiece);
   std::vector<BlendRect> rects(n);
   // Per Gaussian, what all its tile-list entries share (all but the slot): computed once here
   // rather than once per tile, since a Gaussian is in about three tiles.
