@@ -218,6 +218,13 @@ void backward_tile(const RasterState& s, int t, const PixelGrads& pixel_grads, f
     const TileGaussian& e = list[j];
     const PixelRect rect = clip(e, tile);
     float* slot = &slot_grads[size_t(e.slot) * stride];
+    // Slots lie in Gaussian order, scattered over a buffer of several MB: the next entry's is
+    // prefetched for writing while this one is summed.
+    if (j > 0) {
+      const float* next = &slot_grads[size_t(list[j - 1].slot) * stride];
+      __builtin_prefetch(next, 1);
+      __builtin_prefetch(next + stride - 1, 1);
+    }
     if (rect.y1 <= rect.y0) {  // no row of this tile it can blend in (narrow_rows): sums of 0
       std::fill_n(slot, stride, 0.f);
       continue;
