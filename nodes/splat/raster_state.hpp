@@ -321,6 +321,7 @@ struct CentreDepth {
   // pass.
   float sorted_bound(uint32_t id) const { return projections[id].depth; }
   void row(uint32_t id, int, int, float* z) const { std::fill_n(z, kLanes, projections[id].depth); }
+  void prefetch(uint32_t id) const { __builtin_prefetch(&projections[id].depth); }
 };
 
 // Front-to-back blending of tile t (3DGS), entry by entry in depth order and each entry row by
@@ -356,6 +357,9 @@ inline void blend_tile(const RasterState& s, int t, TileBlend& out, OnRow&& on_r
     }
   for (uint32_t j = 0; j < count && active > 0; ++j) {
     const TileGaussian& e = list[j];
+    // The entries' depths are per Gaussian, in no order the lists follow: the next one's are
+    // prefetched.
+    if (cut && j + 1 < count) depth.prefetch(list[j + 1].id);
     const float z = cut ? depth.nearest(e.id) : 0.f;
     if (cut && !(depth.sorted_bound(e.id) < tile_cut)) break;
     if (cut && !(z < tile_cut)) continue;

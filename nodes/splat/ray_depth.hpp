@@ -34,6 +34,13 @@ class RayDepths {
   // (blend_tile's EntryDepth::sorted_bound): (1 - kMaxRelative) x its centre depth.
   float sorted_bound(uint32_t id) const { return sorted_bound_[id]; }
   // z[x] = the ray depth of Gaussian id at pixel (x0 + x, y), x < kLanes.
+  void prefetch(uint32_t id) const {
+    const float* c = &coeffs_[size_t(id) * kCoeffs];
+    __builtin_prefetch(c);
+    __builtin_prefetch(c + kCoeffs - 1);
+    __builtin_prefetch(&nearest_[id]);
+    __builtin_prefetch(&sorted_bound_[id]);
+  }
   void row(uint32_t id, int y, int x0, float* z) const {
     const float* c = &coeffs_[size_t(id) * kCoeffs];
     const float ry = ray_y_[size_t(y)];
