@@ -86,7 +86,8 @@ const std::vector<float>& PromptSegmenter::feature_map(int v) {
     RenderSettings s;
     s.rgb = false;
     s.features = true;
-    maps_[v] = render(model_, view.camera, view.pose, s).features;
+    const RenderOutput out = render(model_, view.camera, view.pose, s);
+    maps_[v].assign(out.features.begin(), out.features.end());
     normalise_rows(maps_[v].data(), maps_[v].size() / dim_, dim_);
   }
   return maps_[v];
@@ -279,7 +280,7 @@ std::vector<float> PromptSegmenter::features_at(const Camera& cam, const Pose& p
   RenderSettings s;
   s.rgb = false;
   s.features = true;
-  const std::vector<float> map = render(model_, window, pose, s).features;
+  const UninitVector<float> map = render(model_, window, pose, s).features;
   std::vector<float> rows;
   rows.reserve(pixels.size() * dim_);
   for (uint32_t px : pixels) {

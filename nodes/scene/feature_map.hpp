@@ -5,6 +5,8 @@
 #include <cstddef>
 #include <vector>
 
+#include "base/uninit_vector.hpp"
+
 namespace gslift {
 
 // Row-major, `dim` floats per pixel.
@@ -12,7 +14,9 @@ struct FeatureMap {
   int width = 0;
   int height = 0;
   int dim = 0;
-  std::vector<float> values;  // height * width * dim
+  // height * width * dim; not zeroed on resize: a rendered map writes every pixel, and a zero
+  // fill of 4 views x 32 channels was a serial pass with its page faults.
+  UninitVector<float> values;
 
   const float* at(int x, int y) const {
     return values.data() + (static_cast<size_t>(y) * width + x) * dim;

@@ -10,9 +10,8 @@ namespace {
 
 // Min-max normalises channel c of an interleaved image with `stride` floats per pixel into an
 // 8-bit grey plane; pixels where `valid` is false stay black.
-template <class Valid>
-cv::Mat normalised_plane(const std::vector<float>& data, int rows, int cols, int stride, int c,
-                         Valid valid) {
+template <class Values, class Valid>
+cv::Mat normalised_plane(const Values& data, int rows, int cols, int stride, int c, Valid valid) {
   float lo = std::numeric_limits<float>::max(), hi = std::numeric_limits<float>::lowest();
   for (int p = 0; p < rows * cols; ++p)
     if (valid(p)) lo = std::min(lo, data[p * stride + c]), hi = std::max(hi, data[p * stride + c]);
@@ -31,7 +30,8 @@ cv::Mat grey_to_rgb(const cv::Mat& plane) {
   return out;
 }
 
-void require(const std::vector<float>& data, size_t size, const std::string& channel) {
+template <class Values>
+void require(const Values& data, size_t size, const std::string& channel) {
   if (data.size() != size)
     throw std::invalid_argument("channel '" + channel + "' was not rendered");
 }

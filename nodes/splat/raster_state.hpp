@@ -10,6 +10,7 @@
 #include <utility>
 #include <vector>
 
+#include "base/uninit_vector.hpp"
 #include "nodes/splat/projection.hpp"
 
 namespace gslift {
@@ -32,27 +33,6 @@ struct TileGaussian {
   uint32_t id;    // Gaussian index
   uint32_t slot;  // index of this (Gaussian, tile) pair in Gaussian-major order
 };
-
-// std::vector whose resize leaves new elements of trivial types uninitialised: for the large
-// per-view arrays that parallel loops overwrite entirely, where zeroing them first would be a
-// serial pass over memory (taking all the page faults on one thread).
-template <class T>
-struct NoInitAllocator : std::allocator<T> {
-  template <class U>
-  struct rebind {
-    using other = NoInitAllocator<U>;
-  };
-  template <class U>
-  void construct(U* p) noexcept {
-    ::new (static_cast<void*>(p)) U;
-  }
-  template <class U, class... Args>
-  void construct(U* p, Args&&... args) {
-    ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
-  }
-};
-template <class T>
-using UninitVector = std::vector<T, NoInitAllocator<T>>;
 
 struct RasterState {
   int width = 0, height = 0, tiles_x = 0, tiles_y = 0;

@@ -13,6 +13,7 @@
 
 #include <Eigen/Core>
 
+#include "base/uninit_vector.hpp"
 #include "nodes/scene/camera.hpp"
 #include "nodes/scene/gaussian_model.hpp"
 
@@ -51,11 +52,11 @@ struct RenderOutput {
   int width = 0;
   int height = 0;
   int feature_dim = 0;
-  std::vector<float> rgb;       // H x W x 3
-  std::vector<float> depth;     // H x W
-  std::vector<float> normal;    // H x W x 3, WORLD space, not normalised (a blend of unit vectors)
-  std::vector<float> alpha;     // H x W
-  std::vector<float> features;  // H x W x feature_dim
+  std::vector<float> rgb;        // H x W x 3
+  std::vector<float> depth;      // H x W
+  std::vector<float> normal;     // H x W x 3, WORLD space, not normalised (a blend of unit vectors)
+  std::vector<float> alpha;      // H x W
+  UninitVector<float> features;  // H x W x feature_dim; not zeroed before the tiles write it
   // Screen-space radius in pixels per Gaussian (N), ceil(3 sqrt(lambda_max)) of the 2D covariance;
   // 0 = not drawn: culled, off-screen, or too faint to reach min_alpha anywhere. For densification
   // ("prune Gaussians larger than r pixels") and visibility statistics.

@@ -455,7 +455,7 @@ RenderOutput render(const GaussianModel& model, const Camera& camera, const Pose
   if (settings.depth) out.depth.assign(pixels, 0.f);
   if (settings.normal) out.normal.assign(pixels * 3, 0.f);
   if (settings.alpha) out.alpha.assign(pixels, 0.f);
-  if (settings.features) out.features.assign(pixels * D, 0.f);
+  if (settings.features) out.features.resize(pixels * D);  // store_tile writes every pixel
   const std::vector<uint8_t> feature_rows = feature_row_flags(s, settings);
   // Every pixel lies in a tile, and store_tile writes each of them: no fill first (a serial pass
   // taking the page faults on one thread).

@@ -25,7 +25,7 @@ LiftedInstances three_prototypes() {
 
 // Columns 0..3 look like instance 0, 4..7 like instance 1, 8..11 like instance 2.
 FeatureMap striped_view() {
-  FeatureMap f{kW, kH, 3, std::vector<float>(kW * kH * 3)};
+  FeatureMap f{kW, kH, 3, UninitVector<float>(kW * kH * 3, 0.f)};
   for (int y = 0; y < kH; ++y)
     for (int x = 0; x < kW; ++x) {
       float* p = f.values.data() + (y * kW + x) * 3;
@@ -125,7 +125,7 @@ TEST_CASE("the IoU vote picks the instance whose region fits the mask, not the m
   // mask over columns 0..8 (72 px) holds 32 pixels of instance 0 and 40 of instance 1: the count
   // takes 1; by IoU instance 0 fits better, 32 / (72 + 32 - 32) = 0.444 against
   // 40 / (72 + 64 - 40) = 0.417.
-  FeatureMap f{kW, kH, 3, std::vector<float>(kW * kH * 3, 0.f)};
+  FeatureMap f{kW, kH, 3, UninitVector<float>(kW * kH * 3, 0.f)};
   for (int y = 0; y < kH; ++y)
     for (int x = 0; x < kW; ++x) f.values[(y * kW + x) * 3 + (x < 4 ? 0 : 1)] = 1;
   Scene s;
@@ -229,7 +229,7 @@ TEST_CASE("association does not depend on the thread count") {
   Scene s;
   s.lifted.prototypes = Eigen::MatrixXf::NullaryExpr(5, 3, normal);
   for (int v = 0; v < 3; ++v) {
-    FeatureMap f{64, 48, 3, std::vector<float>(64 * 48 * 3)};
+    FeatureMap f{64, 48, 3, UninitVector<float>(64 * 48 * 3, 0.f)};
     for (float& x : f.values) x = normal();
     s.maps.push_back(std::move(f));
     ViewMasks vm{"v" + std::to_string(v), {}};

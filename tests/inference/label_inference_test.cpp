@@ -15,7 +15,7 @@ FeatureMap map_of(int width, std::vector<float> values) {
   m.width = width;
   m.height = 1;
   m.dim = 2;
-  m.values = std::move(values);
+  m.values.assign(values.begin(), values.end());
   return m;
 }
 }  // namespace

@@ -22,7 +22,7 @@ Scene two_objects(int views) {
   Scene s;
   RandomStream rng(3);
   for (int v = 0; v < views; ++v) {
-    FeatureMap f{kW, kH, kD, std::vector<float>(kW * kH * kD)};
+    FeatureMap f{kW, kH, kD, UninitVector<float>(kW * kH * kD, 0.f)};
     cv::Mat1b left = cv::Mat1b::zeros(kH, kW), right = cv::Mat1b::zeros(kH, kW);
     left(cv::Rect(0, 0, kW / 2, kH)).setTo(255);
     right(cv::Rect(kW / 2, 0, kW / 2, kH)).setTo(255);

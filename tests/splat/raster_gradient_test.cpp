@@ -20,7 +20,7 @@ struct LinearLoss {
   RenderGrads weights;
   double operator()(const RenderOutput& out) const {
     double L = 0;
-    auto dot = [&](const std::vector<float>& w, const std::vector<float>& x) {
+    auto dot = [&](const std::vector<float>& w, const auto& x) {
       for (size_t i = 0; i < w.size(); ++i) L += double(w[i]) * x[i];
     };
     dot(weights.rgb, out.rgb);

@@ -42,7 +42,8 @@ GaussianModel one_gaussian(const Eigen::Vector3f& mean, const Eigen::Vector3f& s
   return m;
 }
 
-bool all_finite(const std::vector<float>& v) {
+template <class Values>
+bool all_finite(const Values& v) {
   for (float x : v)
     if (!std::isfinite(x)) return false;
   return true;
@@ -231,7 +232,7 @@ TEST_CASE("raster: results are bitwise identical with 1 and 2 threads", "[splat]
     g.depth = out.depth;
     g.normal = out.normal;
     g.alpha = out.alpha;
-    g.features = out.features;
+    g.features.assign(out.features.begin(), out.features.end());
     ModelGrads grads;
     grads.reset(scene.model);
     render_backward(scene.model, scene.camera, scene.pose, s, out, g, grads);
