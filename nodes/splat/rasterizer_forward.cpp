@@ -95,7 +95,7 @@ void write_channel_values(const GaussianModel& model, const ViewTransform& view,
                           const ProjectedGaussian& p, size_t g, RasterState& s) {
   const int K = GaussianModel::sh_coeffs(model.sh_degree);
   const int D = model.feature_dim;
-  float* v = s.values.data() + g * s.channels;  // values is empty without channels
+  float* v = s.values.data() + g * s.channels;  // without channels, values holds the slack only
   if (s.rgb_offset >= 0) {
     float basis[kMaxShCoeffs];
     float length;

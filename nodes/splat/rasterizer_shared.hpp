@@ -69,9 +69,7 @@ inline void gather_values(const RasterState& s, const TileGaussian* list, uint32
                           std::vector<float>& out) {
   const int C = s.channels;
   out.resize(size_t(count) * C + kValuePiece);
-  // A weights-only pass has no channels: s.values is empty and indexing it is undefined
-  // (UBSan: reference binding to a null pointer, tests/sanitize_suite.sh).
-  if (C == 0) return;
+  if (C == 0) return;  // a weights-only pass: nothing to copy
   constexpr uint32_t kAhead = 8;
   for (uint32_t j = 0; j < count; ++j) {
     if (j + kAhead < count) __builtin_prefetch(&s.values[size_t(list[j + kAhead].id) * C]);
