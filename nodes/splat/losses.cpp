@@ -112,6 +112,18 @@ namespace {
 constexpr int kCosineChunk = 64;
 constexpr double kMinNorm2 = 1e-12;  // a usable pixel's rendered normal: |n_hat| >= 1e-6
 
+// |a|^2 of a pixel's three floats, in double.
+inline double squared_norm(const float* a) {
+  return static_cast<double>(a[0]) * a[0] + static_cast<double>(a[1]) * a[1] +
+         static_cast<double>(a[2]) * a[2];
+}
+
+// Whether the normal loss uses a pixel: its target normal b is present and its rendered normal's
+// squared norm n2 is at least kMinNorm2.
+inline bool usable_normal(double n2, const float* b) {
+  return (b[0] != 0.f || b[1] != 0.f || b[2] != 0.f) && n2 >= kMinNorm2;
+}
+
 // The terms 1 - cos(a, b) of `count` pixels of rendered normals a and target normals b (three
 // floats each), 0 where the pixel is not usable (no target, or |a| < 1e-6), and with kGrad their
 // gradients times inv into g (0 where not usable). Every pixel is computed and the unusable ones
@@ -122,9 +134,8 @@ void normal_cosine_terms(const float* __restrict a, const float* __restrict b, i
                          double inv, double* __restrict terms, float* __restrict g) {
   for (int c = 0; c < count; ++c) {
     const double a0 = a[3 * c], a1 = a[3 * c + 1], a2 = a[3 * c + 2];
-    const double n2 = a0 * a0 + a1 * a1 + a2 * a2;
-    const bool use =
-        (b[3 * c] != 0.f || b[3 * c + 1] != 0.f || b[3 * c + 2] != 0.f) && n2 >= kMinNorm2;
+    const double n2 = squared_norm(a + 3 * c);
+    const bool use = usable_normal(n2, b + 3 * c);
     const double len = std::sqrt(n2);
     const double dot = a0 * b[3 * c] + a1 * b[3 * c + 1] + a2 * b[3 * c + 2];
     const double cosine = dot / len;
@@ -144,18 +155,13 @@ void normal_cosine_terms(const float* __restrict a, const float* __restrict b, i
 double normal_cosine_loss(const cv::Mat& rendered, const cv::Mat& target, cv::Mat* grad) {
   require_same(rendered, target, CV_32FC3, "normal_cosine_loss");
   if (grad) *grad = cv::Mat::zeros(rendered.size(), CV_32FC3);
-  auto usable = [&](const float* a, const float* b) {
-    return (b[0] != 0 || b[1] != 0 || b[2] != 0) && static_cast<double>(a[0]) * a[0] +
-                                                            static_cast<double>(a[1]) * a[1] +
-                                                            static_cast<double>(a[2]) * a[2] >=
-                                                        kMinNorm2;
-  };
   // Two passes: count the valid pixels first so the gradient carries the 1/N of the mean.
   const double valid = sum_over_rows(rendered.rows, [&](int r) {
     const float* a = rendered.ptr<float>(r);
     const float* b = target.ptr<float>(r);
     int count = 0;
-    for (int c = 0; c < rendered.cols; ++c) count += usable(a + 3 * c, b + 3 * c);
+    for (int c = 0; c < rendered.cols; ++c)
+      count += usable_normal(squared_norm(a + 3 * c), b + 3 * c);
     return static_cast<double>(count);
   });
   if (valid == 0) return 0;
