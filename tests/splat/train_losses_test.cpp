@@ -58,26 +58,34 @@ TEST_CASE("ssim of an image with itself is 1, and lower for a different image") 
 }
 
 TEST_CASE("ssim matches a direct evaluation of the windowed statistics") {
-  // Independent reference: zero-padded 11x11 Gaussian window (sigma 1.5) summed explicitly.
-  const cv::Mat x = random_image(13, 15, CV_32FC1, 11), y = random_image(13, 15, CV_32FC1, 12);
+  // Independent reference: zero-padded 11x11 Gaussian window (sigma 1.5) summed explicitly per
+  // channel. One channel, and three channels over several row blocks whose row counts are not
+  // multiples of the rows ssim sums together.
+  const auto [rows, cols, channels] =
+      GENERATE(std::make_tuple(13, 15, 1), std::make_tuple(37, 29, 3));
+  const int type = CV_32FC(channels);
+  const cv::Mat x = random_image(rows, cols, type, 11), y = random_image(rows, cols, type, 12);
   double w1[11], norm = 0;
   for (int k = 0; k < 11; ++k) norm += w1[k] = std::exp(-(k - 5) * (k - 5) / (2 * 1.5 * 1.5));
   const double C1 = 1e-4, C2 = 9e-4;
   double total = 0;
-  for (int r = 0; r < 13; ++r)
-    for (int c = 0; c < 15; ++c) {
-      double mx = 0, my = 0, xx = 0, yy = 0, xy = 0;
-      for (int i = -5; i <= 5; ++i)
-        for (int j = -5; j <= 5; ++j) {
-          if (r + i < 0 || r + i >= 13 || c + j < 0 || c + j >= 15) continue;
-          const double w = w1[i + 5] * w1[j + 5] / (norm * norm);
-          const double a = x.at<float>(r + i, c + j), b = y.at<float>(r + i, c + j);
-          mx += w * a, my += w * b, xx += w * a * a, yy += w * b * b, xy += w * a * b;
-        }
-      const double sxx = xx - mx * mx, syy = yy - my * my, sxy = xy - mx * my;
-      total += (2 * mx * my + C1) * (2 * sxy + C2) / ((mx * mx + my * my + C1) * (sxx + syy + C2));
-    }
-  CHECK(ssim(x, y) == Approx(total / (13 * 15)).epsilon(1e-4));
+  for (int r = 0; r < rows; ++r)
+    for (int c = 0; c < cols; ++c)
+      for (int ch = 0; ch < channels; ++ch) {
+        double mx = 0, my = 0, xx = 0, yy = 0, xy = 0;
+        for (int i = -5; i <= 5; ++i)
+          for (int j = -5; j <= 5; ++j) {
+            if (r + i < 0 || r + i >= rows || c + j < 0 || c + j >= cols) continue;
+            const double w = w1[i + 5] * w1[j + 5] / (norm * norm);
+            const double a = x.ptr<float>(r + i)[(c + j) * channels + ch];
+            const double b = y.ptr<float>(r + i)[(c + j) * channels + ch];
+            mx += w * a, my += w * b, xx += w * a * a, yy += w * b * b, xy += w * a * b;
+          }
+        const double sxx = xx - mx * mx, syy = yy - my * my, sxy = xy - mx * my;
+        total +=
+            (2 * mx * my + C1) * (2 * sxy + C2) / ((mx * mx + my * my + C1) * (sxx + syy + C2));
+      }
+  CHECK(ssim(x, y) == Approx(total / (rows * cols * channels)).epsilon(1e-4));
 }
 
 TEST_CASE("ssim gradient matches finite differences") {
