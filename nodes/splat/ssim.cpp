@@ -157,24 +157,31 @@ void ssim_values(const float* __restrict mx, const float* __restrict my, const f
 
 constexpr int kSumRows = 4;
 
-// sums[j] = the sum in double of row j of `count` (<= kSumRows) rows of `width` floats, added in
-// index order from zero. A row's sum is one chain of dependent adds (a row alone was 12% of
-// SSIM's samples, an add's latency per value); kSumRows rows side by side overlap their chains,
-// each row still summed in the same order.
-void sum_rows(const float* rows, int count, int width, double* sums) {
-  int j = 0;
-  if (count == kSumRows) {
-    double acc[kSumRows] = {};
-    for (int i = 0; i < width; ++i)
+// sums[k] = the sum in double of row k of K rows of `width` floats, added in index order from
+// zero. A row's sum is one chain of dependent adds (a row alone was 12% of SSIM's samples, an
+// add's latency per value); K rows side by side overlap their chains, each row still summed in
+// the same order.
+template <int K>
+void sum_rows(const float* rows, int width, double* sums) {
+  double acc[K] = {};
+  for (int i = 0; i < width; ++i)
 #pragma GCC unroll 4
-      for (int k = 0; k < kSumRows; ++k) acc[k] += rows[size_t(k) * width + i];
-    std::copy_n(acc, kSumRows, sums);
-    j = kSumRows;
-  }
-  for (; j < count; ++j) {
-    double acc = 0;
-    for (int i = 0; i < width; ++i) acc += rows[size_t(j) * width + i];
-    sums[j] = acc;
+    for (int k = 0; k < K; ++k) acc[k] += rows[size_t(k) * width + i];
+  std::copy_n(acc, K, sums);
+}
+
+// The same for `count` (1 .. kSumRows) rows.
+void sum_rows(const float* rows, int count, int width, double* sums) {
+  static_assert(kSumRows == 4, "one case per row count");
+  switch (count) {
+    case 4:
+      return sum_rows<4>(rows, width, sums);
+    case 3:
+      return sum_rows<3>(rows, width, sums);
+    case 2:
+      return sum_rows<2>(rows, width, sums);
+    default:
+      return sum_rows<1>(rows, width, sums);
   }
 }
 
