@@ -300,7 +300,7 @@ void backward_tile(const RasterState& s, int t, const PixelGrads& pixel_grads, f
         Q[at + x] += w[x] * gv[x];
         const bool free = e.opacity * gaussian[x] <= kMaxAlpha;
         d_power[x] = free ? d_alpha * a[x] : 0.f;
-        d_opacity[x] = free & (a[x] > 0.f) ? d_alpha * gaussian[x] : 0.f;
+        d_opacity[x] = (free & (a[x] > 0.f)) ? d_alpha * gaussian[x] : 0.f;
       }
       moments.add(dx, dy, d_power, d_opacity);
     }

@@ -95,7 +95,7 @@ TEST_CASE(
     "its parts") {
   const RayCastScene s = ray_cast_scene();
   const cv::Mat1b floor = s.surface == kFloor, sphere = s.surface == kSphere;
-  const cv::Mat1b box = s.surface == kBox | s.surface == kBoxTop, top = s.surface == kBoxTop;
+  const cv::Mat1b box = (s.surface == kBox) | (s.surface == kBoxTop), top = s.surface == kBoxTop;
   REQUIRE(cv::countNonZero(box) > 2400);  // the scene shows what the test is about
   REQUIRE(cv::countNonZero(sphere) > 1600);
   REQUIRE(cv::countNonZero(top) > 600);
