@@ -32,8 +32,8 @@ bool need_holds(const CaptureNeed& need, const GraphNode& node) {
 // capture that could not be opened (its one message is in `problems`).
 class Inventories {
  public:
-  Inventories(const Graph& graph, const Registry& registry, std::vector<std::string>& problems)
-      : graph_(graph), registry_(registry), problems_(problems) {}
+  Inventories(const Registry& registry, std::vector<std::string>& problems)
+      : registry_(registry), problems_(problems) {}
 
   // The inventory of the capture `source` produced, or null when it is not probed (made in the
   // graph) or could not be opened.
@@ -55,7 +55,6 @@ class Inventories {
   }
 
  private:
-  const Graph& graph_;
   const Registry& registry_;
   std::vector<std::string>& problems_;
   std::map<std::string, std::optional<CaptureInventory>> probed_;
@@ -106,7 +105,7 @@ const GraphNode* capture_opener(const Graph& graph, const Registry& registry,
 
 std::vector<std::string> preflight_problems(const Graph& graph, const Registry& registry) {
   std::vector<std::string> problems;
-  Inventories inventories(graph, registry, problems);
+  Inventories inventories(registry, problems);
   // Every capture-opening node is probed, also one whose consumers need nothing of it: a
   // capture that is not there is the first thing to say.
   for (const auto& node : graph.nodes) inventories.of(node);

@@ -120,7 +120,7 @@ void footprint_tile(const RasterState& s, int t, const TilePrior& prior,
 #pragma GCC unroll 1  // one vector loop, not kLanes scalar copies
       for (int x = 0; x < kLanes; ++x) {
         const int px = tile.x0 + x;
-        const float a = (px >= rect.x0) & (px < rect.x1) & (alpha[x] >= 0.f) ? alpha[x] : 0.f;
+        const float a = ((px >= rect.x0) & (px < rect.x1) & (alpha[x] >= 0.f)) ? alpha[x] : 0.f;
         part[kObserved][x] += prior.observed[at + x] != 0.f ? a : 0.f;
         part[kHidden][x] += z[x] > prior.upper[at + x] ? a : 0.f;
       }

@@ -64,7 +64,9 @@ void horizontal_pass(const float* __restrict col, int width, int channels, float
 template <int N, class RowSet, class Value>
 void vertical_pass(const RowSet (&rows)[kTaps], int width, Value&& value, float* const padded[N]) {
   const float* w = taps();
-#pragma GCC ivdep  // padded never aliases the source rows
+#if defined(__GNUC__) && !defined(__clang__)  // the release build's compiler; clang lacks ivdep
+#pragma GCC ivdep  // padded never aliases the source rows (too many pointers to check at run time)
+#endif
   for (int i = 0; i < width; ++i) {
     float acc[N] = {};
 #pragma GCC unroll 11
