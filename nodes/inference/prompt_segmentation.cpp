@@ -80,14 +80,13 @@ PromptSegmenter::PromptSegmenter(const GaussianModel& model, const Capture& capt
   maps_.resize(capture.views.size());
 }
 
-const std::vector<float>& PromptSegmenter::feature_map(int v) {
+const UninitVector<float>& PromptSegmenter::feature_map(int v) {
   if (maps_[v].empty()) {
     const View& view = capture_.views[v];
     RenderSettings s;
     s.rgb = false;
     s.features = true;
-    const RenderOutput out = render(model_, view.camera, view.pose, s);
-    maps_[v].assign(out.features.begin(), out.features.end());
+    maps_[v] = render(model_, view.camera, view.pose, s).features;
     normalise_rows(maps_[v].data(), maps_[v].size() / dim_, dim_);
   }
   return maps_[v];
@@ -95,17 +94,16 @@ const std::vector<float>& PromptSegmenter::feature_map(int v) {
 
 std::vector<float> PromptSegmenter::kmeans_queries(int v, const std::vector<uint32_t>& pixels) {
   if (pixels.empty()) return {};
-  return kmeans_of_pixels(feature_map(v), pixels);
+  return kmeans_of_pixels(feature_map(v).data(), pixels);
 }
 
-std::vector<float> PromptSegmenter::kmeans_of_pixels(const std::vector<float>& map,
+std::vector<float> PromptSegmenter::kmeans_of_pixels(const float* map,
                                                      const std::vector<uint32_t>& pixels) const {
   if (pixels.empty()) return {};
   const size_t step = (pixels.size() + options_.kmeans_pixels - 1) / options_.kmeans_pixels;
   std::vector<float> rows;
   for (size_t i = 0; i < pixels.size(); i += step)
-    rows.insert(rows.end(), map.begin() + size_t(pixels[i]) * dim_,
-                map.begin() + size_t(pixels[i] + 1) * dim_);
+    rows.insert(rows.end(), map + size_t(pixels[i]) * dim_, map + size_t(pixels[i] + 1) * dim_);
   std::vector<float> q = kmeans(rows, dim_, options_.kmeans_k, options_.seed).centres;
   normalise_rows(q.data(), q.size() / dim_, dim_);
   return q;
@@ -143,7 +141,7 @@ PromptSelection PromptSegmenter::select_by_queries(const std::vector<float>& pos
 
 cv::Mat1b PromptSegmenter::view_mask(const PromptSelection& r, int v) {
   const Camera& cam = capture_.views[v].camera;
-  const std::vector<float>& map = feature_map(v);
+  const UninitVector<float>& map = feature_map(v);
   std::vector<float> s_p(size_t(cam.width) * cam.height), s_n(s_p.size());
   tbb::parallel_for(size_t(0), s_p.size(), [&](size_t px) {
     s_p[px] = best_dot(&map[px * dim_], r.positive, dim_);
@@ -176,7 +174,7 @@ PromptSelection PromptSegmenter::select(const Prompt& p) {
   if (!dense && p.positive.empty()) throw InputError(where + ": no positive pixel");
 
   if (p.kind == PromptKind::Point) {
-    const std::vector<float>& map = feature_map(v);
+    const UninitVector<float>& map = feature_map(v);
     std::vector<float> pos, neg;
     for (const cv::Point& q : p.positive)
       pos.insert(pos.end(), map.begin() + size_t(q.y * cam.width + q.x) * dim_,
@@ -192,7 +190,7 @@ PromptSelection PromptSegmenter::select(const Prompt& p) {
 
   const std::vector<uint32_t> inside = mask_pixels(p.mask, true);
   if (p.kind == PromptKind::Sam) {
-    const std::vector<float>& map = feature_map(v);
+    const UninitVector<float>& map = feature_map(v);
     std::vector<float> q(dim_, 0.f);
     for (uint32_t px : inside)
       for (int c = 0; c < dim_; ++c) q[c] += map[size_t(px) * dim_ + c];
@@ -251,7 +249,7 @@ PromptSelection PromptSegmenter::select_in_camera(const Prompt& p, const Camera&
       const std::vector<float> rows = features_at(cam, pose, pixels);
       std::vector<uint32_t> all(pixels.size());
       for (size_t i = 0; i < all.size(); ++i) all[i] = static_cast<uint32_t>(i);
-      return kmeans_of_pixels(rows, all);
+      return kmeans_of_pixels(rows.data(), all);
     }
     // Points: a window each, so that two clicks far apart do not render the view between them.
     std::vector<float> rows;

@@ -22,6 +22,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "base/uninit_vector.hpp"
 #include "nodes/scene/capture.hpp"
 #include "nodes/scene/gaussian_model.hpp"
 #include "nodes/scene/masks.hpp"
@@ -88,7 +89,7 @@ class PromptSegmenter {
                                    double tau);
 
   // The normalised rendered feature map of view `v` (H x W x dim), rendered on first use.
-  const std::vector<float>& feature_map(int v);
+  const UninitVector<float>& feature_map(int v);
 
   // The selection's answer in view `v` decided per pixel of the rendered feature map by the rule
   // that selected Gaussians (S_p > S_n and S_p > tau; a pooled sam query: above the mean + std
@@ -102,8 +103,7 @@ class PromptSegmenter {
   std::vector<float> kmeans_queries(int v, const std::vector<uint32_t>& pixels);
   // K-means centres (normalised) of the rows of `map` (dim_ wide) at `pixels`, at most
   // kmeans_pixels of them, evenly strided.
-  std::vector<float> kmeans_of_pixels(const std::vector<float>& map,
-                                      const std::vector<uint32_t>& pixels) const;
+  std::vector<float> kmeans_of_pixels(const float* map, const std::vector<uint32_t>& pixels) const;
   // The normalised features (a row per pixel) at `pixels` (row-major indices of `camera`),
   // rendered in the window of the camera that just holds them (its principal point shifted): a
   // pixel blends the Gaussians over its own centre, whatever the image around it.
@@ -115,8 +115,8 @@ class PromptSegmenter {
   const Capture& capture_;
   PromptOptions options_;
   int dim_ = 0;
-  std::vector<float> unit_;               // N x dim, L2-normalised features (zero rows stay zero)
-  std::vector<std::vector<float>> maps_;  // per capture view, empty until rendered
+  std::vector<float> unit_;                // N x dim, L2-normalised features (zero rows stay zero)
+  std::vector<UninitVector<float>> maps_;  // per capture view, empty until rendered
 };
 
 // Per Gaussian: the index of the selection that holds it (the one with the highest score when
