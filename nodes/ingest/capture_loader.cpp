@@ -145,7 +145,7 @@ Capture load_capture_files(const fs::path& input, const CaptureOptions& options)
       views[i].held_out = i % static_cast<size_t>(options.holdout_every) == 0;
   for (size_t i = 0; i < views.size(); ++i)
     if (i % static_cast<size_t>(options.train_every) != 0) views[i].held_out = true;
-  for (const auto& v : views) capture.views.push_back(make_view(v, options));
+  capture.views = make_views(views, options);
   return capture;
 }
 

@@ -43,13 +43,14 @@ struct ViewFiles {
 // InputError when nothing is left.
 cv::Rect undistorted_valid_rect(const Camera& camera, int multiple = 1);
 
-// The view read at 1/options.downscale resolution: camera.scaled(1 / downscale), RGB resized
+// The views read at 1/options.downscale resolution: camera.scaled(1 / downscale), RGB resized
 // with the area filter, depth and label maps with nearest neighbour (averaging across a depth
 // edge or an instance border invents values). With options.undistort, images of a camera with
 // distortion are undistorted to the same focal lengths before the resize, cropped to
 // undistorted_valid_rect with options.undistort_crop (so no pixel is the black of nowhere), and
 // the view's camera is that pinhole. A depth map with a depth_sensor is registered to that
 // camera at full resolution before the resize.
-View make_view(const ViewFiles& files, const CaptureOptions& options);
+// Views with the same camera share their undistortion maps (computed on the first load).
+std::vector<View> make_views(const std::vector<ViewFiles>& files, const CaptureOptions& options);
 
 }  // namespace gslift

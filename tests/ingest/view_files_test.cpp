@@ -58,11 +58,11 @@ TEST_CASE("undistortion moves a point to its ideal pinhole projection") {
   write_rgb_png(dir / "v.png", rgb);
   f.rgb = dir / "v.png";
 
-  const View raw = make_view(f, reading(false));
+  const View raw = make_views({f}, reading(false))[0];
   CHECK(raw.camera.distortion.size() == 4);
   CHECK((centroid(raw.rgb.load()) - distorted).norm() < 0.1);
 
-  const View v = make_view(f, reading(true));
+  const View v = make_views({f}, reading(true))[0];
   CHECK(v.camera.distortion.empty());
   CHECK(v.camera.fx == 50);
   CHECK((centroid(v.rgb.load()) - ideal).norm() < 0.15);
@@ -74,7 +74,7 @@ TEST_CASE("undistortion moves a point to its ideal pinhole projection") {
   CHECK(r.y > 0);
   CHECK(r.br().x < 64);
   CHECK(r.br().y < 48);
-  const View cropped = make_view(f, reading(true, true));
+  const View cropped = make_views({f}, reading(true, true))[0];
   CHECK(cropped.camera.width == r.width);
   CHECK(cropped.camera.height == r.height);
   CHECK(cropped.camera.fx == 50);
@@ -83,18 +83,61 @@ TEST_CASE("undistortion moves a point to its ideal pinhole projection") {
   write_rgb_png(dir / "white.png", cv::Mat(48, 64, CV_8UC3, cv::Scalar::all(255)));
   f.rgb = dir / "white.png";
   double lowest = 0;
-  cv::minMaxLoc(make_view(f, reading(true, true)).rgb.load().reshape(1), &lowest);
+  cv::minMaxLoc(make_views({f}, reading(true, true))[0].rgb.load().reshape(1), &lowest);
   CHECK(lowest == 255);
   // Uncropped, the corners are black: the pixels the crop removes.
-  cv::minMaxLoc(make_view(f, reading(true, false)).rgb.load().reshape(1), &lowest);
+  cv::minMaxLoc(make_views({f}, reading(true, false))[0].rgb.load().reshape(1), &lowest);
   CHECK(lowest == 0);
   // With a downscale the crop is a multiple of it, and the view its scaled camera.
-  const View half = make_view(f, reading(true, true, 2));
+  const View half = make_views({f}, reading(true, true, 2))[0];
   const cv::Rect r2 = undistorted_valid_rect(f.camera, 2);
   CHECK(r2.width % 2 == 0);
   CHECK(r2.height % 2 == 0);
   CHECK(half.rgb.load().size() == cv::Size(r2.width / 2, r2.height / 2));
   CHECK(half.camera.width == r2.width / 2);
+}
+
+TEST_CASE("views undistort by their own camera's maps, shared only between equal cameras") {
+  // Three views of one photo: two with k1 = 0.5 (one pair of maps), one with k1 = 0.2 loaded
+  // between them. Each lands where its own distortion puts the point: undistorted by k1 = 0.2
+  // the blob lands near (47.53, 34.36), 0.6 px from where k1 = 0.5 puts it.
+  const auto dir = test::scratch_dir("view_files_shared_maps");
+  ViewFiles f;
+  f.camera.width = 64;
+  f.camera.height = 48;
+  f.camera.fx = f.camera.fy = 50;
+  f.camera.cx = 32;
+  f.camera.cy = 24;
+  // The blob at pixel (47.975, 34.65): camera-frame point (0.3, 0.2, 1) distorted by k1 = 0.5.
+  const Eigen::Vector2d blob(32 + 50 * 0.3 * 1.065, 24 + 50 * 0.2 * 1.065);
+  cv::Mat rgb(48, 64, CV_8UC3);
+  for (int y = 0; y < 48; ++y)
+    for (int x = 0; x < 64; ++x) {
+      const double d2 = (Eigen::Vector2d(x + 0.5, y + 0.5) - blob).squaredNorm();
+      rgb.at<cv::Vec3b>(y, x) = cv::Vec3b::all(cv::saturate_cast<uchar>(255 * std::exp(-d2 / 4.5)));
+    }
+  write_rgb_png(dir / "v.png", rgb);
+  f.rgb = dir / "v.png";
+  std::vector<ViewFiles> files(3, f);
+  files[0].name = "a";
+  files[1].name = "b";
+  files[2].name = "c";
+  files[0].camera.distortion = files[2].camera.distortion = {0.5, 0, 0, 0};
+  files[1].camera.distortion = {0.2, 0, 0, 0};
+  const std::vector<View> views = make_views(files, reading(true));
+  REQUIRE(views.size() == 3);
+  // Undistorting solves x (1 + k1 |x|^2) = the blob's normalised position (0.3195, 0.213): (0.3,
+  // 0.2) at k1 = 0.5, (0.311, 0.207) at k1 = 0.2.
+  const Eigen::Vector2d ideal(47, 34);
+  CHECK((centroid(views[0].rgb.load()) - ideal).norm() < 0.15);
+  CHECK((centroid(views[2].rgb.load()) - ideal).norm() < 0.15);
+  const Eigen::Vector2d weaker = centroid(views[1].rgb.load());
+  CHECK((weaker - ideal).norm() > 0.4);
+  CHECK(weaker.x() > ideal.x());
+  CHECK(weaker.y() > ideal.y());
+  // The shared maps give the same pixels as a capture of that view alone.
+  const cv::Mat alone = make_views({files[2]}, reading(true))[0].rgb.load();
+  CHECK(cv::norm(alone, views[2].rgb.load(), cv::NORM_INF) == 0);
 }
 
 TEST_CASE("views check every file's size when it is loaded") {
@@ -108,7 +151,7 @@ TEST_CASE("views check every file's size when it is loaded") {
   f.gt_instance = dir / "ids.png";
   write_rgb_png(f.rgb, cv::Mat(2, 4, CV_8UC3, cv::Scalar::all(1)));
   write_label_png16(f.gt_instance, cv::Mat1i(3, 4, 5));
-  const View v = make_view(f, reading(true));  // nothing is read yet
+  const View v = make_views({f}, reading(true))[0];  // nothing is read yet
   CHECK(v.rgb.load().size() == cv::Size(4, 2));
   CHECK_THROWS_WITH(v.gt_instance.load(), Contains("ids.png") && Contains("4 x 3"));
   CHECK_FALSE(v.depth.present());
@@ -155,17 +198,17 @@ TEST_CASE("rational and thin-prism distortion round trip against cv::projectPoin
     }
   write_rgb_png(dir / "v.png", rgb);
   f.rgb = dir / "v.png";
-  const View v = make_view(f, reading(true));
+  const View v = make_views({f}, reading(true))[0];
   CHECK(v.camera.distortion.empty());
   CHECK((centroid(v.rgb.load()) - ideal).norm() < 0.15);
   const cv::Rect r = undistorted_valid_rect(f.camera);
-  const View cropped = make_view(f, reading(true, true));
+  const View cropped = make_views({f}, reading(true, true))[0];
   CHECK((centroid(cropped.rgb.load()) - (ideal - Eigen::Vector2d(r.x, r.y))).norm() < 0.15);
   // The crop leaves no pixel without a source, and removes some.
   CHECK(r.area() < 96 * 72);
   write_rgb_png(dir / "white.png", cv::Mat(72, 96, CV_8UC3, cv::Scalar::all(255)));
   f.rgb = dir / "white.png";
   double lowest = 0;
-  cv::minMaxLoc(make_view(f, reading(true, true)).rgb.load().reshape(1), &lowest);
+  cv::minMaxLoc(make_views({f}, reading(true, true))[0].rgb.load().reshape(1), &lowest);
   CHECK(lowest == 255);
 }
