@@ -201,6 +201,15 @@ int main(int argc, char** argv) {
         j["steps"] = n;
         j["seconds"] = r.seconds;
         j["seconds_per_step"] = r.seconds / n;
+        // Where the seconds went: `prepare` (initialisation, decoding and undistorting the
+        // training photos) is part of every run's time, the rest is the steps'.
+        j["phases"] = {{"prepare", r.phases.prepare},
+                       {"render", r.phases.render},
+                       {"losses", r.phases.losses},
+                       {"backward", r.phases.backward},
+                       {"adam", r.phases.adam},
+                       {"density", r.phases.density},
+                       {"held_out_poses", r.phases.held_out_poses}};
         j["gaussians"] = r.model.size();
         j["train_psnr"] = r.train_psnr;
         j["test_psnr"] = p[0];

@@ -196,8 +196,7 @@ Training::Training(const Capture& capture, const ReconstructOptions& o,
   result.initial_gaussians = model_.size();
   extent_ = result.scene_extent = reconstruction_extent(capture, model_.means);
   coarse_steps_ = static_cast<int>(o.coarse_fraction * o.iterations);
-  for (int v : capture.train_views())
-    targets_.push_back(make_target(capture.views[v], o.normal_weight > 0, coarse_steps_ > 0));
+  targets_ = make_targets(capture, capture.train_views(), o.normal_weight > 0, coarse_steps_ > 0);
   if (o.background == Background::White) background_ = Eigen::Vector3f::Ones();
   if (o.background == Background::Mean) background_ = mean_colour(targets_);
   for (const View& view : capture.views) poses_.push_back(view.pose);

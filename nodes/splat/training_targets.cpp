@@ -1,6 +1,9 @@
 #include "nodes/splat/training_targets.hpp"
 
+#include <exception>
 #include <string>
+
+#include <tbb/parallel_for.h>
 
 #include <opencv2/imgproc.hpp>
 
@@ -20,17 +23,6 @@ TargetImages make_images(const View& view, const Camera& camera, const cv::Mat& 
   if (!depth.empty() && need_normals)
     t.normals = normals_from_depth(depth, camera, view.pose, 0.1, 1, kPriorNormalSmoothing);
   return t;
-}
-
-}  // namespace
-
-cv::Mat load_view_rgb(const View& view) {
-  const cv::Mat rgb = view.rgb.load();
-  if (rgb.type() != CV_8UC3 || rgb.cols != view.camera.width || rgb.rows != view.camera.height)
-    throw InputError("view '" + view.name +
-                     "': RGB image must be 8-bit 3-channel of the camera size " +
-                     std::to_string(view.camera.width) + "x" + std::to_string(view.camera.height));
-  return rgb;
 }
 
 TrainTarget make_target(const View& view, bool need_normals, bool need_half) {
@@ -55,6 +47,36 @@ TrainTarget make_target(const View& view, bool need_normals, bool need_half) {
     t.half = make_images(view, half, small_rgb, small_depth, need_normals);
   }
   return t;
+}
+
+}  // namespace
+
+cv::Mat load_view_rgb(const View& view) {
+  const cv::Mat rgb = view.rgb.load();
+  if (rgb.type() != CV_8UC3 || rgb.cols != view.camera.width || rgb.rows != view.camera.height)
+    throw InputError("view '" + view.name +
+                     "': RGB image must be 8-bit 3-channel of the camera size " +
+                     std::to_string(view.camera.width) + "x" + std::to_string(view.camera.height));
+  return rgb;
+}
+
+std::vector<TrainTarget> make_targets(const Capture& capture, const std::vector<int>& views,
+                                      bool need_normals, bool need_half) {
+  // Decoding, undistorting and resizing the photos was half of a 100-step DTU run at 400x300
+  // (prepare 2.5 of 4.9 s) on one core. An error is rethrown for the first failing view in
+  // `views`, whatever the scheduling, so the message never depends on the thread count.
+  std::vector<TrainTarget> targets(views.size());
+  std::vector<std::exception_ptr> failed(views.size());
+  tbb::parallel_for(size_t(0), views.size(), [&](size_t i) {
+    try {
+      targets[i] = make_target(capture.views[views[i]], need_normals, need_half);
+    } catch (...) {
+      failed[i] = std::current_exception();
+    }
+  });
+  for (const std::exception_ptr& e : failed)
+    if (e) std::rethrow_exception(e);
+  return targets;
 }
 
 Eigen::Vector3f mean_colour(const std::vector<TrainTarget>& targets) {

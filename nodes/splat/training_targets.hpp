@@ -33,9 +33,13 @@ struct TrainTarget {
 // The view's RGB image; throws InputError unless it is 8-bit 3-channel of the camera's size.
 cv::Mat load_view_rgb(const View& view);
 
-// The view's targets; normals from the depth prior when `need_normals`, the half-resolution copy
-// when `need_half`. Throws InputError on a depth prior that is not CV_32F of the image size.
-TrainTarget make_target(const View& view, bool need_normals, bool need_half);
+// The targets of capture.views[v] for each v of `views`, in that order; normals from the depth
+// prior when `need_normals`, the half-resolution copy when `need_half`. Decoded in parallel over
+// the views (the same targets at any thread count). Throws the InputError of the first view in
+// `views` whose images cannot be read, whose RGB image is not as load_view_rgb wants it, or whose
+// depth prior is not CV_32F of the image size.
+std::vector<TrainTarget> make_targets(const Capture& capture, const std::vector<int>& views,
+                                      bool need_normals, bool need_half);
 
 // The mean colour of the training images (full resolution).
 Eigen::Vector3f mean_colour(const std::vector<TrainTarget>& targets);
