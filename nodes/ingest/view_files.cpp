@@ -24,10 +24,13 @@ bool same_camera(const Camera& a, const Camera& b) {
          a.cx == b.cx && a.cy == b.cy && a.distortion == b.distortion;
 }
 
-// Undistortion maps from a captured camera (with distortion) to an ideal pinhole `target`,
-// computed on the first load and shared by later loads, threads and every view of the capture
-// with the same two cameras (make_views): they cost about as much as decoding the image (24 ms a
-// view of DTU's 1600x1200 photos, computed for each of them before they were shared).
+// Undistortion from a captured camera (with distortion) to an ideal pinhole `target`. Its maps
+// cost about as much as decoding the image (24 ms for one of DTU's 1600x1200 photos) and take 4
+// bytes per pixel twice (15 MB there): when several sources use them (the views of a capture
+// with one camera, make_views; a view's RGB, depth and label maps) they are computed on the first
+// load and kept for the later loads and threads; a single source computes them on each load and
+// lets them go, so that a capture with a camera per photo (DTU's COLMAP model) does not hold a
+// pair of maps per view (they were 384 of a 639 MB peak on DTU at 400x300).
 class Undistorter {
  public:
   Undistorter(const Camera& captured, const Camera& target)
@@ -35,22 +38,32 @@ class Undistorter {
   bool maps(const Camera& captured, const Camera& target) const {
     return same_camera(captured, captured_) && same_camera(target, target_);
   }
+  // Counts a source that undistorts through this; called before any load.
+  void add_user() { ++users_; }
 
   // The image the ideal pinhole would have seen.
   cv::Mat apply(const cv::Mat& m, int interpolation) {
-    std::call_once(once_, [&] {
-      cv::initUndistortRectifyMap(opencv_camera_matrix(captured_), captured_.distortion,
-                                  cv::noArray(), opencv_camera_matrix(target_),
-                                  cv::Size(target_.width, target_.height), CV_32FC1, map_x_,
-                                  map_y_);
-    });
     cv::Mat out;
+    if (users_ < 2) {
+      cv::Mat map_x, map_y;
+      compute(map_x, map_y);
+      cv::remap(m, out, map_x, map_y, interpolation, cv::BORDER_CONSTANT, cv::Scalar::all(0));
+      return out;
+    }
+    std::call_once(once_, [&] { compute(map_x_, map_y_); });
     cv::remap(m, out, map_x_, map_y_, interpolation, cv::BORDER_CONSTANT, cv::Scalar::all(0));
     return out;
   }
 
  private:
+  void compute(cv::Mat& map_x, cv::Mat& map_y) const {
+    cv::initUndistortRectifyMap(opencv_camera_matrix(captured_), captured_.distortion,
+                                cv::noArray(), opencv_camera_matrix(target_),
+                                cv::Size(target_.width, target_.height), CV_32FC1, map_x, map_y);
+  }
+
   Camera captured_, target_;
+  int users_ = 0;
   std::once_flag once_;
   cv::Mat map_x_, map_y_;
 };
@@ -63,6 +76,7 @@ ImageSource checked_source(const std::filesystem::path& path, const Camera& came
                            int interpolation) {
   if (path.empty()) return {};
   const Camera scaled = target.scaled(1.0 / downscale);
+  if (undistorter) undistorter->add_user();
   return ImageSource::on_disk(path, [=](const std::filesystem::path& p) {
     cv::Mat m = decode(p);
     if (m.cols != camera.width || m.rows != camera.height)
