@@ -1,7 +1,9 @@
 // The runs of compare_binaries.sh (one graph by two gslift binaries, alternated) as
 // <name>.json and <name>.svg: per binary each round's wall time, peak memory and reconstruction
 // phases (the splat.reconstruct node's *_seconds records), their medians, the ratio of the
-// medians new / old, the machine, and whether every run wrote the same model.ply.
+// medians new / old, the machine, and whether every run wrote the same model.ply. Runs of
+// bench_dtu_compare (compare_binaries.sh --dtu) instead give per resolution the seconds per step,
+// the decoding phase and the steps alone, and whether every run reached the same held-out PSNR.
 //   binary_compare_chart WORK_DIR RESULTS_DIR NAME
 #include <algorithm>
 #include <cstdio>
@@ -41,9 +43,17 @@ const std::vector<std::pair<std::string, std::string>> kMetrics = {
 
 struct Run {
   std::map<std::string, double> values;
-  std::string model;  // the reconstruction's model.ply bytes
+  std::string model;  // the reconstruction's model.ply bytes; DTU: its held-out PSNRs
   std::string git;
+  // DTU runs: what `values` holds, in chart order (kMetrics for graph runs).
+  std::vector<std::pair<std::string, std::string>> metrics;
 };
+
+std::string fixed(double v, int digits) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%.*f", digits, v);
+  return b;
+}
 
 std::string file_bytes(const fs::path& p) {
   std::ifstream in(p, std::ios::binary);
@@ -52,8 +62,33 @@ std::string file_bytes(const fs::path& p) {
   return s.str();
 }
 
+// A bench_dtu_compare run's dtu_compare.json: per resolution the seconds per step as the bench
+// reports them (the reconstruction's time over its steps, decoding the photos included) and,
+// where the binary reports its phases, the decoding (`prepare`) and the steps without it.
+bool read_dtu_run(const json& report, Run& run) {
+  if (!report.is_object() || !report.contains("runs") || report["runs"].empty()) return false;
+  for (const json& r : report["runs"]) {
+    const std::string size = std::to_string(r["resolution"][0].get<int>()) + "x" +
+                             std::to_string(r["resolution"][1].get<int>());
+    const double seconds = r.value("seconds", 0.0), steps = r.value("steps", 1);
+    run.values["step_ms " + size] = 1000 * r.value("seconds_per_step", 0.0);
+    run.metrics.emplace_back("step_ms " + size, size + ": per step (ms)");
+    if (r.contains("phases") && r["phases"].contains("prepare")) {
+      const double prepare = r["phases"]["prepare"].get<double>();
+      run.values["prepare_s " + size] = prepare;
+      run.values["steps_ms " + size] = 1000 * (seconds - prepare) / steps;
+      run.metrics.emplace_back("prepare_s " + size, "  decoding photos (s)");
+      run.metrics.emplace_back("steps_ms " + size, "  steps alone (ms)");
+    }
+    run.model += (run.model.empty() ? "" : "/") + fixed(r.value("test_psnr", 0.0), 4);
+  }
+  return true;
+}
+
 // The run in `dir`, or nothing when it did not finish.
 bool read_run(const fs::path& dir, Run& run) {
+  if (fs::exists(dir / "dtu_compare.json"))
+    return read_dtu_run(bench::read_json_or_discarded(dir / "dtu_compare.json"), run);
   const json record = bench::read_json_or_discarded(dir / "run.json");
   if (!record.is_object() || record["run"].value("status", "") != "ok") return false;
   run.values["wall_s"] = record["run"].value("total_s", 0.0);
@@ -68,12 +103,6 @@ bool read_run(const fs::path& dir, Run& run) {
     run.model = file_bytes(dir / node.value("id", "") / "model.ply");
   }
   return true;
-}
-
-std::string fixed(double v, int digits) {
-  char b[32];
-  std::snprintf(b, sizeof b, "%.*f", digits, v);
-  return b;
 }
 
 }  // namespace
@@ -110,6 +139,7 @@ int main(int argc, char** argv) {
               << (runs["old"].empty() ? "old" : "new") << " under " << work << "\n";
     return 1;
   }
+  const bool dtu = !runs["new"].front().metrics.empty();
   bool identical = true;
   for (const auto& [which, list] : runs)
     for (const Run& run : list)
@@ -124,13 +154,16 @@ int main(int argc, char** argv) {
       {"new", {{"label", new_label}, {"path", setup["new"]}, {"git", runs["new"].front().git}}}};
   out["rounds"] = rounds;
   out["failed_runs"] = failed;
-  out["identical_models"] = identical;
+  out[dtu ? "identical_psnr" : "identical_models"] = identical;
+  if (dtu)  // per resolution, 400x300 first
+    out["held_out_psnr"] = {{"old", runs["old"].front().model}, {"new", runs["new"].front().model}};
   struct Row {
     std::string label;
     double old_median, new_median;
   };
   std::vector<Row> rows;
-  for (const auto& [key, label] : kMetrics) {
+  // Seconds per step where an old binary does not report its phases: only what both report.
+  for (const auto& [key, label] : dtu ? runs["new"].front().metrics : kMetrics) {
     std::map<std::string, std::vector<double>> values;
     for (const auto& [which, list] : runs)
       for (const Run& run : list)
@@ -144,8 +177,8 @@ int main(int argc, char** argv) {
                               {"new_median", n},
                               {"ratio", o > 0 ? n / o : 0.0}});
     rows.push_back({label, o, n});
-    std::cout << label << ": " << fixed(o, 1) << " -> " << fixed(n, 1) << " ("
-              << fixed(o > 0 ? n / o : 0.0, 2) << "x)\n";
+    std::cout << label << ": " << fixed(o, dtu ? 2 : 1) << " -> " << fixed(n, dtu ? 2 : 1) << " ("
+              << fixed(o > 0 ? n / o : 0.0, 3) << "x)\n";
   }
 
   // Horizontal bars: per metric the old median (grey) over the new one (blue), each against the
@@ -158,7 +191,8 @@ int main(int argc, char** argv) {
            "font-weight='bold'");
   svg.text(10, 36,
            setup["machine"] + "; grey " + old_label + ", blue " + new_label +
-               (identical ? "; every model.ply identical" : "; models differ"));
+               (dtu ? "; PSNR " + runs["old"].front().model + " -> " + runs["new"].front().model
+                    : (identical ? "; every model.ply identical" : "; models differ")));
   for (size_t i = 0; i < rows.size(); ++i) {
     const Row& row = rows[i];
     const double y = top + row_height * i,

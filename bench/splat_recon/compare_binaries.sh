@@ -8,23 +8,30 @@
 #   bench/splat_recon/compare_binaries.sh OLD_GSLIFT NEW_GSLIFT [--rounds 3]
 #       [--graph graphs/langor.yaml] [--name main_job_binaries] [--results DIR]
 #       [--labels OLD,NEW]   (what the chart calls them, e.g. their commits; default old,new)
+# With --dtu the two binaries are bench_dtu_compare builds instead, each run
+# `bench_dtu_compare --steps 100 --large 1 --variants rms:0.5:crop` on ../shared/data/dtu_scan24
+# (issue 31's DTU target), and the chart compares the seconds per step at 400x300 and 800x600 (the
+# bench's measure: the reconstruction's time, decoding the photos included, over its steps),
+# the decoding (`prepare`) and the steps alone where both binaries report their phases.
 # An older binary: build a commit in a worktree (git worktree add /tmp/old COMMIT; cmake -S
 # /tmp/old -B /tmp/old/build ...; cmake --build /tmp/old/build --target gslift). Runs go to
 # $COMPARE_DIR (default build/<name>), which is emptied first. The main job takes 1-2.5 minutes
 # a run on 2 cores: three rounds about 10 minutes.
 set -euo pipefail
 cd "$(dirname "$0")/../.."
-[[ $# -ge 2 ]] || { sed -n 2,14p "$0" >&2; exit 2; }
+[[ $# -ge 2 ]] || { sed -n 2,19p "$0" >&2; exit 2; }
 old="$1"
 new="$2"
 shift 2
 rounds=3
 graph=graphs/langor.yaml
-name=main_job_binaries
+name=
 results=bench/results
 labels=old,new
+dtu=""
 while [[ $# -gt 0 ]]; do
   case "$1" in
+    --dtu) dtu=../shared/data/dtu_scan24; shift ;;
     --rounds) rounds="$2"; shift 2 ;;
     --graph) graph="$2"; shift 2 ;;
     --name) name="$2"; shift 2 ;;
@@ -36,7 +43,14 @@ done
 for b in "$old" "$new"; do
   [[ -x "$b" ]] || { echo "compare_binaries.sh: $b is not an executable" >&2; exit 2; }
 done
-"$new" validate "$graph" > /dev/null
+if [[ -n "$dtu" ]]; then
+  name="${name:-dtu_binaries}"
+  graph="DTU scan24, 100 steps"
+  [[ -d "$dtu" ]] || { echo "compare_binaries.sh: $dtu not found (../shared beside the checkout)" >&2; exit 4; }
+else
+  name="${name:-main_job_binaries}"
+  "$new" validate "$graph" > /dev/null
+fi
 work="${COMPARE_DIR:-build/$name}"
 rm -rf "${work:?}"
 mkdir -p "$work"
@@ -52,8 +66,13 @@ for ((r = 1; r <= rounds; ++r)); do
     bin="$old"
     [[ "$which" == new ]] && bin="$new"
     echo "compare_binaries: round $r, $which" >&2
-    "$bin" run "$graph" --no-cache --threads 2 --log-level warn --out "$work/$which-$r" \
-      > "$work/$which-$r.txt" 2>&1 || echo "compare_binaries: $which-$r failed" >&2
+    if [[ -n "$dtu" ]]; then
+      "$bin" --dtu "$dtu" --steps 100 --large 1 --variants rms:0.5:crop --out "$work/$which-$r" \
+        > "$work/$which-$r.txt" 2>&1 || echo "compare_binaries: $which-$r failed" >&2
+    else
+      "$bin" run "$graph" --no-cache --threads 2 --log-level warn --out "$work/$which-$r" \
+        > "$work/$which-$r.txt" 2>&1 || echo "compare_binaries: $which-$r failed" >&2
+    fi
   done
 done
 ./build/bench/splat_recon/binary_compare_chart "$work" "$results" "$name"
