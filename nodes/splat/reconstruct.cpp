@@ -118,6 +118,10 @@ LossSummary tail_mean(const std::vector<LossSummary>& history) {
   return mean;
 }
 
+cv::Mat rgb_image(std::vector<float>& data, int rows, int cols, int type) {
+  return cv::Mat(rows, cols, type, data.data());
+}
+
 // PSNR (dB) of a float RGB render, clamped to [0,1], against a float target in [0,1], over the
 // pixels of `mask` when one is given (NaN when it is empty of pixels).
 double float_psnr(const cv::Mat& rendered, const cv::Mat& target, const cv::Mat1b& mask = {}) {
@@ -142,6 +146,7 @@ class Training {
   const Eigen::Vector3f& background() const { return background_; }
   // Per view of the capture, its pose now (refined with refine_poses, else the written one).
   const std::vector<Pose>& poses() const { return poses_; }
+  const std::vector<TrainTarget>& targets() const { return targets_; }
 
  private:
   // The step's render settings: background, SH degree, the channels the joining terms need.
@@ -302,11 +307,29 @@ void Training::finish(ReconstructResult& result) const {
   result.emptied = density_->emptied();
 }
 
-// The final model's PSNR over the training and held-out views, and with ground-truth depth the
-// held-out geometry (rendered once for both).
+// The mean PSNR of the model rendered at the training views against their decoded targets (in
+// capture.train_views() order, as Training keeps them): mean_psnr's value without decoding every
+// photo again, which after a DTU run took as long as decoding them for training had.
+double train_psnr(const GaussianModel& model, const Capture& capture,
+                  const std::vector<TrainTarget>& targets, const Eigen::Vector3f& background) {
+  const std::vector<int> views = capture.train_views();
+  RenderSettings settings;
+  settings.background = background;
+  double sum = 0;
+  for (size_t i = 0; i < views.size(); ++i) {
+    const View& view = capture.views[views[i]];
+    RenderOutput out = render(model, view.camera, view.pose, settings);
+    sum += float_psnr(rgb_image(out.rgb, out.height, out.width, CV_32FC3), targets[i].full.rgb);
+  }
+  return sum / static_cast<double>(views.size());
+}
+
+// The final model's PSNR over the training views (against their `targets`) and the held-out
+// views, and with ground-truth depth the held-out geometry (rendered once for both).
 void evaluate_model(const GaussianModel& model, const Capture& capture,
-                    const Eigen::Vector3f& background, ReconstructResult& result) {
-  result.train_psnr = mean_psnr(model, capture, capture.train_views(), background);
+                    const std::vector<TrainTarget>& targets, const Eigen::Vector3f& background,
+                    ReconstructResult& result) {
+  result.train_psnr = train_psnr(model, capture, targets, background);
   const std::vector<int> test = capture.test_views();
   const bool gt_depth = std::all_of(capture.views.begin(), capture.views.end(),
                                     [](const View& v) { return v.gt_depth.present(); });
@@ -351,10 +374,6 @@ size_t warn_inert_depth_levers(const Capture& capture, const ReconstructOptions&
         "here (the depth_prior recipe adds only its mean-colour background)",
         capture.name, inert);
   return with_depth;
-}
-
-cv::Mat rgb_image(std::vector<float>& data, int rows, int cols, int type) {
-  return cv::Mat(rows, cols, type, data.data());
 }
 
 }  // namespace
@@ -426,7 +445,7 @@ ReconstructResult reconstruct(const Capture& capture, const ReconstructOptions& 
   // The records see the views where the poses put them.
   Capture posed = capture;
   for (size_t v = 0; v < posed.views.size(); ++v) posed.views[v].pose = result.poses[v];
-  evaluate_model(training.model(), posed, training.background(), result);
+  evaluate_model(training.model(), posed, training.targets(), training.background(), result);
   result.model = std::move(training.model());
   return result;
 }
