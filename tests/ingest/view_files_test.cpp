@@ -34,10 +34,11 @@ CaptureOptions reading(bool undistort, bool crop = false, int downscale = 1) {
   return o;
 }
 
-}  // namespace
-
-TEST_CASE("undistortion moves a point to its ideal pinhole projection") {
-  const auto dir = test::scratch_dir("view_files_undistort");
+// A 64x48 view with k1 = 0.5 whose photo (dir/v.png) holds a blob at the distorted image of
+// camera-frame point (0.3, 0.2, 1): pinhole pixel (32 + 15, 24 + 10) = kIdeal; with k1 = 0.5 the
+// normalised point scales by 1 + 0.5 * 0.13 = 1.065: distorted pixel kDistorted (47.975, 34.65).
+const Eigen::Vector2d kIdeal(47, 34), kDistorted(32 + 50 * 0.3 * 1.065, 24 + 50 * 0.2 * 1.065);
+ViewFiles blob_view(const std::filesystem::path& dir) {
   ViewFiles f;
   f.name = "v";
   f.camera.width = 64;
@@ -46,17 +47,24 @@ TEST_CASE("undistortion moves a point to its ideal pinhole projection") {
   f.camera.cx = 32;
   f.camera.cy = 24;
   f.camera.distortion = {0.5, 0, 0, 0};
-  // Camera-frame point (0.3, 0.2, 1): pinhole pixel (32 + 15, 24 + 10) = (47, 34). With k1 = 0.5
-  // the normalised point scales by 1 + 0.5 * 0.13 = 1.065: distorted pixel (47.975, 34.65).
-  const Eigen::Vector2d ideal(47, 34), distorted(32 + 50 * 0.3 * 1.065, 24 + 50 * 0.2 * 1.065);
   cv::Mat rgb(48, 64, CV_8UC3);
   for (int y = 0; y < 48; ++y)
     for (int x = 0; x < 64; ++x) {
-      const double d2 = (Eigen::Vector2d(x + 0.5, y + 0.5) - distorted).squaredNorm();
+      const double d2 = (Eigen::Vector2d(x + 0.5, y + 0.5) - kDistorted).squaredNorm();
       rgb.at<cv::Vec3b>(y, x) = cv::Vec3b::all(cv::saturate_cast<uchar>(255 * std::exp(-d2 / 4.5)));
     }
   write_rgb_png(dir / "v.png", rgb);
   f.rgb = dir / "v.png";
+  return f;
+}
+
+}  // namespace
+
+TEST_CASE("undistortion moves a point to its ideal pinhole projection") {
+  const auto dir = test::scratch_dir("view_files_undistort");
+  ViewFiles f = blob_view(dir);
+  const Eigen::Vector2d& ideal = kIdeal;
+  const Eigen::Vector2d& distorted = kDistorted;
 
   const View raw = make_views({f}, reading(false))[0];
   CHECK(raw.camera.distortion.size() == 4);
@@ -101,24 +109,7 @@ TEST_CASE("views undistort by their own camera's maps, shared only between equal
   // Three views of one photo: two with k1 = 0.5 (one pair of maps), one with k1 = 0.2 loaded
   // between them. Each lands where its own distortion puts the point: undistorted by k1 = 0.2
   // the blob lands near (47.53, 34.36), 0.6 px from where k1 = 0.5 puts it.
-  const auto dir = test::scratch_dir("view_files_shared_maps");
-  ViewFiles f;
-  f.camera.width = 64;
-  f.camera.height = 48;
-  f.camera.fx = f.camera.fy = 50;
-  f.camera.cx = 32;
-  f.camera.cy = 24;
-  // The blob at pixel (47.975, 34.65): camera-frame point (0.3, 0.2, 1) distorted by k1 = 0.5.
-  const Eigen::Vector2d blob(32 + 50 * 0.3 * 1.065, 24 + 50 * 0.2 * 1.065);
-  cv::Mat rgb(48, 64, CV_8UC3);
-  for (int y = 0; y < 48; ++y)
-    for (int x = 0; x < 64; ++x) {
-      const double d2 = (Eigen::Vector2d(x + 0.5, y + 0.5) - blob).squaredNorm();
-      rgb.at<cv::Vec3b>(y, x) = cv::Vec3b::all(cv::saturate_cast<uchar>(255 * std::exp(-d2 / 4.5)));
-    }
-  write_rgb_png(dir / "v.png", rgb);
-  f.rgb = dir / "v.png";
-  std::vector<ViewFiles> files(3, f);
+  std::vector<ViewFiles> files(3, blob_view(test::scratch_dir("view_files_shared_maps")));
   files[0].name = "a";
   files[1].name = "b";
   files[2].name = "c";
@@ -128,13 +119,12 @@ TEST_CASE("views undistort by their own camera's maps, shared only between equal
   REQUIRE(views.size() == 3);
   // Undistorting solves x (1 + k1 |x|^2) = the blob's normalised position (0.3195, 0.213): (0.3,
   // 0.2) at k1 = 0.5, (0.311, 0.207) at k1 = 0.2.
-  const Eigen::Vector2d ideal(47, 34);
-  CHECK((centroid(views[0].rgb.load()) - ideal).norm() < 0.15);
-  CHECK((centroid(views[2].rgb.load()) - ideal).norm() < 0.15);
+  CHECK((centroid(views[0].rgb.load()) - kIdeal).norm() < 0.15);
+  CHECK((centroid(views[2].rgb.load()) - kIdeal).norm() < 0.15);
   const Eigen::Vector2d weaker = centroid(views[1].rgb.load());
-  CHECK((weaker - ideal).norm() > 0.4);
-  CHECK(weaker.x() > ideal.x());
-  CHECK(weaker.y() > ideal.y());
+  CHECK((weaker - kIdeal).norm() > 0.4);
+  CHECK(weaker.x() > kIdeal.x());
+  CHECK(weaker.y() > kIdeal.y());
   // The shared maps give the same pixels as a capture of that view alone.
   const cv::Mat alone = make_views({files[2]}, reading(true))[0].rgb.load();
   CHECK(cv::norm(alone, views[2].rgb.load(), cv::NORM_INF) == 0);
