@@ -193,9 +193,11 @@ View make_view(const ViewFiles& f, const CaptureOptions& options,
   v.held_out = f.held_out;
   std::shared_ptr<Undistorter> undistorter;
   if (!c.distortion.empty() && target.distortion.empty()) {
-    for (const auto& u : shared)
-      if (u->maps(c, target)) undistorter = u;
-    if (!undistorter) undistorter = shared.emplace_back(std::make_shared<Undistorter>(c, target));
+    const auto found = std::find_if(shared.begin(), shared.end(),
+                                    [&](const auto& u) { return u->maps(c, target); });
+    undistorter = found != shared.end()
+                      ? *found
+                      : shared.emplace_back(std::make_shared<Undistorter>(c, target));
   }
   auto source = [&](const std::filesystem::path& path, Decode decode, int interpolation) {
     return checked_source(path, c, target, downscale, undistorter, std::move(decode),
