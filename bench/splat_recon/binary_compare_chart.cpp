@@ -178,7 +178,7 @@ int main(int argc, char** argv) {
                               {"ratio", o > 0 ? n / o : 0.0}});
     rows.push_back({label, o, n});
     std::cout << label << ": " << fixed(o, dtu ? 2 : 1) << " -> " << fixed(n, dtu ? 2 : 1) << " ("
-              << fixed(o > 0 ? n / o : 0.0, 3) << "x)\n";
+              << fixed(o > 0 ? n / o : 0.0, dtu ? 3 : 2) << "x)\n";
   }
 
   // Horizontal bars: per metric the old median (grey) over the new one (blue), each against the

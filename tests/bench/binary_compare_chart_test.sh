@@ -37,5 +37,30 @@ if "$chart" "$tmp/w" "$tmp/r" t > "$tmp/out.txt" 2>&1; then fail "a failed run g
 grep -q '"identical_models": false' "$tmp/r/t.json" || fail "a different model not seen"
 grep -q '"old-2"' "$tmp/r/t.json" || fail "the failed run is not listed"
 grep -q '^whole run (s): 11.0 -> 7.0 (0.64x)$' "$tmp/out.txt" || fail "medians without the failed run"
+# bench_dtu_compare runs (compare_binaries.sh --dtu): per resolution the seconds per step, and
+# the decoding and the steps alone where a binary reports its phases (the old one does not here).
+# dtu DIR STEP_S SECONDS PREPARE_S: one 100-step run at 397x298 (PREPARE_S empty: no phases).
+dtu() {
+  mkdir -p "$tmp/d/$1"
+  local phases=""
+  [ -n "$4" ] && phases="\"phases\": {\"prepare\": $4},"
+  cat > "$tmp/d/$1/dtu_compare.json" << EOF
+{"runs": [{"resolution": [397, 298], "steps": 100, "seconds": $3, "seconds_per_step": $2,
+           $phases "test_psnr": 15.92}]}
+EOF
+}
+mkdir -p "$tmp/d"
+printf 'labels\tbefore,after\ngraph\tDTU\nmachine\tthe test\n' > "$tmp/d/setup.tsv"
+dtu old-1 0.050 5.0 ""; dtu new-1 0.030 3.0 1.0
+dtu old-2 0.060 6.0 ""; dtu new-2 0.032 3.2 1.2
+dtu old-3 0.055 5.5 ""; dtu new-3 0.034 3.4 1.1
+"$chart" "$tmp/d" "$tmp/r" dt > "$tmp/out.txt" 2>&1 || fail "DTU chart failed: $(cat "$tmp/out.txt")"
+# Medians 55 -> 32 ms per step: 0.582x. The new binary's steps alone (3.2 - 1.1 s over 100
+# steps, 21 ms) have no counterpart in the old runs: no row for them.
+grep -q '^397x298: per step (ms): 55.00 -> 32.00 (0.582x)$' "$tmp/out.txt" ||
+  fail "DTU medians: $(cat "$tmp/out.txt")"
+if grep -q 'steps alone' "$tmp/out.txt"; then fail "a phase only one binary reports was compared"; fi
+grep -q '"identical_psnr": true' "$tmp/r/dt.json" || fail "equal PSNRs not seen"
+grep -q 'PSNR 15.9200 -&gt; 15.9200' "$tmp/r/dt.svg" || fail "the chart does not give the PSNRs"
 echo "$failures problems"
 [ "$failures" -eq 0 ]
