@@ -307,19 +307,22 @@ void Training::finish(ReconstructResult& result) const {
   result.emptied = density_->emptied();
 }
 
-// The mean PSNR of the model rendered at the training views against their decoded targets (in
-// capture.train_views() order, as Training keeps them): mean_psnr's value without decoding every
-// photo again, which after a DTU run took as long as decoding them for training had.
-double train_psnr(const GaussianModel& model, const Capture& capture,
-                  const std::vector<TrainTarget>& targets, const Eigen::Vector3f& background) {
-  const std::vector<int> views = capture.train_views();
+// The mean PSNR of the model rendered at `views` against target(i), the float RGB image of
+// views[i] in [0,1] (NaN without views): mean_psnr decodes each photo, the training PSNR takes
+// the targets Training decoded (decoding every photo again took as long, after a DTU run, as
+// decoding them for training had).
+template <class Target>
+double mean_render_psnr(const GaussianModel& model, const Capture& capture,
+                        const std::vector<int>& views, const Eigen::Vector3f& background,
+                        Target target) {
+  if (views.empty()) return std::numeric_limits<double>::quiet_NaN();
   RenderSettings settings;
   settings.background = background;
   double sum = 0;
   for (size_t i = 0; i < views.size(); ++i) {
     const View& view = capture.views[views[i]];
     RenderOutput out = render(model, view.camera, view.pose, settings);
-    sum += float_psnr(rgb_image(out.rgb, out.height, out.width, CV_32FC3), targets[i].full.rgb);
+    sum += float_psnr(rgb_image(out.rgb, out.height, out.width, CV_32FC3), target(i));
   }
   return sum / static_cast<double>(views.size());
 }
@@ -329,7 +332,9 @@ double train_psnr(const GaussianModel& model, const Capture& capture,
 void evaluate_model(const GaussianModel& model, const Capture& capture,
                     const std::vector<TrainTarget>& targets, const Eigen::Vector3f& background,
                     ReconstructResult& result) {
-  result.train_psnr = train_psnr(model, capture, targets, background);
+  // The targets are in capture.train_views() order, as Training keeps them.
+  result.train_psnr = mean_render_psnr(model, capture, capture.train_views(), background,
+                                       [&](size_t i) { return targets[i].full.rgb; });
   const std::vector<int> test = capture.test_views();
   const bool gt_depth = std::all_of(capture.views.begin(), capture.views.end(),
                                     [](const View& v) { return v.gt_depth.present(); });
@@ -392,16 +397,11 @@ double psnr(const cv::Mat& rendered, const cv::Mat& target_rgb8, const cv::Mat1b
 
 double mean_psnr(const GaussianModel& model, const Capture& capture, const std::vector<int>& views,
                  const Eigen::Vector3f& background) {
-  if (views.empty()) return std::numeric_limits<double>::quiet_NaN();
-  RenderSettings settings;
-  settings.background = background;
-  double sum = 0;
-  for (int v : views) {
-    const View& view = capture.views[v];
-    RenderOutput out = render(model, view.camera, view.pose, settings);
-    sum += psnr(rgb_image(out.rgb, out.height, out.width, CV_32FC3), load_view_rgb(view));
-  }
-  return sum / static_cast<double>(views.size());
+  return mean_render_psnr(model, capture, views, background, [&](size_t i) {
+    cv::Mat target;
+    load_view_rgb(capture.views[views[i]]).convertTo(target, CV_32FC3, 1.0 / 255);
+    return target;
+  });
 }
 
 const char* model_size_reason(const ReconstructResult& result) {
