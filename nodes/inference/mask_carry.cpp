@@ -6,6 +6,7 @@
 #include <tbb/parallel_for.h>
 #include <opencv2/imgproc.hpp>
 
+#include "base/errors.hpp"
 #include "nodes/inference/mask_vote_lifting.hpp"
 #include "nodes/inference/selection_mask.hpp"
 
