@@ -185,8 +185,9 @@ std::vector<uint32_t> depth_sorted(const std::vector<BlendRect>& rects,
   return order;
 }
 
-// The tile lists of binned Gaussians (their screen rectangles and list entries).
-void sort_tile_lists(const std::vector<BlendRect>& rects, const UninitVector<TileGaussian>& entries,
+// The tile lists of binned Gaussians (their screen rectangles and list entries; each entry's slot
+// is set to the Gaussian's first slot here).
+void sort_tile_lists(const std::vector<BlendRect>& rects, UninitVector<TileGaussian>& entries,
                      RasterState& s) {
   // Slots: Gaussian g owns one per tile of its rectangle, row by row. Tile lists: the Gaussians
   // sorted once by depth (ties by index, so the order never depends on scheduling), then a
@@ -197,22 +198,30 @@ void sort_tile_lists(const std::vector<BlendRect>& rects, const UninitVector<Til
   const int tiles = s.tile_count();
   s.slot_offsets.assign(n + 1, 0);
   s.tile_offsets.assign(tiles + 1, 0);
-  // Per Gaussian whose rectangle spans several tile columns, its rows in each column (narrow_rows:
-  // the same in every tile of the column); a rectangle within one column has no rows to spare.
-  std::vector<uint32_t> column_offsets(n + 1, 0);
   for (size_t g = 0; g < n; ++g) {
     const BlendRect& rect = rects[g];
     if (uint64_t(s.slot_offsets[g]) + rect.tiles() >= std::numeric_limits<uint32_t>::max())
       throw InputError("rasterizer: more than 2^32 Gaussian-tile pairs");
     s.slot_offsets[g + 1] = s.slot_offsets[g] + rect.tiles();
-    const int columns = rect.tiles() > 0 && rect.tx1 - rect.tx0 > 1 ? rect.tx1 - rect.tx0 : 0;
-    column_offsets[g + 1] = column_offsets[g] + uint32_t(columns);
+    if (rect.tiles() > 0) entries[g].slot = s.slot_offsets[g];
   }
   const std::vector<uint32_t> order = depth_sorted(rects, s.projections);
   // The counting sort in parallel over a fixed number of blocks of the depth order: each block
   // counts its pairs per tile, and block b's pairs of tile t go after those of blocks < b, so each
   // tile's list comes in depth order whatever the thread count. (Serial, the two passes were 1.5%
   // of the main job, with the second core idle.)
+  // Both passes read the rectangles' tiles in depth order, gathered once.
+  struct TileSpan {
+    int tx0, ty0, tx1, ty1;
+  };
+  UninitVector<TileSpan> spans(order.size());
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, order.size(), 4096),
+                    [&](const tbb::blocked_range<size_t>& r) {
+                      for (size_t i = r.begin(); i != r.end(); ++i) {
+                        const BlendRect& rect = rects[order[i]];
+                        spans[i] = {rect.tx0, rect.ty0, rect.tx1, rect.ty1};
+                      }
+                    });
   constexpr size_t kBlocks = 8;
   const size_t block_size = (order.size() + kBlocks - 1) / kBlocks;
   std::vector<uint32_t> cursor(kBlocks * size_t(tiles), 0);  // [block][tile]
@@ -220,9 +229,9 @@ void sort_tile_lists(const std::vector<BlendRect>& rects, const UninitVector<Til
     tbb::parallel_for(size_t(0), kBlocks, [&](size_t b) {
       uint32_t* block_cursor = &cursor[b * size_t(tiles)];
       for (size_t i = b * block_size; i < std::min(order.size(), (b + 1) * block_size); ++i) {
-        const BlendRect& rect = rects[order[i]];
-        for (int ty = rect.ty0; ty < rect.ty1; ++ty)
-          for (int tx = rect.tx0; tx < rect.tx1; ++tx)
+        const TileSpan& span = spans[i];
+        for (int ty = span.ty0; ty < span.ty1; ++ty)
+          for (int tx = span.tx0; tx < span.tx1; ++tx)
             body(order[i], block_cursor[ty * s.tiles_x + tx]);
       }
     });
@@ -241,28 +250,39 @@ void sort_tile_lists(const std::vector<BlendRect>& rects, const UninitVector<Til
   const uint32_t pairs = s.slot_offsets[n];
   UninitVector<uint32_t> listed(pairs);  // Gaussian indices, tile by tile, front to back
   for_blocks([&](uint32_t g, uint32_t& next) { listed[next++] = g; });
-  std::vector<std::array<int16_t, 2>> column_rows(column_offsets[n]);
-  tbb::parallel_for(
-      tbb::blocked_range<size_t>(0, n, 1024), [&](const tbb::blocked_range<size_t>& r) {
-        for (size_t g = r.begin(); g != r.end(); ++g)
-          for (uint32_t c = column_offsets[g]; c < column_offsets[g + 1]; ++c) {
-            const int tx = rects[g].tx0 + int(c - column_offsets[g]);
-            column_rows[c] = narrow_rows(entries[g], std::max(rects[g].x0, tx * kTileSize),
-                                         std::min(rects[g].x1, (tx + 1) * kTileSize));
-          }
-      });
+  // Per slot of a Gaussian whose rectangle spans several tile columns, its rows in the slot's
+  // column (narrow_rows: the same in every tile of the column); a rectangle within one column has
+  // no rows to spare.
+  UninitVector<std::array<int16_t, 2>> slot_rows(pairs);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 1024),
+                    [&](const tbb::blocked_range<size_t>& r) {
+                      for (size_t g = r.begin(); g != r.end(); ++g) {
+                        const BlendRect& rect = rects[g];
+                        const int columns = rect.tx1 - rect.tx0;
+                        if (rect.tiles() == 0 || columns == 1) continue;
+                        for (int c = 0; c < columns; ++c) {
+                          const int tx = rect.tx0 + c;
+                          const std::array<int16_t, 2> rows =
+                              narrow_rows(entries[g], std::max(rect.x0, tx * kTileSize),
+                                          std::min(rect.x1, (tx + 1) * kTileSize));
+                          for (int row = 0; row < rect.ty1 - rect.ty0; ++row)
+                            slot_rows[s.slot_offsets[g] + uint32_t(row * columns + c)] = rows;
+                        }
+                      }
+                    });
+  // Each pair's entry from its Gaussian's alone (its tiles from its pixel rectangle, its first
+  // slot in it): one read of scattered memory per pair (two for a rectangle of several columns),
+  // where reading the rectangle, the slot and column offsets as well cost five.
   s.tile_gaussians.resize(pairs);
   tbb::parallel_for(tbb::blocked_range<int>(0, tiles, 4), [&](const tbb::blocked_range<int>& r) {
     for (int t = r.begin(); t != r.end(); ++t) {
       const int tx = t % s.tiles_x, ty = t / s.tiles_x;
       for (uint32_t k = s.tile_offsets[t]; k < s.tile_offsets[t + 1]; ++k) {
-        const uint32_t g = listed[k];
-        const BlendRect& rect = rects[g];
-        TileGaussian& entry = s.tile_gaussians[k] = entries[g];
-        entry.slot =
-            s.slot_offsets[g] + uint32_t((ty - rect.ty0) * (rect.tx1 - rect.tx0) + (tx - rect.tx0));
-        if (column_offsets[g + 1] > column_offsets[g]) {
-          const auto& rows = column_rows[column_offsets[g] + uint32_t(tx - rect.tx0)];
+        TileGaussian& entry = s.tile_gaussians[k] = entries[listed[k]];
+        const int tx0 = entry.x0 / kTileSize, tx1 = (entry.x1 - 1) / kTileSize + 1;
+        entry.slot += uint32_t((ty - entry.y0 / kTileSize) * (tx1 - tx0) + (tx - tx0));
+        if (tx1 - tx0 > 1) {
+          const std::array<int16_t, 2>& rows = slot_rows[entry.slot];
           entry.y0 = rows[0];
           entry.y1 = rows[1];
         }
