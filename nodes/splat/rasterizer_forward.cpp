@@ -185,31 +185,16 @@ std::vector<uint32_t> depth_sorted(const std::vector<BlendRect>& rects,
   return order;
 }
 
-// The tile lists of binned Gaussians (their screen rectangles and list entries; each entry's slot
-// is set to the Gaussian's first slot here).
-void sort_tile_lists(const std::vector<BlendRect>& rects, UninitVector<TileGaussian>& entries,
-                     RasterState& s) {
-  // Slots: Gaussian g owns one per tile of its rectangle, row by row. Tile lists: the Gaussians
-  // sorted once by depth (ties by index, so the order never depends on scheduling), then a
-  // counting sort of the (tile, Gaussian) pairs by tile in that order, which leaves each tile's
-  // list front to back. (Sorting each tile's list instead sorted every Gaussian once per tile it
-  // touches, about three times: 2.5% of the main job.)
-  const size_t n = rects.size();
+// The Gaussians of each tile's list, front to back, tile by tile; sets s.tile_offsets. `order`:
+// the Gaussians that touch some tile, by depth (depth_sorted). A counting sort of the (tile,
+// Gaussian) pairs by tile in that order, in parallel over a fixed number of blocks of the order:
+// each block counts its pairs per tile, and block b's pairs of tile t go after those of blocks
+// < b, so each tile's list comes in depth order whatever the thread count. (Serial, the two
+// passes were 1.5% of the main job, with the second core idle.)
+UninitVector<uint32_t> listed_by_tile(const std::vector<BlendRect>& rects,
+                                      const std::vector<uint32_t>& order, uint32_t pairs,
+                                      RasterState& s) {
   const int tiles = s.tile_count();
-  s.slot_offsets.assign(n + 1, 0);
-  s.tile_offsets.assign(tiles + 1, 0);
-  for (size_t g = 0; g < n; ++g) {
-    const BlendRect& rect = rects[g];
-    if (uint64_t(s.slot_offsets[g]) + rect.tiles() >= std::numeric_limits<uint32_t>::max())
-      throw InputError("rasterizer: more than 2^32 Gaussian-tile pairs");
-    s.slot_offsets[g + 1] = s.slot_offsets[g] + rect.tiles();
-    if (rect.tiles() > 0) entries[g].slot = s.slot_offsets[g];
-  }
-  const std::vector<uint32_t> order = depth_sorted(rects, s.projections);
-  // The counting sort in parallel over a fixed number of blocks of the depth order: each block
-  // counts its pairs per tile, and block b's pairs of tile t go after those of blocks < b, so each
-  // tile's list comes in depth order whatever the thread count. (Serial, the two passes were 1.5%
-  // of the main job, with the second core idle.)
   // Both passes read the rectangles' tiles in depth order, gathered once.
   struct TileSpan {
     int tx0, ty0, tx1, ty1;
@@ -237,6 +222,7 @@ void sort_tile_lists(const std::vector<BlendRect>& rects, UninitVector<TileGauss
     });
   };
   for_blocks([](uint32_t, uint32_t& count) { ++count; });
+  s.tile_offsets.assign(tiles + 1, 0);
   uint32_t start = 0;
   for (int t = 0; t < tiles; ++t) {
     s.tile_offsets[t] = start;
@@ -247,14 +233,19 @@ void sort_tile_lists(const std::vector<BlendRect>& rects, UninitVector<TileGauss
     }
   }
   s.tile_offsets[tiles] = start;
-  const uint32_t pairs = s.slot_offsets[n];
-  UninitVector<uint32_t> listed(pairs);  // Gaussian indices, tile by tile, front to back
+  UninitVector<uint32_t> listed(pairs);
   for_blocks([&](uint32_t g, uint32_t& next) { listed[next++] = g; });
-  // Per slot of a Gaussian whose rectangle spans several tile columns, its rows in the slot's
-  // column (narrow_rows: the same in every tile of the column); a rectangle within one column has
-  // no rows to spare.
-  UninitVector<std::array<int16_t, 2>> slot_rows(pairs);
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 1024),
+  return listed;
+}
+
+// Per slot of a Gaussian whose rectangle spans several tile columns, its rows in the slot's
+// column (narrow_rows: the same in every tile of the column); a rectangle within one column has
+// no rows to spare, and its slots are left unset.
+UninitVector<std::array<int16_t, 2>> narrowed_slot_rows(const std::vector<BlendRect>& rects,
+                                                        const UninitVector<TileGaussian>& entries,
+                                                        const RasterState& s) {
+  UninitVector<std::array<int16_t, 2>> slot_rows(s.slot_offsets.back());
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, rects.size(), 1024),
                     [&](const tbb::blocked_range<size_t>& r) {
                       for (size_t g = r.begin(); g != r.end(); ++g) {
                         const BlendRect& rect = rects[g];
@@ -270,25 +261,51 @@ void sort_tile_lists(const std::vector<BlendRect>& rects, UninitVector<TileGauss
                         }
                       }
                     });
+  return slot_rows;
+}
+
+// The tile lists of binned Gaussians (their screen rectangles and list entries; each entry's slot
+// is set to the Gaussian's first slot here).
+void sort_tile_lists(const std::vector<BlendRect>& rects, UninitVector<TileGaussian>& entries,
+                     RasterState& s) {
+  // Slots: Gaussian g owns one per tile of its rectangle, row by row. Tile lists: the Gaussians
+  // sorted once by depth (ties by index, so the order never depends on scheduling), then a
+  // counting sort of the (tile, Gaussian) pairs by tile in that order, which leaves each tile's
+  // list front to back. (Sorting each tile's list instead sorted every Gaussian once per tile it
+  // touches, about three times: 2.5% of the main job.)
+  const size_t n = rects.size();
+  s.slot_offsets.assign(n + 1, 0);
+  for (size_t g = 0; g < n; ++g) {
+    const BlendRect& rect = rects[g];
+    if (uint64_t(s.slot_offsets[g]) + rect.tiles() >= std::numeric_limits<uint32_t>::max())
+      throw InputError("rasterizer: more than 2^32 Gaussian-tile pairs");
+    s.slot_offsets[g + 1] = s.slot_offsets[g] + rect.tiles();
+    if (rect.tiles() > 0) entries[g].slot = s.slot_offsets[g];
+  }
+  const uint32_t pairs = s.slot_offsets[n];
+  const UninitVector<uint32_t> listed =
+      listed_by_tile(rects, depth_sorted(rects, s.projections), pairs, s);
+  const UninitVector<std::array<int16_t, 2>> slot_rows = narrowed_slot_rows(rects, entries, s);
   // Each pair's entry from its Gaussian's alone (its tiles from its pixel rectangle, its first
   // slot in it): one read of scattered memory per pair (two for a rectangle of several columns),
   // where reading the rectangle, the slot and column offsets as well cost five.
   s.tile_gaussians.resize(pairs);
-  tbb::parallel_for(tbb::blocked_range<int>(0, tiles, 4), [&](const tbb::blocked_range<int>& r) {
-    for (int t = r.begin(); t != r.end(); ++t) {
-      const int tx = t % s.tiles_x, ty = t / s.tiles_x;
-      for (uint32_t k = s.tile_offsets[t]; k < s.tile_offsets[t + 1]; ++k) {
-        TileGaussian& entry = s.tile_gaussians[k] = entries[listed[k]];
-        const int tx0 = entry.x0 / kTileSize, tx1 = (entry.x1 - 1) / kTileSize + 1;
-        entry.slot += uint32_t((ty - entry.y0 / kTileSize) * (tx1 - tx0) + (tx - tx0));
-        if (tx1 - tx0 > 1) {
-          const std::array<int16_t, 2>& rows = slot_rows[entry.slot];
-          entry.y0 = rows[0];
-          entry.y1 = rows[1];
+  tbb::parallel_for(
+      tbb::blocked_range<int>(0, s.tile_count(), 4), [&](const tbb::blocked_range<int>& r) {
+        for (int t = r.begin(); t != r.end(); ++t) {
+          const int tx = t % s.tiles_x, ty = t / s.tiles_x;
+          for (uint32_t k = s.tile_offsets[t]; k < s.tile_offsets[t + 1]; ++k) {
+            TileGaussian& entry = s.tile_gaussians[k] = entries[listed[k]];
+            const int tx0 = entry.x0 / kTileSize, tx1 = (entry.x1 - 1) / kTileSize + 1;
+            entry.slot += uint32_t((ty - entry.y0 / kTileSize) * (tx1 - tx0) + (tx - tx0));
+            if (tx1 - tx0 > 1) {
+              const std::array<int16_t, 2>& rows = slot_rows[entry.slot];
+              entry.y0 = rows[0];
+              entry.y1 = rows[1];
+            }
+          }
         }
-      }
-    }
-  });
+      });
 }
 
 void bin_gaussians(const GaussianModel& model, const ViewTransform& view,
