@@ -74,7 +74,7 @@ void line_of_sight_tile(const RasterState& s, int t, const TilePrior& prior,
     std::fill_n(&slots[size_t(list[j].slot) * kWeightParts], kWeightParts, 0.f);
   const PixelRect tile = tile_pixels(s, t);
   TileBlend blend;
-  blend_tile(s, t, blend, [&](uint32_t j, int at, const float* w) {
+  blend_tile(s, t, blend, [&](uint32_t j, int at, const float* w, const RowLanes&) {
     alignas(64) float z[kLanes];
     entry_depth.row(list[j].id, tile.y0 + at / kTileSize, tile.x0, z);
     // Per part, the row's lanes summed pairwise (lane_sums): a vector loop, where a running

@@ -60,48 +60,48 @@ double opacity_before_prior(const GaussianModel& model, const Camera& camera, co
   with_entry_depths(ray_depth, model, camera, pose, s, [&](const auto& depth) {
     tbb::parallel_for(tbb::blocked_range<int>(0, tiles), [&](const tbb::blocked_range<int>& r) {
       TileBlend front;
+      BlendedRows rows;
       alignas(64) float cut[kTilePixels];
       for (int t = r.begin(); t != r.end(); ++t) {
         const PixelRect tile = tile_pixels(s, t);
         tile_observed[t] = depth_prior_cut(prior_depth, tile, depth_factor, cut);
         // Alphas and early stop exactly as the forward pass blends, restricted to the Gaussians in
-        // front of each pixel's cut.
+        // front of each pixel's cut; the rows it blends are kept for the gradient.
+        rows.clear();
         blend_tile(
-            s, t, front, [](uint32_t, int, const float*) {}, cut, depth);
+            s, t, front,
+            [&](uint32_t j, int at, const float*, const RowLanes& lanes) {
+              if (grads) rows.add(j, at, lanes);
+            },
+            cut, depth);
         double loss = 0;
         for (int p = 0; p < kTilePixels; ++p) loss += 1.0 - front.T[p];  // 0 where none in front
         tile_loss[t] = loss;
         if (!grads) continue;
-        // A row where the entry's nearest depth lies behind every cut has no lane in front of
-        // its cut, as in blend_tile: skipped before its alphas are computed.
-        const float* row_cut = front.row_cut;
         // F = 1 - prod (1 - a_k): dF/da_k = T / (1 - a_k); a = o G, G = exp(power); a clamped
         // alpha is constant.
-        walk_contributions(
-            s, t, front, slots.data(),
-            [&](const TileGaussian& e, int row) { return !(depth.nearest(e.id) < row_cut[row]); },
-            [&](uint32_t j, const TileGaussian& e, const PixelRect& rect, int y, int at,
-                const float* gaussian, const float* alpha, GeometryMoments& moments) {
-              const float dy = e.my - (float(y) + 0.5f);
-              // In front of the cut: implied by j < last for centre depths (the lists' order),
-              // not for ray depths.
-              alignas(64) float z[kLanes], dx[kLanes], d_power[kLanes], d_opacity[kLanes];
-              depth.row(e.id, y, tile.x0, z);
+        auto add_row = [&](uint32_t j, const TileGaussian& e, const PixelRect& rect, int y, int at,
+                           const RowLanes& lanes, GeometryMoments& moments) {
+          const float dy = e.my - (float(y) + 0.5f);
+          alignas(64) float dx[kLanes], d_power[kLanes], d_opacity[kLanes];
+          const float *alpha = lanes.alpha, *z = lanes.depth;
 #pragma GCC unroll 1  // one vector loop, not kLanes scalar copies
-              for (int x = 0; x < kLanes; ++x) {
-                const int px = tile.x0 + x;
-                const bool active = (px >= rect.x0) & (px < rect.x1) & (alpha[x] >= 0.f) &
-                                    (j < front.last[at + x]) & (z[x] < cut[at + x]) &
-                                    (alpha[x] < kMaxAlpha);
-                const float a = active ? alpha[x] : 0.f;
-                const float dF_da = front.T[at + x] / (1.f - a);
-                dx[x] = e.mx - (float(px) + 0.5f);
-                d_power[x] = active ? dF_da * a : 0.f;
-                d_opacity[x] = active ? dF_da * gaussian[x] : 0.f;
-              }
-              moments.add(dx, dy, d_power, d_opacity);
-            },
-            [](uint32_t, const TileGaussian&) {});
+          for (int x = 0; x < kLanes; ++x) {
+            const int px = tile.x0 + x;
+            // In front of the cut: implied by j < last for centre depths (the lists' order), not
+            // for ray depths.
+            const bool active = (px >= rect.x0) & (px < rect.x1) & (alpha[x] >= 0.f) &
+                                (j < front.last[at + x]) & (z[x] < cut[at + x]) &
+                                (alpha[x] < kMaxAlpha);
+            const float a = active ? alpha[x] : 0.f;
+            const float dF_da = front.T[at + x] / (1.f - a);
+            dx[x] = e.mx - (float(px) + 0.5f);
+            d_power[x] = active ? dF_da * a : 0.f;
+            d_opacity[x] = active ? dF_da * lanes.gaussian[x] : 0.f;
+          }
+          moments.add(dx, dy, d_power, d_opacity);
+        };
+        walk_contributions(s, t, front, rows, slots.data(), add_row);
       }
     });
   });

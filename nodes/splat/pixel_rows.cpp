@@ -96,7 +96,7 @@ PixelRows::PixelRows(const RenderOutput& forward, float min_weight) {
       pixel.clear();
       ids.clear();
       weights.clear();
-      blend_tile(s, t, blend, [&](uint32_t j, int at, const float* w) {
+      blend_tile(s, t, blend, [&](uint32_t j, int at, const float* w, const RowLanes&) {
         for (int x = 0; x < kLanes; ++x)
           if (blend.last[at + x] == j + 1 && w[x] >= min_weight) {
             pixel.push_back(uint8_t(at + x));

@@ -304,13 +304,22 @@ struct CentreDepth {
   void prefetch(uint32_t id) const { __builtin_prefetch(&projections[id].depth); }
 };
 
+// What blend_tile computed for one entry row besides its weights, per lane: blend_row's Gaussian
+// values and alphas, and with a cut the entry's depth (EntryDepth::row; null without a cut).
+struct RowLanes {
+  const float* gaussian;
+  const float* alpha;
+  const float* depth;
+};
+
 // Front-to-back blending of tile t (3DGS), entry by entry in depth order and each entry row by
 // row over its rectangle, which visits every pixel's contributions in the same order as a
 // per-pixel loop would; a pixel stops before the entry that would bring its T below 1e-4. For
-// each entry row, calls on_row(j, at, w) with w[x] = alpha_j T_j of tile pixel at + x
-// (x < kLanes), 0 where entry j does not contribute there; out.last[at + x] == j + 1 exactly
-// where it does. The forward pass and the render cache both blend through here, so their weights
-// agree bit for bit.
+// each entry row, calls on_row(j, at, w, lanes) with w[x] = alpha_j T_j of tile pixel at + x
+// (x < kLanes), 0 where entry j does not contribute there, and the row's RowLanes;
+// out.last[at + x] == j + 1 exactly where it does. The forward pass and the render cache both blend
+// through here, so their weights agree bit for bit.
+//
 // With `cut` (kTilePixels camera depths), tile pixel p blends only the entries whose depth there
 // (EntryDepth::row) lies in front of cut[p] (the line-of-sight loss's opacity in front of a depth
 // prior); an entry or row whose nearest depth is behind every cut it meets is skipped, so is a
@@ -395,7 +404,8 @@ inline void blend_tile(const RasterState& s, int t, TileBlend& out, OnRow&& on_r
         out.T[at + x] = blend ? next_T : T;
         out.last[at + x] = blend ? j + 1 : out.last[at + x];
       }
-      on_row(j, at, static_cast<const float*>(w));
+      on_row(j, at, static_cast<const float*>(w),
+             RowLanes{gaussian, alpha, cut ? entry_depth : nullptr});
     }
     for (int x = 0; x < kLanes; ++x) active -= stopped[x];
   }

@@ -357,7 +357,7 @@ template <int kChannels>
 void forward_tile(const RasterState& s, int t, const float* values, float* acc, TileBlend& out,
                   const uint8_t* feature_rows) {
   const int C = kChannels > 0 ? kChannels : s.channels;
-  blend_tile(s, t, out, [&](uint32_t j, int at, const float* w) {
+  blend_tile(s, t, out, [&](uint32_t j, int at, const float* w, const RowLanes&) {
     const float* v = values + size_t(j) * C;
     const int row_c = feature_rows && !feature_rows[at / kTileSize] ? s.feature_offset : C;
 #pragma GCC unroll 16

@@ -41,7 +41,7 @@ struct Contribution {
 __attribute__((noinline)) void tile_contributions(const RasterState& s, int t, TileBlend& blend,
                                                   std::vector<Contribution>& out) {
   out.clear();
-  blend_tile(s, t, blend, [&](uint32_t j, int at, const float* w) {
+  blend_tile(s, t, blend, [&](uint32_t j, int at, const float* w, const RowLanes&) {
     for (int x = 0; x < kLanes; ++x)
       if (blend.last[at + x] == j + 1) out.push_back({j, uint32_t(at + x), w[x]});
   });
@@ -300,19 +300,19 @@ void add_blend_weights(const RenderOutput& forward, float* per_gaussian) {
   const RasterState& s = *forward.state;
   // One sum per tile-list entry, at its slot: a Gaussian's slots run in tile order.
   std::vector<float> slot_sums(s.slot_offsets.back(), 0.f);
-  tbb::parallel_for(tbb::blocked_range<int>(0, s.tile_count()),
-                    [&](const tbb::blocked_range<int>& r) {
-                      TileBlend blend;
-                      for (int t = r.begin(); t != r.end(); ++t) {
-                        const TileGaussian* list = s.tile_gaussians.data() + s.tile_offsets[t];
-                        // w is 0 in the lanes where entry j does not blend, and adding 0 leaves a
-                        // sum as it is.
-                        blend_tile(s, t, blend, [&](uint32_t j, int, const float* w) {
-                          float& sum = slot_sums[list[j].slot];
-                          for (int x = 0; x < kLanes; ++x) sum += w[x];
-                        });
-                      }
-                    });
+  tbb::parallel_for(
+      tbb::blocked_range<int>(0, s.tile_count()), [&](const tbb::blocked_range<int>& r) {
+        TileBlend blend;
+        for (int t = r.begin(); t != r.end(); ++t) {
+          const TileGaussian* list = s.tile_gaussians.data() + s.tile_offsets[t];
+          // w is 0 in the lanes where entry j does not blend, and adding 0 leaves a
+          // sum as it is.
+          blend_tile(s, t, blend, [&](uint32_t j, int, const float* w, const RowLanes&) {
+            float& sum = slot_sums[list[j].slot];
+            for (int x = 0; x < kLanes; ++x) sum += w[x];
+          });
+        }
+      });
   const size_t n = s.slot_offsets.size() - 1;
   tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 1024),
                     [&](const tbb::blocked_range<size_t>& r) {

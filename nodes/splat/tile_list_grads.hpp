@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <vector>
 
 #include "nodes/scene/camera.hpp"
 #include "nodes/scene/gaussian_model.hpp"
@@ -17,39 +18,70 @@ namespace gslift {
 // them, returned: the entries at or past it contributed nowhere in the tile.
 uint32_t rows_reached(const TileBlend& blend, uint32_t row_last[kTileSize]);
 
-// The gradient pass of such a loss over tile t, after blend_tile wrote `front`: every entry j of
-// the list in blending order, each over the rows of its rectangle where it can have contributed
-// (j < that row's last), with blend_row's Gaussian values and alphas for the row's kLanes pixels
-// from the tile's left edge. on_row(j, e, rect, y, at, gaussian, alpha, moments) adds that row's
-// lanes to the entry's moments (at: the row's first tile pixel); the moments are reduced into
-// slots[e.slot * GeometryMoments::kOutputs ...], zero for an entry that contributed nowhere; then
-// on_entry(j, e) runs, for every entry. Rows where skip_row(e, row) (row: the tile row) is true
-// are left out: the caller knows that none of their lanes would add anything.
-template <class SkipRow, class OnRow, class OnEntry>
-void walk_contributions(const RasterState& s, int t, const TileBlend& front, float* slots,
-                        SkipRow&& skip_row, OnRow&& on_row, OnEntry&& on_entry) {
+// The entry rows blend_tile blended in one tile, in its order (entry by entry, each row by row),
+// with their RowLanes copied: the gradient pass reads them back instead of computing blend_row's
+// exp chain and the entries' depths again. Reused from tile to tile (clear keeps the memory).
+class BlendedRows {
+ public:
+  void clear() {
+    entries_.clear();
+    ats_.clear();
+    lanes_.clear();
+  }
+  // The row of entry j at tile pixel `at` (its first), lanes.depth given.
+  void add(uint32_t j, int at, const RowLanes& lanes) {
+    entries_.push_back(j);
+    ats_.push_back(at);
+    for (const float* v : {lanes.gaussian, lanes.alpha, lanes.depth})
+      lanes_.insert(lanes_.end(), v, v + kLanes);
+  }
+  size_t size() const { return entries_.size(); }
+  uint32_t entry(size_t i) const { return entries_[i]; }
+  int at(size_t i) const { return ats_[i]; }
+  RowLanes lanes(size_t i) const {
+    const float* v = &lanes_[i * 3 * kLanes];
+    return {v, v + kLanes, v + 2 * kLanes};
+  }
+
+ private:
+  std::vector<uint32_t> entries_;
+  std::vector<int> ats_;
+  std::vector<float> lanes_;
+};
+
+// The gradient pass of such a loss over tile t, after blend_tile wrote `front` and `rows` holds
+// the rows it blended: every entry j of the list in blending order, each over its blended rows
+// where it can have contributed (j < that row's last). on_row(j, e, rect, y, at, lanes, moments)
+// adds that row's lanes to the entry's moments (rect: the entry's pixels in the tile; at: the
+// row's first tile pixel); the moments are reduced into slots[e.slot * GeometryMoments::kOutputs
+// ...], zero for an entry that contributed nowhere. A row blend_tile skipped has no lane that could
+// add anything: the moments' sums are the same bit for bit as over every row of the entry's
+// rectangle.
+template <class OnRow>
+void walk_contributions(const RasterState& s, int t, const TileBlend& front,
+                        const BlendedRows& rows, float* slots, OnRow&& on_row) {
   const TileGaussian* list = s.tile_gaussians.data() + s.tile_offsets[t];
   const uint32_t count = s.tile_offsets[t + 1] - s.tile_offsets[t];
   const PixelRect tile = tile_pixels(s, t);
   uint32_t row_last[kTileSize];
   const uint32_t reached = rows_reached(front, row_last);
-  alignas(64) float gaussian[kLanes], alpha[kLanes];
+  size_t next = 0;  // the first of `rows` not yet walked
   for (uint32_t j = 0; j < count; ++j) {
     const TileGaussian& e = list[j];
     float* slot = &slots[size_t(e.slot) * GeometryMoments::kOutputs];
+    const size_t first = next;
+    while (next < rows.size() && rows.entry(next) == j) ++next;
     const PixelRect rect = clip(e, tile);
     if (j >= reached || rect.y1 <= rect.y0) {
       std::fill_n(slot, GeometryMoments::kOutputs, 0.f);
-    } else {
-      GeometryMoments moments;
-      for (int y = rect.y0; y < rect.y1; ++y) {
-        if (j >= row_last[y - tile.y0] || skip_row(e, y - tile.y0)) continue;
-        blend_row(e, y, tile.x0, tile.x0 + kLanes, s.min_alpha, gaussian, alpha);
-        on_row(j, e, rect, y, (y - tile.y0) * kTileSize, gaussian, alpha, moments);
-      }
-      moments.reduce(e, slot);
+      continue;
     }
-    on_entry(j, e);
+    GeometryMoments moments;
+    for (size_t i = first; i < next; ++i) {
+      const int row = rows.at(i) / kTileSize;
+      if (j < row_last[row]) on_row(j, e, rect, tile.y0 + row, rows.at(i), rows.lanes(i), moments);
+    }
+    moments.reduce(e, slot);
   }
 }
 
