@@ -111,48 +111,65 @@ void write_channel_values(const GaussianModel& model, const ViewTransform& view,
   if (s.alpha_offset >= 0) v[s.alpha_offset] = 1.f;
 }
 
-// The rows of [e.y0, e.y1) where some pixel of columns [x0, x1) can pass blend_row's test
-// power >= power_min, as [y0, y1); y1 = y0 when none can. The 3-sigma rectangle is tight for the
-// whole footprint, but a slanted footprint meets each tile's columns in fewer rows: in the first
-// 100 steps of the main job 16% of the rows the backward pass visited had no pixel that could
-// blend (counted), and every blending loop (forward, backward, render cache, the line-of-sight
-// and pruning passes) skips them for free when the entry's rows say so. A skipped row's lanes
-// would all have been masked out, so the results are the same bit for bit.
+// The rows of an entry's [e.y0, e.y1) where some pixel of a strip of columns [x0, x1) can pass
+// blend_row's test power >= power_min. The 3-sigma rectangle is tight for the whole footprint, but
+// a slanted footprint meets each tile's columns in fewer rows: in the first 100 steps of the main
+// job 16% of the rows the backward pass visited had no pixel that could blend (counted), and every
+// blending loop (forward, backward, render cache, the line-of-sight and pruning passes) skips them
+// for free when the entry's rows say so. A skipped row's lanes would all have been masked out, so
+// the results are the same bit for bit.
 // With q(d) = A dx^2 + 2B dx dy + C dy^2 (power = -q / 2), the pixels can blend where
 // q <= k = -2 power_min: an ellipse, whose intersection with the columns' strip of dx is convex,
 // so its rows span from its lowest to its highest point: the ellipse's own extremes where they
 // lie in the strip, else the ends of its chords along the strip's edges. In double, with k and
 // the rows widened against the float rounding of the lanes' own sums; a degenerate conic keeps
-// its rectangle.
-std::array<int16_t, 2> narrow_rows(const TileGaussian& e, int x0, int x1) {
-  const double A = e.A, B = e.B, C = e.C, det = A * C - B * B;
-  const double k = -2.0 * double(e.power_min) * (1 + 1e-3) + 1e-3;
-  if (!(A > 0) || !(C > 0) || !(det > 0) || !(k > 0) || !std::isfinite(k) || !std::isfinite(det))
-    return {e.y0, e.y1};
-  const double dx_min = double(e.mx) - (x1 - 0.5), dx_max = double(e.mx) - (x0 + 0.5);
-  double dy_min = std::numeric_limits<double>::infinity(), dy_max = -dy_min;
-  const double extreme = std::sqrt(k * A / det);  // at dx = -B dy / A
-  for (const double dy : {-extreme, extreme}) {
-    const double dx = -B * dy / A;
-    if (dx >= dx_min && dx <= dx_max) {
-      dy_min = std::min(dy_min, dy);
-      dy_max = std::max(dy_max, dy);
+// its rectangle. The extremes are the entry's, found once for all its strips.
+class NarrowedRows {
+ public:
+  explicit NarrowedRows(const TileGaussian& e) : e_(e), A_(e.A), B_(e.B), C_(e.C) {
+    const double det = A_ * C_ - B_ * B_;
+    k_ = -2.0 * double(e.power_min) * (1 + 1e-3) + 1e-3;
+    degenerate_ = !(A_ > 0) || !(C_ > 0) || !(det > 0) || !(k_ > 0) || !std::isfinite(k_) ||
+                  !std::isfinite(det);
+    if (degenerate_) return;
+    const double extreme = std::sqrt(k_ * A_ / det);  // at dx = -B dy / A
+    for (int i = 0; i < 2; ++i) {
+      extreme_dy_[i] = i == 0 ? -extreme : extreme;
+      extreme_dx_[i] = -B_ * extreme_dy_[i] / A_;
     }
   }
-  for (const double dx : {dx_min, dx_max}) {  // C dy^2 + 2 B dx dy + (A dx^2 - k) <= 0
-    const double disc = B * B * dx * dx - C * (A * dx * dx - k);
-    if (!(disc >= 0)) continue;
-    const double root = std::sqrt(disc);
-    dy_min = std::min(dy_min, (-B * dx - root) / C);
-    dy_max = std::max(dy_max, (-B * dx + root) / C);
+
+  // [y0, y1) for the columns [x0, x1); y1 = y0 when no row can blend there.
+  std::array<int16_t, 2> in_columns(int x0, int x1) const {
+    if (degenerate_) return {e_.y0, e_.y1};
+    const double dx_min = double(e_.mx) - (x1 - 0.5), dx_max = double(e_.mx) - (x0 + 0.5);
+    double dy_min = std::numeric_limits<double>::infinity(), dy_max = -dy_min;
+    for (int i = 0; i < 2; ++i)
+      if (extreme_dx_[i] >= dx_min && extreme_dx_[i] <= dx_max) {
+        dy_min = std::min(dy_min, extreme_dy_[i]);
+        dy_max = std::max(dy_max, extreme_dy_[i]);
+      }
+    for (const double dx : {dx_min, dx_max}) {  // C dy^2 + 2 B dx dy + (A dx^2 - k) <= 0
+      const double disc = B_ * B_ * dx * dx - C_ * (A_ * dx * dx - k_);
+      if (!(disc >= 0)) continue;
+      const double root = std::sqrt(disc);
+      dy_min = std::min(dy_min, (-B_ * dx - root) / C_);
+      dy_max = std::max(dy_max, (-B_ * dx + root) / C_);
+    }
+    if (!(dy_min <= dy_max)) return {e_.y0, e_.y0};
+    // dy = my - (y + 0.5); one row more either side.
+    const double first = std::floor(double(e_.my) - 0.5 - dy_max) - 1;
+    const double last = std::ceil(double(e_.my) - 0.5 - dy_min) + 1;
+    const auto y0 = int16_t(std::max<double>(e_.y0, std::min<double>(first, e_.y1)));
+    return {y0, int16_t(std::max<double>(y0, std::min<double>(last + 1, e_.y1)))};
   }
-  if (!(dy_min <= dy_max)) return {e.y0, e.y0};
-  // dy = my - (y + 0.5); one row more either side.
-  const double first = std::floor(double(e.my) - 0.5 - dy_max) - 1;
-  const double last = std::ceil(double(e.my) - 0.5 - dy_min) + 1;
-  const auto y0 = int16_t(std::max<double>(e.y0, std::min<double>(first, e.y1)));
-  return {y0, int16_t(std::max<double>(y0, std::min<double>(last + 1, e.y1)))};
-}
+
+ private:
+  const TileGaussian& e_;
+  double A_, B_, C_, k_;
+  bool degenerate_;
+  double extreme_dx_[2], extreme_dy_[2];
+};
 
 // The Gaussians that touch some tile, front to back: ascending depth_order, ties by index. A
 // stable LSD radix sort of the indices (ascending) by the 32-bit key, a byte per pass.
@@ -192,8 +209,7 @@ std::vector<uint32_t> depth_sorted(const std::vector<BlendRect>& rects,
 // < b, so each tile's list comes in depth order whatever the thread count. (Serial, the two
 // passes were 1.5% of the main job, with the second core idle.)
 UninitVector<uint32_t> listed_by_tile(const std::vector<BlendRect>& rects,
-                                      const std::vector<uint32_t>& order, uint32_t pairs,
-                                      RasterState& s) {
+                                      const std::vector<uint32_t>& order, RasterState& s) {
   const int tiles = s.tile_count();
   // Both passes read the rectangles' tiles in depth order, gathered once.
   struct TileSpan {
@@ -233,34 +249,34 @@ UninitVector<uint32_t> listed_by_tile(const std::vector<BlendRect>& rects,
     }
   }
   s.tile_offsets[tiles] = start;
-  UninitVector<uint32_t> listed(pairs);
+  UninitVector<uint32_t> listed(s.slot_offsets.back());
   for_blocks([&](uint32_t g, uint32_t& next) { listed[next++] = g; });
   return listed;
 }
 
 // Per slot of a Gaussian whose rectangle spans several tile columns, its rows in the slot's
-// column (narrow_rows: the same in every tile of the column); a rectangle within one column has
+// column (NarrowedRows: the same in every tile of the column); a rectangle within one column has
 // no rows to spare, and its slots are left unset.
 UninitVector<std::array<int16_t, 2>> narrowed_slot_rows(const std::vector<BlendRect>& rects,
                                                         const UninitVector<TileGaussian>& entries,
                                                         const RasterState& s) {
   UninitVector<std::array<int16_t, 2>> slot_rows(s.slot_offsets.back());
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, rects.size(), 1024),
-                    [&](const tbb::blocked_range<size_t>& r) {
-                      for (size_t g = r.begin(); g != r.end(); ++g) {
-                        const BlendRect& rect = rects[g];
-                        const int columns = rect.tx1 - rect.tx0;
-                        if (rect.tiles() == 0 || columns == 1) continue;
-                        for (int c = 0; c < columns; ++c) {
-                          const int tx = rect.tx0 + c;
-                          const std::array<int16_t, 2> rows =
-                              narrow_rows(entries[g], std::max(rect.x0, tx * kTileSize),
-                                          std::min(rect.x1, (tx + 1) * kTileSize));
-                          for (int row = 0; row < rect.ty1 - rect.ty0; ++row)
-                            slot_rows[s.slot_offsets[g] + uint32_t(row * columns + c)] = rows;
-                        }
-                      }
-                    });
+  tbb::parallel_for(
+      tbb::blocked_range<size_t>(0, rects.size(), 1024), [&](const tbb::blocked_range<size_t>& r) {
+        for (size_t g = r.begin(); g != r.end(); ++g) {
+          const BlendRect& rect = rects[g];
+          const int columns = rect.tx1 - rect.tx0;
+          if (rect.tiles() == 0 || columns == 1) continue;
+          const NarrowedRows narrowed(entries[g]);
+          for (int c = 0; c < columns; ++c) {
+            const int tx = rect.tx0 + c;
+            const std::array<int16_t, 2> rows = narrowed.in_columns(
+                std::max(rect.x0, tx * kTileSize), std::min(rect.x1, (tx + 1) * kTileSize));
+            for (int row = 0; row < rect.ty1 - rect.ty0; ++row)
+              slot_rows[s.slot_offsets[g] + uint32_t(row * columns + c)] = rows;
+          }
+        }
+      });
   return slot_rows;
 }
 
@@ -282,14 +298,12 @@ void sort_tile_lists(const std::vector<BlendRect>& rects, UninitVector<TileGauss
     s.slot_offsets[g + 1] = s.slot_offsets[g] + rect.tiles();
     if (rect.tiles() > 0) entries[g].slot = s.slot_offsets[g];
   }
-  const uint32_t pairs = s.slot_offsets[n];
   const UninitVector<uint32_t> listed =
-      listed_by_tile(rects, depth_sorted(rects, s.projections), pairs, s);
+      listed_by_tile(rects, depth_sorted(rects, s.projections), s);
   const UninitVector<std::array<int16_t, 2>> slot_rows = narrowed_slot_rows(rects, entries, s);
   // Each pair's entry from its Gaussian's alone (its tiles from its pixel rectangle, its first
-  // slot in it): one read of scattered memory per pair (two for a rectangle of several columns),
-  // where reading the rectangle, the slot and column offsets as well cost five.
-  s.tile_gaussians.resize(pairs);
+  // slot in it): one read of scattered memory per pair (two for a rectangle of several columns).
+  s.tile_gaussians.resize(s.slot_offsets.back());
   tbb::parallel_for(
       tbb::blocked_range<int>(0, s.tile_count(), 4), [&](const tbb::blocked_range<int>& r) {
         for (int t = r.begin(); t != r.end(); ++t) {
