@@ -10,29 +10,36 @@
 
 namespace gslift {
 
+DepthEdgeView::DepthEdgeView(const cv::Mat1f& nearest)
+    : cols_(nearest.cols), bits_((nearest.total() + 63) / 64, 0), before_(bits_.size(), 0) {
+  for (int y = 0; y < nearest.rows; ++y)
+    for (int x = 0; x < nearest.cols; ++x) {
+      if (!(nearest(y, x) > 0)) continue;
+      const size_t i = size_t(y) * size_t(cols_) + size_t(x);
+      bits_[i >> 6] |= uint64_t{1} << (i & 63);
+      depths_.push_back(nearest(y, x));
+    }
+  for (size_t w = 1; w < bits_.size(); ++w)
+    before_[w] = before_[w - 1] + uint32_t(__builtin_popcountll(bits_[w - 1]));
+}
+
 std::vector<DepthEdgeView> depth_edges(const std::vector<DepthObservation>& views, double jump,
                                        int radius) {
   std::vector<DepthEdgeView> edges;
   for (const DepthObservation& v : views) {
     const cv::Mat1b mask = depth_discontinuities(v.depth, jump, radius);
-    DepthEdgeView e;
-    e.nearest = cv::Mat1f::zeros(v.depth.size());
-    e.bits.assign((v.depth.total() + 63) / 64, 0);
+    cv::Mat1f nearest = cv::Mat1f::zeros(v.depth.size());
     for (int iw = 0; iw < v.depth.rows; ++iw)
       for (int iu = 0; iu < v.depth.cols; ++iu) {
         if (!mask(iw, iu)) continue;
-        float nearest = 0;
+        float& least = nearest(iw, iu);
         for (int y = std::max(0, iw - 1); y <= std::min(v.depth.rows - 1, iw + 1); ++y)
           for (int x = std::max(0, iu - 1); x <= std::min(v.depth.cols - 1, iu + 1); ++x) {
             const float d = v.depth(y, x);
-            if (d > 0 && std::isfinite(d) && (nearest == 0 || d < nearest)) nearest = d;
+            if (d > 0 && std::isfinite(d) && (least == 0 || d < least)) least = d;
           }
-        if (!(nearest > 0)) continue;
-        e.nearest(iw, iu) = nearest;
-        const size_t i = size_t(iw) * size_t(v.depth.cols) + size_t(iu);
-        e.bits[i >> 6] |= uint64_t{1} << (i & 63);
       }
-    edges.push_back(std::move(e));
+    edges.emplace_back(nearest);
   }
   return edges;
 }
@@ -61,8 +68,8 @@ double depth_edge_extent_loss(const GaussianModel& model,
       const double u = c.fx * p.x() / p.z() + c.cx, w = c.fy * p.y() / p.z() + c.cy;
       if (!(u >= 0 && w >= 0 && u < v.depth.cols && w < v.depth.rows)) continue;
       const int iu = static_cast<int>(u), iw = static_cast<int>(w);
-      if (!edges[k].at(iu, iw)) continue;
-      const float nearest = edges[k].nearest(iw, iu);
+      const float nearest = edges[k].nearest(iu, iw);
+      if (!(nearest > 0)) continue;
       if (std::abs(p.z() - nearest) > tolerance * nearest) continue;
       if (!rotated) {
         R = model.rotation(i);

@@ -20,16 +20,17 @@ TEST_CASE("edge extent: the ray extent of Gaussians on the near side of a depth 
   const std::vector<DepthEdgeView> edges = depth_edges(views, 0.1, 2);
   int set = 0;
   for (int y = 0; y < 100; ++y)
-    for (int x = 0; x < 100; ++x) set += edges[0].at(x, y);
+    for (int x = 0; x < 100; ++x) set += edges[0].nearest(x, y) > 0;
   CHECK(set == 6 * 100);
-  CHECK(cv::countNonZero(edges[0].nearest) == 6 * 100);
+  CHECK(edges[0].size() == 6 * 100);
   // The nearest depth in each edge pixel's 3x3 window: the object's 5 m up to column 50 (whose
-  // window reaches column 49), the wall's 10 m beyond; off the edges 0.
-  CHECK(edges[0].nearest(10, 47) == 5.f);
-  CHECK(edges[0].nearest(10, 50) == 5.f);
-  CHECK(edges[0].nearest(10, 51) == 10.f);
-  CHECK(edges[0].nearest(10, 30) == 0.f);
-  CHECK_FALSE(edges[0].at(30, 10));
+  // window reaches column 49), the wall's 10 m beyond; off the edges 0. Pixel (x, y).
+  CHECK(edges[0].nearest(47, 10) == 5.f);
+  CHECK(edges[0].nearest(50, 10) == 5.f);
+  CHECK(edges[0].nearest(51, 10) == 10.f);
+  CHECK(edges[0].nearest(52, 99) == 10.f);  // the last edge pixel
+  CHECK(edges[0].nearest(47, 0) == 5.f);    // the first
+  CHECK(edges[0].nearest(30, 10) == 0.f);
 
   GaussianModel m;
   m.resize(4);
