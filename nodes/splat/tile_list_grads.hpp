@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <cstring>
 #include <vector>
 
 #include "nodes/scene/camera.hpp"
@@ -32,8 +33,12 @@ class BlendedRows {
   void add(uint32_t j, int at, const RowLanes& lanes) {
     entries_.push_back(j);
     ats_.push_back(at);
-    for (const float* v : {lanes.gaussian, lanes.alpha, lanes.depth})
-      lanes_.insert(lanes_.end(), v, v + kLanes);
+    const size_t end = lanes_.size();
+    lanes_.resize(end + 3 * kLanes);
+    // Fixed-size copies, which compile to vector moves (an insert of each was a memmove call).
+    std::memcpy(&lanes_[end], lanes.gaussian, kLanes * sizeof(float));
+    std::memcpy(&lanes_[end + kLanes], lanes.alpha, kLanes * sizeof(float));
+    std::memcpy(&lanes_[end + 2 * kLanes], lanes.depth, kLanes * sizeof(float));
   }
   size_t size() const { return entries_.size(); }
   uint32_t entry(size_t i) const { return entries_[i]; }
@@ -46,7 +51,7 @@ class BlendedRows {
  private:
   std::vector<uint32_t> entries_;
   std::vector<int> ats_;
-  std::vector<float> lanes_;
+  UninitVector<float> lanes_;
 };
 
 // The gradient pass of such a loss over tile t, after blend_tile wrote `front` and `rows` holds
